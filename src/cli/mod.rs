@@ -1,0 +1,68 @@
+//! Command-line interface: clap commands at the edge, library errors turned into messages.
+
+pub mod simulate;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "rocklab",
+    version,
+    about = "Seismic studies of rocking structures protected by clutched inerters"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Run one scene and print its peaks.
+    Simulate(simulate::SimulateArgs),
+}
+
+/// Bad flags or values: reported in one line, exit code 2.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct UsageError(pub String);
+
+impl UsageError {
+    pub fn new(msg: impl Into<String>) -> Self {
+        UsageError(msg.into())
+    }
+
+    pub fn invalid(flag: &str, value: f64, expected: &str) -> Self {
+        UsageError(format!("invalid value {value} for {flag}: {expected}"))
+    }
+
+    /// Name the CLI flag behind a scene field.
+    pub fn from_invalid(e: crate::scene::Invalid) -> Self {
+        let flag = match e.field {
+            "amplitude" => "--amplitude-g/--amplitude-ratio/--amplitude-alpha".to_string(),
+            "frequency" => "--frequency/--frequency-ratio".to_string(),
+            "initial_rotation" => "--theta0".to_string(),
+            f => format!("--{}", f.replace('_', "-")),
+        };
+        Self::invalid(&flag, e.value, e.expected)
+    }
+}
+
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let outcome = match cli.command {
+        Some(Command::Simulate(args)) => simulate::run(&args),
+        None => {
+            eprintln!("the workbench is not built yet; try `rocklab simulate --help`");
+            return ExitCode::from(2);
+        }
+    };
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            let usage = e.downcast_ref::<UsageError>().is_some();
+            eprintln!("error: {e:#}");
+            ExitCode::from(if usage { 2 } else { 1 })
+        }
+    }
+}

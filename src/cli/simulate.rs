@@ -1,0 +1,469 @@
+//! `rocklab simulate`: one scene from flags, a summary or one JSON object on stdout.
+
+use super::UsageError;
+use crate::excitation::PulseShape;
+use crate::scene::{
+    Amplitude, Clutch, ClutchStiffness, Coupling, Damping, Device, Excitation, FlexibleStructure,
+    Form, Frequency, Impact, ResetRule, RigidBlock, Scene, Structure, default_epsilon, default_eta,
+    default_rho,
+};
+use crate::sim::{self, SceneResult};
+use clap::{Args, ValueEnum};
+use std::path::PathBuf;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum StructureKind {
+    Rigid,
+    Flexible,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DeviceKind {
+    None,
+    Inerter,
+    Sequential,
+    Mechanistic,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ImpactKind {
+    Housner,
+    Dirac,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum CouplingKind {
+    Rigid,
+    Flywheel,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FormKind {
+    Exact,
+    Slender,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ResetKind {
+    Paper,
+    Strict,
+}
+
+/// Run one scene and print its peaks.
+#[derive(Args, Debug, Clone)]
+pub struct SimulateArgs {
+    #[arg(long, value_enum, default_value = "rigid")]
+    pub structure: StructureKind,
+    /// R (rigid block half-diagonal) or R0 (flexible structure), in m.
+    #[arg(long, conflicts_with = "p")]
+    pub size: Option<f64>,
+    /// Frequency parameter p (rad/s) instead of --size.
+    #[arg(long)]
+    pub p: Option<f64>,
+    /// Slenderness α (rad).
+    #[arg(long)]
+    pub alpha: Option<f64>,
+    #[arg(long, default_value_t = 1.0)]
+    pub mass: f64,
+    /// Exact equations (default) or the slender (small-α) form. Rigid block only.
+    #[arg(long, value_enum, default_value = "exact")]
+    pub form: FormKind,
+    /// Flexible: column damping ratio ξ.
+    #[arg(long)]
+    pub xi: Option<f64>,
+    /// Flexible: column natural frequency ωn (rad/s).
+    #[arg(long, conflicts_with = "omega_ratio")]
+    pub omega_n: Option<f64>,
+    /// Flexible: ωn/p.
+    #[arg(long)]
+    pub omega_ratio: Option<f64>,
+    #[arg(long, value_enum, default_value = "none")]
+    pub device: DeviceKind,
+    /// Apparent mass ratio σ = mr/m.
+    #[arg(long)]
+    pub sigma: Option<f64>,
+    /// Single inerter: rigid coupling (default) or explicit flywheel behind a spring.
+    #[arg(long, value_enum)]
+    pub coupling: Option<CouplingKind>,
+    /// Clutch rotational stiffness kθ (N·m/rad); default: clutch frequency √(k/mr) = 50 p.
+    #[arg(long, conflicts_with = "clutch_frequency_ratio")]
+    pub k_theta: Option<f64>,
+    /// Clutch frequency √(k/mr) as a multiple of p, instead of --k-theta.
+    #[arg(long)]
+    pub clutch_frequency_ratio: Option<f64>,
+    /// Pinion radius ρ (m), default 0.05.
+    #[arg(long)]
+    pub rho: Option<f64>,
+    /// Clutch smoothing ε, default 1e6.
+    #[arg(long)]
+    pub epsilon: Option<f64>,
+    /// Flywheel damping c̄ = c/J (1/s), default 1.
+    #[arg(long, conflicts_with = "xi_theta")]
+    pub cbar: Option<f64>,
+    /// Flywheel damping ratio ξθ instead of --cbar.
+    #[arg(long)]
+    pub xi_theta: Option<f64>,
+    /// Dry friction fμ as a fraction of mr·g.
+    #[arg(long)]
+    pub friction: Option<f64>,
+    /// Friction transition η (s/rad), default 100.
+    #[arg(long)]
+    pub eta: Option<f64>,
+    /// Gear play up (m).
+    #[arg(long)]
+    pub play: Option<f64>,
+    /// Re-engagement reset rule with gear play.
+    #[arg(long, value_enum)]
+    pub reset: Option<ResetKind>,
+    #[arg(long, value_enum, default_value = "housner")]
+    pub impact: ImpactKind,
+    /// Dirac-delta impact width n (rad).
+    #[arg(long)]
+    pub width: Option<f64>,
+    /// Override the coefficient of restitution r (Housner impact).
+    #[arg(long)]
+    pub restitution: Option<f64>,
+    #[arg(long, value_enum, default_value = "sine")]
+    pub pulse: PulseKind,
+    /// Pulse amplitude A/g.
+    #[arg(long, group = "amp")]
+    pub amplitude_g: Option<f64>,
+    /// Pulse amplitude A/(g·tanα).
+    #[arg(long, group = "amp")]
+    pub amplitude_ratio: Option<f64>,
+    /// Pulse amplitude A/(g·α) (the paper's rigid-block convention).
+    #[arg(long, group = "amp")]
+    pub amplitude_alpha: Option<f64>,
+    /// Pulse circular frequency ωg (rad/s).
+    #[arg(long, conflicts_with = "frequency_ratio")]
+    pub frequency: Option<f64>,
+    /// ωg/p.
+    #[arg(long)]
+    pub frequency_ratio: Option<f64>,
+    /// Total simulated time (s); stops earlier only at overturning or rest.
+    #[arg(long, default_value_t = 10.0)]
+    pub duration: f64,
+    /// Relative tolerance of the integrator.
+    #[arg(long, default_value_t = crate::scene::default_rtol())]
+    pub rtol: f64,
+    /// Initial rotation θ0 (rad) for free rocking.
+    #[arg(long, default_value_t = 0.0)]
+    pub theta0: f64,
+    /// Write the time history to this CSV file.
+    #[arg(long)]
+    pub history: Option<PathBuf>,
+    /// Print exactly one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum PulseKind {
+    Sine,
+    Cosine,
+}
+
+fn need(value: Option<f64>, flag: &'static str, why: &'static str) -> Result<f64, UsageError> {
+    value.ok_or_else(|| UsageError::new(format!("{flag} is required {why}")))
+}
+
+fn only_with(
+    value: Option<f64>,
+    flag: &'static str,
+    allowed: bool,
+    context: &'static str,
+) -> Result<(), UsageError> {
+    if value.is_some() && !allowed {
+        return Err(UsageError::new(format!("{flag} only applies {context}")));
+    }
+    Ok(())
+}
+
+impl SimulateArgs {
+    /// Turn flags into a scene, rejecting missing and contradictory combinations.
+    pub fn scene(&self) -> Result<Scene, UsageError> {
+        let alpha = need(self.alpha, "--alpha", "(slenderness in rad, 0 < α < π/2)")?;
+        let size = match (self.size, self.p) {
+            (Some(s), None) => s,
+            (None, Some(p)) => {
+                if !(p.is_finite() && p > 0.0) {
+                    return Err(UsageError::invalid("--p", p, "must be a finite number > 0"));
+                }
+                match self.structure {
+                    StructureKind::Rigid => 3.0 * crate::excitation::G / (4.0 * p * p),
+                    StructureKind::Flexible => crate::excitation::G / (p * p),
+                }
+            }
+            _ => return Err(UsageError::new("one of --size or --p is required")),
+        };
+        let rigid = self.structure == StructureKind::Rigid;
+        let structure = if rigid {
+            for (v, f) in [
+                (self.xi, "--xi"),
+                (self.omega_n, "--omega-n"),
+                (self.omega_ratio, "--omega-ratio"),
+            ] {
+                only_with(v, f, false, "to --structure flexible")?;
+            }
+            Structure::Rigid(RigidBlock {
+                size,
+                alpha,
+                mass: self.mass,
+                form: match self.form {
+                    FormKind::Exact => Form::Exact,
+                    FormKind::Slender => Form::Slender,
+                },
+            })
+        } else {
+            if self.form == FormKind::Slender {
+                return Err(UsageError::new(
+                    "--form slender only applies to --structure rigid",
+                ));
+            }
+            let p = (crate::excitation::G / size).sqrt();
+            let omega_n = match (self.omega_n, self.omega_ratio) {
+                (Some(w), None) => w,
+                (None, Some(r)) => r * p,
+                _ => {
+                    return Err(UsageError::new(
+                        "one of --omega-n or --omega-ratio is required with --structure flexible",
+                    ));
+                }
+            };
+            Structure::Flexible(FlexibleStructure {
+                r0: size,
+                alpha,
+                mass: self.mass,
+                xi: need(
+                    self.xi,
+                    "--xi",
+                    "with --structure flexible (column damping ratio)",
+                )?,
+                omega_n,
+            })
+        };
+        let device = self.device()?;
+        let impact = match self.impact {
+            ImpactKind::Housner => {
+                only_with(self.width, "--width", false, "to --impact dirac")?;
+                Impact::Housner {
+                    restitution: self.restitution,
+                }
+            }
+            ImpactKind::Dirac => {
+                only_with(
+                    self.restitution,
+                    "--restitution",
+                    false,
+                    "to --impact housner",
+                )?;
+                Impact::Dirac {
+                    width: need(self.width, "--width", "with --impact dirac (rad)")?,
+                }
+            }
+        };
+        let amplitude = match (self.amplitude_g, self.amplitude_ratio, self.amplitude_alpha) {
+            (Some(a), None, None) => Amplitude::G(a),
+            (None, Some(r), None) => Amplitude::TanAlphaRatio(r),
+            (None, None, Some(r)) => Amplitude::AlphaRatio(r),
+            _ => {
+                return Err(UsageError::new(
+                    "one of --amplitude-g, --amplitude-ratio or --amplitude-alpha is required",
+                ));
+            }
+        };
+        let frequency = match (self.frequency, self.frequency_ratio) {
+            (Some(w), None) => Frequency::RadPerSec(w),
+            (None, Some(r)) => Frequency::Ratio(r),
+            _ => {
+                return Err(UsageError::new(
+                    "one of --frequency or --frequency-ratio is required",
+                ));
+            }
+        };
+        let scene = Scene {
+            structure,
+            device,
+            impact,
+            excitation: Excitation::Pulse {
+                shape: match self.pulse {
+                    PulseKind::Sine => PulseShape::Sine,
+                    PulseKind::Cosine => PulseShape::Cosine,
+                },
+                amplitude,
+                frequency,
+            },
+            duration: self.duration,
+            rtol: self.rtol,
+            initial_rotation: self.theta0,
+        };
+        scene.validate().map_err(UsageError::from_invalid)?;
+        Ok(scene)
+    }
+
+    fn device(&self) -> Result<Device, UsageError> {
+        let mech = self.device == DeviceKind::Mechanistic;
+        let flywheel =
+            self.device == DeviceKind::Inerter && self.coupling == Some(CouplingKind::Flywheel);
+        let springy = mech || flywheel;
+        let ctx_spring = "to --device mechanistic or --device inerter --coupling flywheel";
+        only_with(self.k_theta, "--k-theta", springy, ctx_spring)?;
+        only_with(
+            self.clutch_frequency_ratio,
+            "--clutch-frequency-ratio",
+            springy,
+            ctx_spring,
+        )?;
+        only_with(self.rho, "--rho", springy, ctx_spring)?;
+        only_with(self.cbar, "--cbar", springy, ctx_spring)?;
+        only_with(self.xi_theta, "--xi-theta", springy, ctx_spring)?;
+        let ctx_mech = "to --device mechanistic";
+        only_with(self.epsilon, "--epsilon", mech, ctx_mech)?;
+        only_with(self.friction, "--friction", mech, ctx_mech)?;
+        only_with(self.eta, "--eta", mech, ctx_mech)?;
+        only_with(self.play, "--play", mech, ctx_mech)?;
+        if self.reset.is_some() && !mech {
+            return Err(UsageError::new(
+                "--reset only applies to --device mechanistic",
+            ));
+        }
+        if self.coupling.is_some() && self.device != DeviceKind::Inerter {
+            return Err(UsageError::new(
+                "--coupling only applies to --device inerter",
+            ));
+        }
+        if self.device == DeviceKind::None {
+            only_with(
+                self.sigma,
+                "--sigma",
+                false,
+                "with a device (--device inerter|sequential|mechanistic)",
+            )?;
+            return Ok(Device::None);
+        }
+        let sigma = need(
+            self.sigma,
+            "--sigma",
+            "with a device (apparent mass ratio mr/m ≥ 0)",
+        )?;
+        let stiffness = match (self.k_theta, self.clutch_frequency_ratio) {
+            (Some(k), _) => ClutchStiffness::KTheta(k),
+            (_, Some(r)) => ClutchStiffness::FrequencyRatio(r),
+            _ => ClutchStiffness::default(),
+        };
+        let damping = match (self.cbar, self.xi_theta) {
+            (_, Some(x)) => Damping::XiTheta(x),
+            (Some(c), _) => Damping::CBar(c),
+            _ => Damping::default(),
+        };
+        let rho = self.rho.unwrap_or_else(default_rho);
+        Ok(match self.device {
+            DeviceKind::None => unreachable!(),
+            DeviceKind::Inerter => Device::Inerter {
+                sigma,
+                coupling: if flywheel {
+                    Coupling::Flywheel {
+                        stiffness,
+                        rho,
+                        damping,
+                    }
+                } else {
+                    Coupling::Rigid
+                },
+            },
+            DeviceKind::Sequential => Device::Sequential { sigma },
+            DeviceKind::Mechanistic => Device::Mechanistic(Clutch {
+                sigma,
+                stiffness,
+                rho,
+                epsilon: self.epsilon.unwrap_or_else(default_epsilon),
+                damping,
+                friction: self.friction.unwrap_or(0.0),
+                eta: self.eta.unwrap_or_else(default_eta),
+                play: self.play.unwrap_or(0.0),
+                reset: match self.reset {
+                    Some(ResetKind::Strict) => ResetRule::Strict,
+                    _ => ResetRule::Paper,
+                },
+            }),
+        })
+    }
+}
+
+/// The JSON object `simulate --json` prints (keys are a contract other tools rely on).
+pub fn result_json(scene: &Scene, r: &SceneResult) -> serde_json::Value {
+    serde_json::json!({
+        "overturned": r.overturned,
+        "peak_rotation": r.peaks.rotation,
+        "peak_rotation_ratio": r.peak_rotation_ratio,
+        "peak_deformation": r.peaks.deformation,
+        "peak_drift": r.peaks.drift,
+        "peak_abs_acceleration_g": r.peaks.abs_acceleration_g,
+        "impacts": r.counters.impacts,
+        "uplifts": r.counters.uplifts,
+        "engagements": r.counters.engagements,
+        "resets": r.counters.resets,
+        "energy_residual": r.energy_residual,
+        "energy": r.energy,
+        "end_reason": r.end_reason,
+        "end_time": r.end_time,
+        "steps": r.stats.steps,
+        "rejected_steps": r.stats.rejected,
+        "rhs_evals": r.stats.rhs_evals,
+        "wall_seconds": r.wall_seconds,
+        "scene": scene,
+    })
+}
+
+pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
+    let scene = args.scene()?;
+    let (result, history) = sim::run_with_history(&scene, args.history.is_some())?;
+    if let (Some(path), Some(h)) = (&args.history, &history) {
+        crate::report::write_history_csv(path, h)?;
+    }
+    if args.json {
+        println!("{}", result_json(&scene, &result));
+    } else {
+        print!("{}", summary(&scene, &result));
+    }
+    Ok(())
+}
+
+pub fn summary(scene: &Scene, r: &SceneResult) -> String {
+    let e = &r.energy;
+    format!(
+        "structure {:?}, device {}, end: {:?} at t = {:.4} s\n\
+         peak rotation      {:.6e} rad  ({:.4} α)\n\
+         peak deformation   {:.6e} m\n\
+         peak drift         {:.6e}\n\
+         peak |abs. accel.| {:.6} g\n\
+         impacts {}  uplifts {}  engagements {}  resets {}\n\
+         energy (J): input {:.6e}  structure {:.6e}  inerter {:.6e}  dissipated {:.6e}  residual {:.2e}\n\
+         solver: {} steps ({} rejected), {} rhs evaluations, {:.3} ms\n",
+        match scene.structure {
+            Structure::Rigid(_) => "rigid",
+            Structure::Flexible(_) => "flexible",
+        },
+        scene.device.name(),
+        r.end_reason,
+        r.end_time,
+        r.peaks.rotation,
+        r.peak_rotation_ratio,
+        r.peaks.deformation,
+        r.peaks.drift,
+        r.peaks.abs_acceleration_g,
+        r.counters.impacts,
+        r.counters.uplifts,
+        r.counters.engagements,
+        r.counters.resets,
+        e.input,
+        e.structure,
+        e.inerter,
+        e.dissipated(),
+        r.energy_residual,
+        r.stats.steps,
+        r.stats.rejected,
+        r.stats.rhs_evals,
+        r.wall_seconds * 1e3,
+    )
+}

@@ -1,0 +1,103 @@
+//! Ground motions: what the structure's base does. A [`Motion`] is compiled once per scene (or
+//! shared across scenes) and evaluated in the right-hand side, so evaluation must be cheap and
+//! allocation free.
+
+pub mod pulse;
+
+pub use pulse::{Pulse, PulseShape};
+
+/// Standard gravity used throughout rocklab (MODEL.md: g = 9.81 m/s²).
+pub const G: f64 = 9.81;
+
+/// A ground acceleration history a_g(t) in m/s², zero after [`Motion::end`].
+#[derive(Clone, Debug)]
+pub enum Motion {
+    Pulse(Pulse),
+}
+
+impl Motion {
+    /// Ground acceleration (m/s²) at time t.
+    #[inline]
+    pub fn accel(&self, t: f64) -> f64 {
+        match self {
+            Motion::Pulse(p) => p.accel(t),
+        }
+    }
+
+    /// Time after which the ground is at rest (a_g ≡ 0).
+    pub fn end(&self) -> f64 {
+        match self {
+            Motion::Pulse(p) => p.end(),
+        }
+    }
+
+    /// The next time strictly after `t` where a_g is not smooth (a kink or a jump), so the
+    /// integrator can stop there instead of stepping across it.
+    pub fn next_breakpoint(&self, t: f64) -> Option<f64> {
+        match self {
+            Motion::Pulse(p) => p.next_breakpoint(t),
+        }
+    }
+
+    /// Whether a_g jumps (not just kinks) at breakpoint `t`.
+    pub fn jumps_at(&self, t: f64) -> bool {
+        match self {
+            Motion::Pulse(p) => p.jumps_at(t),
+        }
+    }
+
+    /// First time ≥ t0 at which |a_g| exceeds `level`, if any.
+    pub fn first_exceedance(&self, t0: f64, level: f64) -> Option<f64> {
+        match self {
+            Motion::Pulse(p) => scan_exceedance(|t| p.accel(t), t0, p.end(), level, p.period()),
+        }
+    }
+
+    /// Peak |a_g| over [t0, t1].
+    pub fn peak_abs(&self, t0: f64, t1: f64) -> f64 {
+        match self {
+            Motion::Pulse(p) => scan_peak(|t| p.accel(t), t0, t1.min(p.end()), p.period()),
+        }
+    }
+}
+
+/// First crossing of |a(t)| > level on [t0, end], for smooth a: sample finely, then bisect.
+fn scan_exceedance(
+    a: impl Fn(f64) -> f64,
+    t0: f64,
+    end: f64,
+    level: f64,
+    period: f64,
+) -> Option<f64> {
+    if t0 >= end {
+        return None;
+    }
+    if a(t0).abs() > level {
+        return Some(t0);
+    }
+    let dt = period / 2000.0;
+    let mut lo = t0;
+    while lo < end {
+        let hi = (lo + dt).min(end);
+        if a(hi).abs() > level {
+            let (mut l, mut h) = (lo, hi);
+            for _ in 0..80 {
+                let m = 0.5 * (l + h);
+                if a(m).abs() > level { h = m } else { l = m }
+            }
+            return Some(h);
+        }
+        lo = hi;
+    }
+    None
+}
+
+fn scan_peak(a: impl Fn(f64) -> f64, t0: f64, t1: f64, period: f64) -> f64 {
+    if t1 <= t0 {
+        return 0.0;
+    }
+    let n = ((t1 - t0) / period * 2000.0).ceil().max(1.0) as usize;
+    (0..=n)
+        .map(|k| a(t0 + (t1 - t0) * k as f64 / n as f64).abs())
+        .fold(0.0, f64::max)
+}

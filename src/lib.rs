@@ -1,0 +1,12 @@
+//! rocklab: parametric seismic studies of rocking structures protected by clutched inerters.
+//!
+//! Data flows one way: scene → [`sim::run`] (model + excitation + solver) → result.
+//! See MODEL.md in the repository for the equations each module implements.
+
+pub mod cli;
+pub mod excitation;
+pub mod model;
+pub mod report;
+pub mod scene;
+pub mod sim;
+pub mod solver;

@@ -1,0 +1,155 @@
+//! Equations of motion, event functions and jumps of each structure family. A model is an
+//! [`OdeSystem`] plus the discrete logic the simulation driver calls between steps.
+
+pub mod clutch;
+pub mod device;
+pub mod rigid;
+
+use crate::solver::{Dense, OdeSystem};
+use serde::{Deserialize, Serialize};
+
+/// Why a simulation ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EndReason {
+    Duration,
+    Overturned,
+    Rest,
+}
+
+/// What the driver does after the model handled an event.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Action {
+    /// Restart the integrator at the (possibly modified) state.
+    Continue,
+    /// Nothing moves until this time: skip there and call [`SimModel::wake`].
+    Idle {
+        until: f64,
+    },
+    Stop(EndReason),
+}
+
+/// Energy partition at one instant (J), following the paper's Fig. 15.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Energy {
+    /// Work of the ground motion, ∫ −m a_g Ẋ dt (relative frame).
+    pub input: f64,
+    /// Kinetic + potential (+ column strain) energy of the structure.
+    pub structure: f64,
+    /// Flywheel kinetic energy (coupled or explicit) and clutch spring energy.
+    pub inerter: f64,
+    pub column_damping: f64,
+    pub device_damping: f64,
+    pub friction: f64,
+    pub impact: f64,
+    /// Sequential law: lost at disengagement, negative for energy created at engagement.
+    pub disengagement: f64,
+    /// Clutch re-engagement resets and snapping to rest.
+    pub reset: f64,
+}
+
+impl Energy {
+    pub fn dissipated(&self) -> f64 {
+        self.column_damping
+            + self.device_damping
+            + self.friction
+            + self.impact
+            + self.disengagement
+            + self.reset
+    }
+
+    /// Input minus stored minus dissipated.
+    pub fn imbalance(&self) -> f64 {
+        self.input - self.structure - self.inerter - self.dissipated()
+    }
+}
+
+/// Discrete energy losses booked at jumps.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Ledger {
+    pub impact: f64,
+    pub disengagement: f64,
+    pub reset: f64,
+}
+
+/// Counts of discrete events.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Counters {
+    pub impacts: u64,
+    pub uplifts: u64,
+    pub engagements: u64,
+    pub resets: u64,
+}
+
+/// Peak responses (MODEL.md "reported").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Peaks {
+    pub rotation: f64,
+    pub deformation: f64,
+    pub drift: f64,
+    /// |absolute horizontal acceleration| / g, impact jumps excluded.
+    pub abs_acceleration_g: f64,
+}
+
+/// What the simulation driver needs from a structure family.
+pub trait SimModel<const N: usize>: OdeSystem<N> {
+    /// State at t = 0 and the first action (e.g. idle until the ground lifts the block).
+    fn start(&mut self, y: &mut [f64; N]) -> Action;
+    /// Apply the jump of event `index` located at t.
+    fn on_event(&mut self, index: usize, t: f64, y: &mut [f64; N]) -> Action;
+    /// End of an idle period at t.
+    fn wake(&mut self, t: f64, y: &mut [f64; N]) -> Action;
+    /// The excitation has ended at t and the model is at rest: may the run stop?
+    fn at_rest(&self, t: f64, y: &[f64; N]) -> bool;
+    /// Update peaks over an accepted step (dense output over [t0, t1]).
+    fn observe_step(&mut self, dense: &Dense<N>, t_end: f64);
+    /// Update peaks at a single point (start, events, idle periods).
+    fn observe_point(&mut self, t: f64, y: &[f64; N]);
+    /// Peak ground acceleration felt while idle on [t0, t1] (the body moves with the ground).
+    fn observe_idle(&mut self, t0: f64, t1: f64);
+    fn energy(&self, y: &[f64; N]) -> Energy;
+    fn peaks(&self) -> Peaks;
+    fn counters(&self) -> Counters;
+    fn history_columns(&self) -> Vec<&'static str>;
+    fn history_row(&self, t: f64, y: &[f64; N]) -> Vec<f64>;
+}
+
+/// Largest |v| of component `value` over the step, where `rate` is its time derivative:
+/// endpoints plus interior zeros of the rate, located on the dense output.
+pub fn extremum_on_step<const N: usize>(
+    dense: &Dense<N>,
+    t_end: f64,
+    value: usize,
+    rate: usize,
+) -> f64 {
+    const SAMPLES: usize = 4;
+    let t0 = dense.t0;
+    let mut best = 0.0f64;
+    let mut t_prev = t0;
+    let mut y_prev = dense.state(t0);
+    best = best.max(y_prev[value].abs());
+    for k in 1..=SAMPLES {
+        let t = t0 + (t_end - t0) * k as f64 / SAMPLES as f64;
+        let y = dense.state(t);
+        best = best.max(y[value].abs());
+        if y_prev[rate] * y[rate] < 0.0 {
+            let (mut a, mut b, ra) = (t_prev, t, y_prev[rate]);
+            for _ in 0..60 {
+                let m = 0.5 * (a + b);
+                let rm = dense.state(m)[rate];
+                if rm * ra > 0.0 {
+                    a = m
+                } else {
+                    b = m
+                }
+                if b - a < 1e-15 * t.abs().max(1.0) {
+                    break;
+                }
+            }
+            best = best.max(dense.state(0.5 * (a + b))[value].abs());
+        }
+        t_prev = t;
+        y_prev = y;
+    }
+    best
+}

@@ -1,0 +1,662 @@
+//! Housner's rigid block with an inerter device (MODEL.md "Rigid block"; paper §2, §3, §5).
+//!
+//! State: [θ, θ̇, flywheels (y, ẏ per flywheel), accumulators (input work, device damping,
+//! friction, Dirac impact work)]. Only the flywheels the device has are in the state.
+
+use super::device::DeviceModel;
+use super::{Action, Counters, EndReason, Energy, Ledger, Peaks, SimModel, extremum_on_step};
+use crate::excitation::{G, Motion};
+use crate::scene::{Form, Impact, RigidBlock};
+use crate::solver::{Dense, Direction, MAX_EVENTS, OdeSystem};
+use std::f64::consts::PI;
+
+/// Housner's coefficient of restitution (Eq. 3): r = (1 − 1.5 sin²α)².
+pub fn housner_restitution(alpha: f64) -> f64 {
+    (1.0 - 1.5 * alpha.sin().powi(2)).powi(2)
+}
+
+/// Restitution with an inerter rigidly attached at impact (Eq. 16).
+pub fn inerter_restitution(alpha: f64, sigma: f64) -> f64 {
+    let q = 0.75 * sigma * alpha.cos().powi(2);
+    ((1.0 - 1.5 * alpha.sin().powi(2) + q) / (1.0 + q)).powi(2)
+}
+
+/// Half-width θi = 2.576 n/√2 of the Dirac-delta impact zone (§3).
+pub fn dirac_zone(width: f64) -> f64 {
+    2.576 * width / 2f64.sqrt()
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Ev {
+    Impact,
+    Overturn,
+    Uplift(f64),
+    Sequential,
+    DiracZone,
+    ContactA,
+    ContactB,
+    ResetA,
+    ResetB,
+    GuardA,
+    GuardB,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Phase {
+    /// Flat on the ground: θ ≡ 0.
+    Contact,
+    Rocking,
+}
+
+pub struct RigidModel<'m> {
+    r: f64,
+    alpha: f64,
+    m: f64,
+    form: Form,
+    p2: f64,
+    i0: f64,
+    sin_a: f64,
+    cos_a: f64,
+    /// tan α (exact) or α (slender): uplift needs |a_g| > g · this.
+    uplift_ratio: f64,
+    dev: DeviceModel,
+    restitution_override: Option<f64>,
+    /// Dirac impact: (width n, zone half-width θi).
+    dirac: Option<(f64, f64)>,
+    motion: &'m Motion,
+    initial_rotation: f64,
+    acc: usize,
+    events: [Ev; MAX_EVENTS],
+    n_events: usize,
+    // Discrete mode.
+    phase: Phase,
+    pivot: f64,
+    seq_engaged: bool,
+    /// Kinetic energy at entry into the Dirac zone while the impact moment is active.
+    dirac_energy: Option<f64>,
+    /// Below this post-impact rate the block is put to rest (its next excursion would be
+    /// < 1e-10 α): Zeno-safe chattering.
+    rest_rate: f64,
+    ledger: Ledger,
+    counters: Counters,
+    peaks: Peaks,
+}
+
+impl<'m> RigidModel<'m> {
+    pub fn new(
+        block: &RigidBlock,
+        device: DeviceModel,
+        impact: Impact,
+        motion: &'m Motion,
+        initial_rotation: f64,
+    ) -> Self {
+        let r = block.size;
+        let p2 = 3.0 * G / (4.0 * r);
+        let (restitution_override, dirac) = match impact {
+            Impact::Housner { restitution } => (restitution, None),
+            Impact::Dirac { width } => (None, Some((width, dirac_zone(width)))),
+        };
+        let acc = 2 + 2 * device.flywheels();
+        let mut events = [Ev::Impact; MAX_EVENTS];
+        let mut n = 0;
+        let mut push = |e| {
+            events[n] = e;
+            n += 1;
+        };
+        push(Ev::Impact);
+        push(Ev::Overturn);
+        push(Ev::Uplift(1.0));
+        push(Ev::Uplift(-1.0));
+        if matches!(device, DeviceModel::Sequential { .. }) {
+            push(Ev::Sequential);
+        }
+        if dirac.is_some() {
+            push(Ev::DiracZone);
+        }
+        if let DeviceModel::Clutch(c) = device {
+            push(Ev::ContactA);
+            push(Ev::ContactB);
+            push(Ev::ResetA);
+            push(Ev::ResetB);
+            if c.play > 0.0 && c.reset == crate::scene::ResetRule::Strict {
+                push(Ev::GuardA);
+                push(Ev::GuardB);
+            }
+        }
+        RigidModel {
+            r,
+            alpha: block.alpha,
+            m: block.mass,
+            form: block.form,
+            p2,
+            i0: 4.0 / 3.0 * block.mass * r * r,
+            sin_a: block.alpha.sin(),
+            cos_a: block.alpha.cos(),
+            uplift_ratio: match block.form {
+                Form::Exact => block.alpha.tan(),
+                Form::Slender => block.alpha,
+            },
+            dev: device,
+            restitution_override,
+            dirac,
+            motion,
+            initial_rotation,
+            acc,
+            events,
+            n_events: n,
+            phase: Phase::Contact,
+            pivot: 1.0,
+            seq_engaged: false,
+            dirac_energy: None,
+            rest_rate: (2e-10f64).sqrt() * p2.sqrt() * block.alpha,
+            ledger: Ledger::default(),
+            counters: Counters::default(),
+            peaks: Peaks::default(),
+        }
+    }
+
+    /// Number of state components this model needs.
+    pub fn state_len(device: &DeviceModel) -> usize {
+        2 + 2 * device.flywheels() + 4
+    }
+
+    /// S = sin(sα − θ), C = cos(sα − θ) (slender: S = sα − θ, C = 1).
+    #[inline]
+    fn sc(&self, theta: f64) -> (f64, f64) {
+        let a = self.pivot * self.alpha - theta;
+        match self.form {
+            Form::Exact => a.sin_cos(),
+            Form::Slender => (a, 1.0),
+        }
+    }
+
+    /// Horizontal position and velocity of the centre of mass.
+    #[inline]
+    fn x_xdot(&self, y: &[f64]) -> (f64, f64) {
+        if self.phase == Phase::Contact {
+            return (0.0, 0.0);
+        }
+        let (s, c) = self.sc(y[0]);
+        let x = match self.form {
+            Form::Exact => self.r * (self.pivot * self.sin_a - s),
+            Form::Slender => self.r * y[0],
+        };
+        (x, self.r * c * y[1])
+    }
+
+    fn dirac_moment(&self, theta: f64, thetadot: f64) -> f64 {
+        match (self.dirac_energy, self.dirac) {
+            (Some(e_ini), Some((n, _))) => {
+                let r = self.restitution();
+                -thetadot.signum() * 2.0 * e_ini * (1.0 - r) * (-(theta / n).powi(2)).exp()
+                    / (n * PI.sqrt())
+            }
+            _ => 0.0,
+        }
+    }
+
+    fn restitution(&self) -> f64 {
+        if let Some(r) = self.restitution_override {
+            return r;
+        }
+        let mr = self.dev.coupled_mass(self.seq_engaged);
+        if mr > 0.0 {
+            inerter_restitution(self.alpha, mr / self.m)
+        } else {
+            housner_restitution(self.alpha)
+        }
+    }
+
+    /// θ̈ of the bare block (no device), used by the sequential engagement test.
+    fn bare_xddot(&self, t: f64, y: &[f64]) -> f64 {
+        let (s, c) = self.sc(y[0]);
+        let ag = self.motion.accel(t);
+        let thdd = -self.p2 * (s + ag / G * c) + self.dirac_moment(y[0], y[1]) / self.i0;
+        match self.form {
+            Form::Exact => self.r * (c * thdd + s * y[1] * y[1]),
+            Form::Slender => self.r * thdd,
+        }
+    }
+
+    /// Uplift test toward side s while in contact: positive when the block lifts off.
+    fn uplift_margin(&self, side: f64, t: f64, y: &[f64]) -> f64 {
+        let (fa, fb) = self.dev.spring_forces(0.0, &y[2..self.acc]);
+        let fd = -(fa + fb);
+        side * (fd - self.m * self.motion.accel(t)) - self.m * G * self.uplift_ratio
+    }
+
+    fn rhs_slice(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        dy.fill(0.0);
+        let ag = self.motion.accel(t);
+        let (x, xdot) = self.x_xdot(y);
+        let (fa, fb) = self.dev.spring_forces(x, &y[2..self.acc]);
+        let (mut visc, mut fric) = (0.0, 0.0);
+        for (i, f) in [fa, fb].into_iter().take(self.dev.flywheels()).enumerate() {
+            let j = 2 + 2 * i;
+            let (a, pv, pf) = self.dev.flywheel_accel(f, y[j + 1]);
+            dy[j] = y[j + 1];
+            dy[j + 1] = a;
+            visc += pv;
+            fric += pf;
+        }
+        if self.phase == Phase::Rocking {
+            let (theta, thetadot) = (y[0], y[1]);
+            let (s, c) = self.sc(theta);
+            let fd = -(fa + fb);
+            let moment = self.dirac_moment(theta, thetadot);
+            // (1 + ¾σC²) θ̈ = −p²(S + (a_g/g) C) − ¾σ C S θ̇² + (Fd R C + M)/I0
+            let sigma = self.dev.coupled_mass(self.seq_engaged) / self.m;
+            let mut num = -self.p2 * (s + ag / G * c) + (fd * self.r * c + moment) / self.i0;
+            let mut den = 1.0;
+            if sigma > 0.0 {
+                den += 0.75 * sigma * c * c;
+                if self.form == Form::Exact {
+                    num -= 0.75 * sigma * c * s * thetadot * thetadot;
+                }
+            }
+            dy[0] = thetadot;
+            dy[1] = num / den;
+            dy[self.acc + 3] = -moment * thetadot;
+        }
+        dy[self.acc] = -self.m * ag * xdot;
+        dy[self.acc + 1] = visc;
+        dy[self.acc + 2] = fric;
+    }
+
+    fn event_value(&self, ev: Ev, t: f64, y: &[f64]) -> f64 {
+        let rocking = self.phase == Phase::Rocking;
+        match ev {
+            Ev::Impact => {
+                if rocking {
+                    self.pivot * y[0]
+                } else {
+                    1.0
+                }
+            }
+            Ev::Overturn => {
+                if rocking {
+                    self.pivot * y[0] - self.alpha
+                } else {
+                    -1.0
+                }
+            }
+            Ev::Uplift(side) => {
+                if rocking {
+                    -1.0
+                } else {
+                    self.uplift_margin(side, t, y)
+                }
+            }
+            Ev::Sequential => {
+                if rocking {
+                    self.x_xdot(y).1 * self.bare_xddot(t, y)
+                } else if self.seq_engaged {
+                    1.0
+                } else {
+                    -1.0
+                }
+            }
+            Ev::DiracZone => match (rocking, self.dirac_energy) {
+                (false, _) => 1.0,
+                // Active: stop when the block turns back (sθ̇ becomes positive).
+                (true, Some(_)) => self.pivot * y[1],
+                (true, None) => self.pivot * y[0] - self.dirac.map_or(0.0, |d| d.1),
+            },
+            Ev::ContactA | Ev::ContactB | Ev::ResetA | Ev::ResetB | Ev::GuardA | Ev::GuardB => {
+                let DeviceModel::Clutch(c) = &self.dev else {
+                    return 1.0;
+                };
+                let (x, xdot) = self.x_xdot(y);
+                let (da, db) = (x - y[2], x - y[4]);
+                match ev {
+                    Ev::ContactA => da - c.play,
+                    Ev::ContactB => db + c.play,
+                    Ev::ResetA if c.a_resettable(da) => xdot - y[3],
+                    Ev::ResetA => 1.0,
+                    Ev::ResetB if c.b_resettable(db) => xdot - y[5],
+                    Ev::ResetB => -1.0,
+                    Ev::GuardA => da,
+                    _ => db,
+                }
+            }
+        }
+    }
+
+    fn coupled_kinetic(&self, y: &[f64]) -> f64 {
+        let (_, xdot) = self.x_xdot(y);
+        0.5 * self.dev.coupled_mass(self.seq_engaged) * xdot * xdot
+    }
+
+    /// Re-decide the sequential clutch after a jump, booking the energy the law creates or
+    /// destroys.
+    fn resync_sequential(&mut self, t: f64, y: &[f64]) {
+        if !matches!(self.dev, DeviceModel::Sequential { .. }) || self.phase != Phase::Rocking {
+            return;
+        }
+        let g = self.x_xdot(y).1 * self.bare_xddot(t, y);
+        if self.seq_engaged && g < 0.0 {
+            self.toggle_sequential(y);
+        } else if !self.seq_engaged && g > 0.0 {
+            self.toggle_sequential(y);
+        }
+    }
+
+    fn toggle_sequential(&mut self, y: &[f64]) {
+        let (_, xdot) = self.x_xdot(y);
+        let e = 0.5 * self.dev.mr() * xdot * xdot;
+        if self.seq_engaged {
+            self.ledger.disengagement += e;
+        } else {
+            // The law switches mr on with no velocity jump: energy from nothing (MODEL.md).
+            self.ledger.disengagement -= e;
+            self.counters.engagements += 1;
+        }
+        self.seq_engaged = !self.seq_engaged;
+    }
+
+    fn uplift(&mut self, side: f64, y: &mut [f64]) -> Action {
+        self.phase = Phase::Rocking;
+        self.pivot = side;
+        y[0] = 0.0;
+        y[1] = 0.0;
+        self.counters.uplifts += 1;
+        // Starting from rest, |ẋ| grows: the sequential clutch engages (at ẋ = 0, no energy).
+        if matches!(self.dev, DeviceModel::Sequential { .. }) {
+            self.seq_engaged = true;
+            self.counters.engagements += 1;
+        }
+        Action::Continue
+    }
+
+    fn enter_contact(&mut self, t: f64, y: &mut [f64]) -> Action {
+        let ke = 0.5 * self.i0 * y[1] * y[1] + self.coupled_kinetic(y);
+        self.ledger.reset += ke;
+        if self.seq_engaged {
+            self.seq_engaged = false;
+        }
+        self.phase = Phase::Contact;
+        self.dirac_energy = None;
+        y[0] = 0.0;
+        y[1] = 0.0;
+        for side in [1.0, -1.0] {
+            if self.uplift_margin(side, t, y) > 0.0 {
+                return self.uplift(side, y);
+            }
+        }
+        if self.dev.flywheels() > 0 {
+            return Action::Continue;
+        }
+        // Nothing moves until the ground acceleration exceeds g·tanα: do not integrate.
+        match self.motion.first_exceedance(t, G * self.uplift_ratio) {
+            Some(until) => Action::Idle { until },
+            None => Action::Stop(EndReason::Rest),
+        }
+    }
+
+    fn absolute_acceleration(&self, t: f64, y: &[f64], dy: &[f64]) -> f64 {
+        let ag = self.motion.accel(t);
+        if self.phase == Phase::Contact {
+            return ag;
+        }
+        let (s, c) = self.sc(y[0]);
+        let xddot = match self.form {
+            Form::Exact => self.r * (c * dy[1] + s * y[1] * y[1]),
+            Form::Slender => self.r * dy[1],
+        };
+        xddot + ag
+    }
+
+    fn drift_of(&self, theta: f64) -> f64 {
+        let x = match self.form {
+            Form::Exact => self.r * (self.sin_a - (self.alpha - theta.abs()).sin()),
+            Form::Slender => self.r * theta.abs(),
+        };
+        x / (self.r * self.cos_a)
+    }
+
+    fn device_force(&self, t: f64, y: &[f64]) -> (f64, f64, f64) {
+        let (x, _) = self.x_xdot(y);
+        let (fa, fb) = self.dev.spring_forces(x, &y[2..self.acc]);
+        let mr = self.dev.coupled_mass(self.seq_engaged);
+        if mr > 0.0 && self.phase == Phase::Rocking {
+            let mut dy = vec![0.0; y.len()];
+            self.rhs_slice(t, y, &mut dy);
+            let (s, c) = self.sc(y[0]);
+            let xddot = match self.form {
+                Form::Exact => self.r * (c * dy[1] + s * y[1] * y[1]),
+                Form::Slender => self.r * dy[1],
+            };
+            return (0.0, 0.0, -mr * xddot);
+        }
+        (fa, fb, -(fa + fb))
+    }
+}
+
+impl<const N: usize> OdeSystem<N> for RigidModel<'_> {
+    #[inline]
+    fn rhs(&self, t: f64, y: &[f64; N], dydt: &mut [f64; N]) {
+        self.rhs_slice(t, y, dydt)
+    }
+
+    fn event_count(&self) -> usize {
+        self.n_events
+    }
+
+    fn event_direction(&self, index: usize) -> Direction {
+        match self.events[index] {
+            Ev::Impact => Direction::Falling,
+            Ev::Overturn | Ev::Uplift(_) | Ev::ResetA => Direction::Rising,
+            Ev::ResetB => Direction::Falling,
+            Ev::Sequential if self.seq_engaged => Direction::Falling,
+            Ev::Sequential => Direction::Rising,
+            Ev::DiracZone if self.dirac_energy.is_some() => Direction::Rising,
+            Ev::DiracZone => Direction::Falling,
+            Ev::ContactA | Ev::ContactB | Ev::GuardA | Ev::GuardB => Direction::Either,
+        }
+    }
+
+    fn events(&self, t: f64, y: &[f64; N], g: &mut [f64]) {
+        for (i, gi) in g.iter_mut().enumerate() {
+            *gi = self.event_value(self.events[i], t, y);
+        }
+    }
+}
+
+impl<const N: usize> SimModel<N> for RigidModel<'_> {
+    fn start(&mut self, y: &mut [f64; N]) -> Action {
+        if self.initial_rotation != 0.0 {
+            self.phase = Phase::Rocking;
+            self.pivot = self.initial_rotation.signum();
+            y[0] = self.initial_rotation;
+            return Action::Continue;
+        }
+        self.enter_contact(0.0, y)
+    }
+
+    fn on_event(&mut self, index: usize, t: f64, y: &mut [f64; N]) -> Action {
+        match self.events[index] {
+            Ev::Impact => {
+                self.counters.impacts += 1;
+                if self.dirac.is_some() {
+                    // The Gaussian moment already took the energy: switch pivots only.
+                    self.dirac_energy = None;
+                } else {
+                    let r = self.restitution();
+                    let ke = 0.5 * self.i0 * y[1] * y[1] + self.coupled_kinetic(y);
+                    self.ledger.impact += (1.0 - r) * ke;
+                    y[1] *= r.sqrt();
+                }
+                y[0] = 0.0;
+                self.pivot = -self.pivot;
+                if y[1].abs() < self.rest_rate {
+                    return self.enter_contact(t, y);
+                }
+                self.resync_sequential(t, y);
+                Action::Continue
+            }
+            Ev::Overturn => Action::Stop(EndReason::Overturned),
+            Ev::Uplift(side) => self.uplift(side, y),
+            Ev::Sequential => {
+                self.toggle_sequential(y);
+                Action::Continue
+            }
+            Ev::DiracZone => {
+                self.dirac_energy = match self.dirac_energy {
+                    Some(_) => None,
+                    None => Some(0.5 * self.i0 * y[1] * y[1]),
+                };
+                Action::Continue
+            }
+            Ev::ContactA | Ev::ContactB => {
+                let engaging = self.event_value(self.events[index], t, y)
+                    * if self.events[index] == Ev::ContactA {
+                        1.0
+                    } else {
+                        -1.0
+                    }
+                    > 0.0;
+                if engaging {
+                    self.counters.engagements += 1;
+                }
+                Action::Continue
+            }
+            Ev::ResetA | Ev::ResetB => {
+                let (x, _) = self.x_xdot(y);
+                let (j, before, after) = if self.events[index] == Ev::ResetA {
+                    (
+                        2,
+                        self.dev.clutch_potential_a(x - y[2]),
+                        self.dev.clutch_potential_a(0.0),
+                    )
+                } else {
+                    (
+                        4,
+                        self.dev.clutch_potential_b(x - y[4]),
+                        self.dev.clutch_potential_b(0.0),
+                    )
+                };
+                y[j] = x;
+                self.ledger.reset += before - after;
+                self.counters.resets += 1;
+                Action::Continue
+            }
+            Ev::GuardA | Ev::GuardB => Action::Continue,
+        }
+    }
+
+    fn wake(&mut self, t: f64, y: &mut [f64; N]) -> Action {
+        let side = -self.motion.accel(t).signum();
+        self.uplift(if side == 0.0 { 1.0 } else { side }, y)
+    }
+
+    fn at_rest(&self, _t: f64, _y: &[f64; N]) -> bool {
+        // In contact after the ground stopped, a flywheel can only spin down and drift away
+        // from engagement (its velocity never changes sign), so nothing can move the block.
+        self.phase == Phase::Contact
+    }
+
+    fn observe_step(&mut self, dense: &Dense<N>, t_end: f64) {
+        if self.phase == Phase::Rocking {
+            let rot = extremum_on_step(dense, t_end, 0, 1);
+            self.peaks.rotation = self.peaks.rotation.max(rot);
+            self.peaks.drift = self.peaks.drift.max(self.drift_of(rot));
+        }
+        for k in 1..=4 {
+            let t = dense.t0 + (t_end - dense.t0) * k as f64 / 4.0;
+            let a = self.absolute_acceleration(t, &dense.state(t), &dense.derivative(t));
+            self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a.abs() / G);
+        }
+    }
+
+    fn observe_point(&mut self, t: f64, y: &[f64; N]) {
+        let mut dy = [0.0; N];
+        self.rhs_slice(t, y, &mut dy);
+        self.peaks.rotation = self.peaks.rotation.max(y[0].abs());
+        self.peaks.drift = self.peaks.drift.max(self.drift_of(y[0]));
+        let a = self.absolute_acceleration(t, y, &dy);
+        self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a.abs() / G);
+    }
+
+    fn observe_idle(&mut self, t0: f64, t1: f64) {
+        let a = self.motion.peak_abs(t0, t1);
+        self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a / G);
+    }
+
+    fn energy(&self, y: &[f64; N]) -> Energy {
+        let acc = self.acc;
+        let structure = if self.phase == Phase::Rocking {
+            let (s, c) = self.sc(y[0]);
+            let pe = match self.form {
+                Form::Exact => self.m * G * self.r * (c - self.cos_a),
+                Form::Slender => 0.5 * self.m * G * self.r * (self.alpha.powi(2) - s * s),
+            };
+            0.5 * self.i0 * y[1] * y[1] + pe
+        } else {
+            0.0
+        };
+        let (x, _) = self.x_xdot(y);
+        Energy {
+            input: y[acc],
+            structure,
+            inerter: self.coupled_kinetic(y) + self.dev.stored_energy(x, &y[2..acc]),
+            column_damping: 0.0,
+            device_damping: y[acc + 1],
+            friction: y[acc + 2],
+            impact: self.ledger.impact + y[acc + 3],
+            disengagement: self.ledger.disengagement,
+            reset: self.ledger.reset,
+        }
+    }
+
+    fn peaks(&self) -> Peaks {
+        self.peaks
+    }
+
+    fn counters(&self) -> Counters {
+        self.counters
+    }
+
+    fn history_columns(&self) -> Vec<&'static str> {
+        vec![
+            "t",
+            "theta",
+            "theta_dot",
+            "ground_accel",
+            "x",
+            "flywheel_a_vel",
+            "flywheel_b_vel",
+            "clutch_force_a",
+            "clutch_force_b",
+            "device_force",
+            "e_input",
+            "e_structure",
+            "e_inerter",
+            "e_dissipated",
+        ]
+    }
+
+    fn history_row(&self, t: f64, y: &[f64; N]) -> Vec<f64> {
+        let (x, _) = self.x_xdot(y);
+        let nf = self.dev.flywheels();
+        let va = if nf >= 1 { y[3] } else { 0.0 };
+        let vb = if nf >= 2 { y[5] } else { 0.0 };
+        let (fa, fb, fd) = self.device_force(t, y);
+        let e = SimModel::<N>::energy(self, y);
+        vec![
+            t,
+            y[0],
+            y[1],
+            self.motion.accel(t),
+            x,
+            va,
+            vb,
+            fa,
+            fb,
+            fd,
+            e.input,
+            e.structure,
+            e.inerter,
+            e.dissipated(),
+        ]
+    }
+}

@@ -1,0 +1,36 @@
+//! Results to files: CSV histories, atomic writes.
+
+use crate::sim::History;
+use anyhow::Context;
+use std::io::Write;
+use std::path::Path;
+
+/// Write `bytes` to `path` atomically: a temporary file in the same directory, then rename,
+/// so a reader never sees a half-written result.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut tmp = tempfile::NamedTempFile::new_in(dir)
+        .with_context(|| format!("cannot create a file in {}", dir.display()))?;
+    tmp.write_all(bytes)?;
+    tmp.as_file().sync_all()?;
+    tmp.persist(path)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(())
+}
+
+/// A history as CSV: one header line, then one row per accepted step or event.
+pub fn history_csv(history: &History) -> anyhow::Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(&history.columns)?;
+    for row in &history.rows {
+        w.write_record(row.iter().map(|v| format!("{v:.10e}")))?;
+    }
+    Ok(w.into_inner()?)
+}
+
+pub fn write_history_csv(path: &Path, history: &History) -> anyhow::Result<()> {
+    write_atomic(path, &history_csv(history)?)
+}

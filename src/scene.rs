@@ -1,0 +1,451 @@
+//! A scene: everything needed to reproduce one simulation, as plain serde data. Studies expand
+//! into scenes; `rocklab simulate` builds one from flags. Names follow the paper (σ, kθ, ρ, ε,
+//! c̄, ξθ, fμ, η, up) so study files read like its figure captions.
+
+use crate::excitation::{G, PulseShape};
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    pub structure: Structure,
+    pub device: Device,
+    #[serde(default)]
+    pub impact: Impact,
+    pub excitation: Excitation,
+    /// Total simulated time (s); the run stops earlier only at overturning or rest.
+    pub duration: f64,
+    /// Relative tolerance of the integrator.
+    #[serde(default = "default_rtol")]
+    pub rtol: f64,
+    /// Initial uplift rotation (rad), for free-rocking studies; 0 starts at rest on the ground.
+    #[serde(default)]
+    pub initial_rotation: f64,
+}
+
+pub fn default_rtol() -> f64 {
+    1e-6
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Structure {
+    Rigid(RigidBlock),
+    Flexible(FlexibleStructure),
+}
+
+impl Structure {
+    pub fn alpha(&self) -> f64 {
+        match self {
+            Structure::Rigid(b) => b.alpha,
+            Structure::Flexible(f) => f.alpha,
+        }
+    }
+
+    /// Frequency parameter p (rad/s): √(3g/4R) for a rectangular block, √(g/R0) for a point
+    /// mass on a rocking base.
+    pub fn p(&self) -> f64 {
+        match self {
+            Structure::Rigid(b) => (3.0 * G / (4.0 * b.size)).sqrt(),
+            Structure::Flexible(f) => (G / f.r0).sqrt(),
+        }
+    }
+
+    pub fn mass(&self) -> f64 {
+        match self {
+            Structure::Rigid(b) => b.mass,
+            Structure::Flexible(f) => f.mass,
+        }
+    }
+}
+
+/// Housner's rectangular block.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RigidBlock {
+    /// Half-diagonal R (m).
+    pub size: f64,
+    /// Slenderness α (rad).
+    pub alpha: f64,
+    #[serde(default = "unit_mass")]
+    pub mass: f64,
+    #[serde(default)]
+    pub form: Form,
+}
+
+/// Exact trigonometric equations, or the small-α (slender) linearisation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Form {
+    #[default]
+    Exact,
+    Slender,
+}
+
+/// Lumped mass on an elastic column over an uplifting rigid base (paper §6).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlexibleStructure {
+    /// R0 = √(B² + H²) (m).
+    pub r0: f64,
+    pub alpha: f64,
+    #[serde(default = "unit_mass")]
+    pub mass: f64,
+    /// Column damping ratio ξ.
+    pub xi: f64,
+    /// Column natural frequency ωn (rad/s).
+    pub omega_n: f64,
+}
+
+fn unit_mass() -> f64 {
+    1.0
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Device {
+    None,
+    /// Single inerter, no clutch.
+    Inerter {
+        sigma: f64,
+        coupling: Coupling,
+    },
+    /// Twin clutched inerters, Makris–Kampas sequential law.
+    Sequential {
+        sigma: f64,
+    },
+    /// Twin clutched inerters with the mechanistic clutch of the paper.
+    Mechanistic(Clutch),
+}
+
+impl Device {
+    pub fn sigma(&self) -> f64 {
+        match self {
+            Device::None => 0.0,
+            Device::Inerter { sigma, .. } | Device::Sequential { sigma } => *sigma,
+            Device::Mechanistic(c) => c.sigma,
+        }
+    }
+
+    pub fn name(&self) -> &'static str {
+        match self {
+            Device::None => "none",
+            Device::Inerter { .. } => "inerter",
+            Device::Sequential { .. } => "sequential",
+            Device::Mechanistic(_) => "mechanistic",
+        }
+    }
+}
+
+/// How a single inerter is attached.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Coupling {
+    /// mr joins the horizontal motion (infinitely stiff connection).
+    Rigid,
+    /// Explicit flywheel behind a linear spring, with optional damping.
+    Flywheel {
+        stiffness: ClutchStiffness,
+        #[serde(default = "default_rho")]
+        rho: f64,
+        damping: Damping,
+    },
+}
+
+/// Mechanistic clutch parameters (paper names).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Clutch {
+    pub sigma: f64,
+    #[serde(default)]
+    pub stiffness: ClutchStiffness,
+    /// Pinion radius ρ (m).
+    #[serde(default = "default_rho")]
+    pub rho: f64,
+    /// tanh smoothing factor ε (per radian of flywheel rotation).
+    #[serde(default = "default_epsilon")]
+    pub epsilon: f64,
+    #[serde(default)]
+    pub damping: Damping,
+    /// Dry friction force fμ as a fraction of mr·g.
+    #[serde(default)]
+    pub friction: f64,
+    /// Friction transition coefficient η (s/rad).
+    #[serde(default = "default_eta")]
+    pub eta: f64,
+    /// Gear play up (m).
+    #[serde(default)]
+    pub play: f64,
+    #[serde(default)]
+    pub reset: ResetRule,
+}
+
+pub fn default_rho() -> f64 {
+    0.05
+}
+pub fn default_epsilon() -> f64 {
+    1e6
+}
+pub fn default_eta() -> f64 {
+    100.0
+}
+
+impl Clutch {
+    pub fn paper_default(sigma: f64) -> Self {
+        Clutch {
+            sigma,
+            stiffness: ClutchStiffness::default(),
+            rho: default_rho(),
+            epsilon: default_epsilon(),
+            damping: Damping::default(),
+            friction: 0.0,
+            eta: default_eta(),
+            play: 0.0,
+            reset: ResetRule::Paper,
+        }
+    }
+}
+
+/// Clutch (or inerter spring) stiffness: the paper's kθ, or the clutch spring frequency
+/// √(k/mr) as a multiple of the structure's p. The paper gives no kθ; the default puts the
+/// clutch frequency at 50 p, well above the structure's.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ClutchStiffness {
+    KTheta(f64),
+    FrequencyRatio(f64),
+}
+
+impl Default for ClutchStiffness {
+    fn default() -> Self {
+        ClutchStiffness::FrequencyRatio(50.0)
+    }
+}
+
+/// Flywheel viscous damping: c̄ = c/J (1/s), or the ratio ξθ = c/(2√(kθ J)).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Damping {
+    CBar(f64),
+    XiTheta(f64),
+}
+
+impl Default for Damping {
+    fn default() -> Self {
+        Damping::CBar(1.0)
+    }
+}
+
+/// Re-engagement reset with gear play (MODEL.md): the paper's rule resets whenever the clutch
+/// is disengaged (δ < up), the strict rule only once the gap has closed the other way (δ < 0).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ResetRule {
+    #[default]
+    Paper,
+    Strict,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Impact {
+    /// Instantaneous impact, Housner's r (Eq. 3) or Eq. 16 with a rigidly attached inerter;
+    /// `restitution` overrides r (1 makes impacts elastic).
+    Housner {
+        #[serde(default)]
+        restitution: Option<f64>,
+    },
+    /// Gaussian impact moment of width n (rad) (§3).
+    Dirac { width: f64 },
+}
+
+impl Default for Impact {
+    fn default() -> Self {
+        Impact::Housner { restitution: None }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Excitation {
+    Pulse {
+        shape: PulseShape,
+        amplitude: Amplitude,
+        frequency: Frequency,
+    },
+}
+
+/// Pulse amplitude: absolute (A/g) or relative to the uplift threshold.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Amplitude {
+    /// A/g.
+    G(f64),
+    /// A/(g·tan α) (the flexible-structure convention of the paper).
+    TanAlphaRatio(f64),
+    /// A/(g·α) (the rigid-block convention of the paper's Figs. 5, 8, 11, 12).
+    AlphaRatio(f64),
+}
+
+impl Amplitude {
+    /// A in m/s².
+    pub fn absolute(&self, alpha: f64) -> f64 {
+        match *self {
+            Amplitude::G(a) => a * G,
+            Amplitude::TanAlphaRatio(r) => r * G * alpha.tan(),
+            Amplitude::AlphaRatio(r) => r * G * alpha,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Frequency {
+    /// ωg in rad/s.
+    RadPerSec(f64),
+    /// ωg/p.
+    Ratio(f64),
+}
+
+impl Frequency {
+    pub fn absolute(&self, p: f64) -> f64 {
+        match *self {
+            Frequency::RadPerSec(w) => w,
+            Frequency::Ratio(r) => r * p,
+        }
+    }
+}
+
+/// A physically invalid scene value. `field` uses the CLI flag spelling without dashes
+/// (`k_theta` ↔ `--k-theta`), so both the CLI and study files can point at it.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{field} = {value}: {expected}")]
+pub struct Invalid {
+    pub field: &'static str,
+    pub value: f64,
+    pub expected: &'static str,
+}
+
+fn check(field: &'static str, value: f64, ok: bool, expected: &'static str) -> Result<(), Invalid> {
+    if value.is_finite() && ok {
+        Ok(())
+    } else {
+        Err(Invalid {
+            field,
+            value,
+            expected,
+        })
+    }
+}
+
+fn positive(field: &'static str, v: f64) -> Result<(), Invalid> {
+    check(field, v, v > 0.0, "must be a finite number > 0")
+}
+
+fn non_negative(field: &'static str, v: f64) -> Result<(), Invalid> {
+    check(field, v, v >= 0.0, "must be a finite number ≥ 0")
+}
+
+impl Scene {
+    /// Reject physically meaningless values before anything runs.
+    pub fn validate(&self) -> Result<(), Invalid> {
+        let alpha = self.structure.alpha();
+        check(
+            "alpha",
+            alpha,
+            alpha > 0.0 && alpha < std::f64::consts::FRAC_PI_2,
+            "slenderness must be in (0, π/2) rad",
+        )?;
+        positive("mass", self.structure.mass())?;
+        match &self.structure {
+            Structure::Rigid(b) => positive("size", b.size)?,
+            Structure::Flexible(f) => {
+                positive("size", f.r0)?;
+                non_negative("xi", f.xi)?;
+                positive("omega_n", f.omega_n)?;
+            }
+        }
+        match &self.device {
+            Device::None => {}
+            Device::Inerter { sigma, coupling } => {
+                non_negative("sigma", *sigma)?;
+                if let Coupling::Flywheel {
+                    stiffness,
+                    rho,
+                    damping,
+                } = coupling
+                {
+                    positive("rho", *rho)?;
+                    check_stiffness(*stiffness)?;
+                    check_damping(*damping)?;
+                }
+            }
+            Device::Sequential { sigma } => non_negative("sigma", *sigma)?,
+            Device::Mechanistic(c) => {
+                positive("sigma", c.sigma)?;
+                check_stiffness(c.stiffness)?;
+                positive("rho", c.rho)?;
+                positive("epsilon", c.epsilon)?;
+                check_damping(c.damping)?;
+                non_negative("friction", c.friction)?;
+                positive("eta", c.eta)?;
+                non_negative("play", c.play)?;
+            }
+        }
+        match self.impact {
+            Impact::Housner {
+                restitution: Some(r),
+            } => check(
+                "restitution",
+                r,
+                (0.0..=1.0).contains(&r),
+                "coefficient of restitution must be in [0, 1]",
+            )?,
+            Impact::Housner { restitution: None } => {}
+            Impact::Dirac { width } => positive("width", width)?,
+        }
+        match &self.excitation {
+            Excitation::Pulse {
+                amplitude,
+                frequency,
+                ..
+            } => {
+                let a = match *amplitude {
+                    Amplitude::G(a) | Amplitude::TanAlphaRatio(a) | Amplitude::AlphaRatio(a) => a,
+                };
+                check("amplitude", a, true, "must be a finite number")?;
+                let w = match *frequency {
+                    Frequency::RadPerSec(w) | Frequency::Ratio(w) => w,
+                };
+                positive("frequency", w)?;
+            }
+        }
+        positive("duration", self.duration)?;
+        check(
+            "rtol",
+            self.rtol,
+            self.rtol >= 1e-14 && self.rtol <= 0.1,
+            "relative tolerance must be in [1e-14, 0.1]",
+        )?;
+        check(
+            "initial_rotation",
+            self.initial_rotation,
+            self.initial_rotation.abs() < alpha,
+            "initial rotation must be smaller than α in magnitude",
+        )
+    }
+}
+
+fn check_stiffness(s: ClutchStiffness) -> Result<(), Invalid> {
+    match s {
+        ClutchStiffness::KTheta(k) => positive("k_theta", k),
+        ClutchStiffness::FrequencyRatio(r) => positive("clutch_frequency_ratio", r),
+    }
+}
+
+fn check_damping(d: Damping) -> Result<(), Invalid> {
+    match d {
+        Damping::CBar(c) => non_negative("cbar", c),
+        Damping::XiTheta(x) => non_negative("xi_theta", x),
+    }
+}

@@ -1,0 +1,233 @@
+//! One scene, start to finish: build the model the scene needs, run the event loop (step,
+//! locate event, apply jump, restart), track peaks and the energy balance.
+
+use crate::excitation::{Motion, Pulse};
+use crate::model::device::DeviceModel;
+use crate::model::rigid::RigidModel;
+use crate::model::{Action, Counters, EndReason, Energy, Peaks, SimModel};
+use crate::scene::{Excitation, Scene, Structure};
+use crate::solver::{Integrator, Options, SolverError, Stats, StepOutcome};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+use thiserror::Error;
+
+/// Accepted + rejected steps allowed per scene before it is reported as failed.
+pub const STEP_BUDGET: u64 = 5_000_000;
+
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum SimError {
+    #[error("invalid scene: {0}")]
+    Invalid(String),
+    #[error("{0}")]
+    Solver(#[from] SolverError),
+    #[error("{0} is not available yet")]
+    Unsupported(&'static str),
+}
+
+/// Everything a scene produces besides its histories.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SceneResult {
+    pub overturned: bool,
+    pub end_reason: EndReason,
+    pub end_time: f64,
+    pub peaks: Peaks,
+    /// |θ|max / α.
+    pub peak_rotation_ratio: f64,
+    pub counters: Counters,
+    /// Energy partition at the end of the run.
+    pub energy: Energy,
+    /// |input − Δstored − dissipated| / energy scale of the run.
+    pub energy_residual: f64,
+    pub stats: Stats,
+    pub wall_seconds: f64,
+}
+
+/// A time history: column names and one row per accepted step or event.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct History {
+    pub columns: Vec<&'static str>,
+    pub rows: Vec<Vec<f64>>,
+}
+
+impl History {
+    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
+        let i = self.columns.iter().position(|c| *c == name)?;
+        Some(self.rows.iter().map(|r| r[i]).collect())
+    }
+}
+
+/// Compile the scene's excitation into a ground motion.
+pub fn motion_for(scene: &Scene) -> Result<Motion, SimError> {
+    let alpha = scene.structure.alpha();
+    let p = scene.structure.p();
+    match &scene.excitation {
+        Excitation::Pulse {
+            shape,
+            amplitude,
+            frequency,
+        } => Ok(Motion::Pulse(Pulse {
+            shape: *shape,
+            amplitude: amplitude.absolute(alpha),
+            omega: frequency.absolute(p),
+        })),
+    }
+}
+
+pub fn run(scene: &Scene) -> Result<SceneResult, SimError> {
+    run_with_history(scene, false).map(|(r, _)| r)
+}
+
+pub fn run_with_history(
+    scene: &Scene,
+    record_history: bool,
+) -> Result<(SceneResult, Option<History>), SimError> {
+    scene
+        .validate()
+        .map_err(|e| SimError::Invalid(e.to_string()))?;
+    let motion = motion_for(scene)?;
+    let mut history = record_history.then(History::default);
+    let started = Instant::now();
+    let mut result = match &scene.structure {
+        Structure::Rigid(block) => {
+            let device = DeviceModel::new(&scene.device, block.mass, scene.structure.p());
+            let mut model =
+                RigidModel::new(block, device, scene.impact, &motion, scene.initial_rotation);
+            let p = scene.structure.p();
+            let a = block.alpha;
+            let x = block.size * a;
+            // Characteristic magnitudes: rotations ~α, rates ~pα, flywheel travel ~Rα.
+            let scales = [a, p * a, x, p * x, x, p * x];
+            match RigidModel::state_len(&device) {
+                6 => drive::<6, _>(&mut model, &motion, scene, &scales, history.as_mut()),
+                8 => drive::<8, _>(&mut model, &motion, scene, &scales, history.as_mut()),
+                _ => drive::<10, _>(&mut model, &motion, scene, &scales, history.as_mut()),
+            }?
+        }
+        Structure::Flexible(_) => return Err(SimError::Unsupported("the flexible structure")),
+    };
+    result.peak_rotation_ratio = result.peaks.rotation / scene.structure.alpha();
+    result.wall_seconds = started.elapsed().as_secs_f64();
+    Ok((result, history))
+}
+
+/// The event loop, generic over the model and its state size N. `scales` gives the
+/// characteristic magnitude of the leading (error-controlled) state components; the rest are
+/// energy accumulators and not error controlled.
+fn drive<const N: usize, M: SimModel<N>>(
+    model: &mut M,
+    motion: &Motion,
+    scene: &Scene,
+    scales: &[f64],
+    mut history: Option<&mut History>,
+) -> Result<SceneResult, SimError> {
+    let duration = scene.duration;
+    let controlled = N - 4;
+    let atol: [f64; N] = std::array::from_fn(|i| {
+        if i < controlled {
+            scene.rtol * scales[i]
+        } else {
+            f64::INFINITY
+        }
+    });
+    let mut integ = Integrator::new(Options {
+        rtol: scene.rtol,
+        atol,
+        h_max: f64::INFINITY,
+        max_steps: STEP_BUDGET,
+    });
+    let mut y = [0.0; N];
+    let mut t = 0.0;
+    let mut action = model.start(&mut y);
+    let e0 = model.energy(&y);
+    let initial_stored = e0.structure + e0.inerter;
+    let mut energy_scale = initial_stored.abs();
+    model.observe_point(t, &y);
+    if let Some(h) = history.as_deref_mut() {
+        h.columns = model.history_columns();
+        h.rows.push(model.history_row(t, &y));
+    }
+    let end_reason = 'run: loop {
+        match action {
+            Action::Stop(reason) => break reason,
+            Action::Idle { until } => {
+                let until = until.min(duration);
+                model.observe_idle(t, until);
+                t = until;
+                if t >= duration {
+                    break EndReason::Duration;
+                }
+                action = model.wake(t, &mut y);
+                model.observe_point(t, &y);
+                continue;
+            }
+            Action::Continue => integ.restart(model, t, y),
+        }
+        action = loop {
+            let t_stop = motion
+                .next_breakpoint(t)
+                .map_or(duration, |b| b.min(duration));
+            let outcome = integ.step(model, t_stop)?;
+            let dense = *integ.dense().expect("a step was taken");
+            model.observe_step(&dense, integ.t());
+            t = integ.t();
+            y = *integ.y();
+            let e = model.energy(&y);
+            energy_scale = energy_scale.max(e.input.abs()).max(e.structure + e.inerter);
+            match outcome {
+                StepOutcome::Stepped => {}
+                StepOutcome::Reached => {
+                    if t >= duration {
+                        record(&mut history, model, t, &y);
+                        break 'run EndReason::Duration;
+                    }
+                    if motion.jumps_at(t) {
+                        integ.refresh(model);
+                    }
+                    if t >= motion.end() && model.at_rest(t, &y) {
+                        record(&mut history, model, t, &y);
+                        break 'run EndReason::Rest;
+                    }
+                }
+                StepOutcome::Event(index) => {
+                    record(&mut history, model, t, &y);
+                    let next = model.on_event(index, t, &mut y);
+                    model.observe_point(t, &y);
+                    record(&mut history, model, t, &y);
+                    if next == Action::Continue && t >= motion.end() && model.at_rest(t, &y) {
+                        break 'run EndReason::Rest;
+                    }
+                    break next;
+                }
+            }
+            record(&mut history, model, t, &y);
+        };
+    };
+    let energy = model.energy(&y);
+    let imbalance = energy.imbalance() + initial_stored;
+    let scale = energy_scale
+        .max(energy.dissipated().abs())
+        .max(f64::MIN_POSITIVE);
+    Ok(SceneResult {
+        overturned: end_reason == EndReason::Overturned,
+        end_reason,
+        end_time: t,
+        peaks: model.peaks(),
+        peak_rotation_ratio: 0.0,
+        counters: model.counters(),
+        energy,
+        energy_residual: imbalance.abs() / scale,
+        stats: integ.stats,
+        wall_seconds: 0.0,
+    })
+}
+
+fn record<const N: usize, M: SimModel<N>>(
+    history: &mut Option<&mut History>,
+    model: &M,
+    t: f64,
+    y: &[f64; N],
+) {
+    if let Some(h) = history.as_deref_mut() {
+        h.rows.push(model.history_row(t, y));
+    }
+}
