@@ -10,3 +10,4 @@ pub mod report;
 pub mod scene;
 pub mod sim;
 pub mod solver;
+pub mod tui;
