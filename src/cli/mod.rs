@@ -14,12 +14,37 @@ use std::process::ExitCode;
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
+    /// Without a command: open the workbench in monochrome (also: NO_COLOR).
+    #[arg(long)]
+    pub mono: bool,
 }
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Run one scene and print its peaks.
-    Simulate(simulate::SimulateArgs),
+    Simulate(Box<simulate::SimulateArgs>),
+    /// Open the terminal workbench on a saved study (default: the built-in study).
+    Tui(TuiArgs),
+}
+
+#[derive(clap::Args, Debug)]
+pub struct TuiArgs {
+    /// Study file (RON) to open.
+    pub study: Option<std::path::PathBuf>,
+    /// No colours: glyphs and reverse video only (also: NO_COLOR).
+    #[arg(long)]
+    pub mono: bool,
+}
+
+/// Open the workbench on a study file, or on the built-in default study.
+fn tui(args: &TuiArgs) -> anyhow::Result<()> {
+    let study = match &args.study {
+        Some(path) => {
+            crate::study::Study::load(path).map_err(|e| UsageError::new(e.to_string()))?
+        }
+        None => crate::study::Study::builtin_default(),
+    };
+    crate::tui::run(study, args.study.clone(), args.mono)
 }
 
 /// Bad flags or values: reported in one line, exit code 2.
@@ -52,10 +77,11 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Some(Command::Simulate(args)) => simulate::run(&args),
-        None => {
-            eprintln!("the workbench is not built yet; try `rocklab simulate --help`");
-            return ExitCode::from(2);
-        }
+        Some(Command::Tui(args)) => tui(&args),
+        None => tui(&TuiArgs {
+            study: None,
+            mono: cli.mono,
+        }),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

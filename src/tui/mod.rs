@@ -1,2 +1,116 @@
+//! The workbench: a thin terminal shell around the [`app::App`] state machine and the pure
+//! [`draw::draw`] function. The shell owns the terminal (raw mode, alternate screen), restores
+//! it on every exit path (normal, error, panic), and redraws only when something changed:
+//! after a key, a resize, or a tick that brought news from a background run.
+
+pub mod app;
+pub mod draw;
+pub mod edit;
 pub mod theme;
 pub mod tree;
+
+use crate::study::Study;
+use app::{App, Effect, Options};
+use crossterm::event::{self, Event, KeyEventKind};
+use crossterm::execute;
+use crossterm::terminal::{
+    EnterAlternateScreen, LeaveAlternateScreen, disable_raw_mode, enable_raw_mode,
+};
+use ratatui::Terminal;
+use ratatui::backend::CrosstermBackend;
+use std::io::{self, Stdout};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+use theme::Theme;
+
+/// How often background progress is polled and, if it changed, drawn. Slow enough not to
+/// flood a slow SSH link, fast enough to feel live.
+const TICK: Duration = Duration::from_millis(100);
+const MIN_REDRAW: Duration = Duration::from_millis(250);
+
+pub fn run(study: Study, path: Option<PathBuf>, mono: bool) -> anyhow::Result<()> {
+    let theme = Theme::from_env(mono);
+    let mut app = App::new(study, path, Options::default());
+    // In raw mode Ctrl-C is a key; a SIGINT sent from outside (kill -INT) still ends the
+    // workbench through the same clean exit. Setting the handler fails only if one is set.
+    let interrupted = Arc::new(AtomicBool::new(false));
+    let flag = interrupted.clone();
+    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
+    let mut terminal = setup()?;
+    let outcome = event_loop(&mut terminal, &mut app, theme, &interrupted);
+    restore();
+    outcome
+}
+
+type Term = Terminal<CrosstermBackend<Stdout>>;
+
+fn setup() -> anyhow::Result<Term> {
+    // Restore the terminal before the panic message is printed, or it would be lost in the
+    // alternate screen and leave the shell in raw mode.
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        restore();
+        previous(info);
+    }));
+    enable_raw_mode()?;
+    if let Err(e) = execute!(io::stdout(), EnterAlternateScreen) {
+        restore();
+        return Err(e.into());
+    }
+    match Terminal::new(CrosstermBackend::new(io::stdout())) {
+        Ok(t) => Ok(t),
+        Err(e) => {
+            restore();
+            Err(e.into())
+        }
+    }
+}
+
+/// Leave the alternate screen, show the cursor, leave raw mode. Safe to call twice.
+pub fn restore() {
+    let _ = disable_raw_mode();
+    let _ = execute!(io::stdout(), LeaveAlternateScreen, crossterm::cursor::Show);
+}
+
+fn event_loop(
+    terminal: &mut Term,
+    app: &mut App,
+    theme: Theme,
+    interrupted: &AtomicBool,
+) -> anyhow::Result<()> {
+    terminal.draw(|f| draw::draw(app, theme, f))?;
+    let mut last_draw = Instant::now();
+    let mut pending = false;
+    loop {
+        if interrupted.load(Ordering::Relaxed) {
+            app.shutdown();
+            return Ok(());
+        }
+        if event::poll(TICK)? {
+            match event::read()? {
+                Event::Key(key) if key.kind != KeyEventKind::Release => {
+                    if app.handle_key(key) == Effect::Quit {
+                        return Ok(());
+                    }
+                    // Draw keys at once: typing must feel immediate.
+                    terminal.draw(|f| draw::draw(app, theme, f))?;
+                    last_draw = Instant::now();
+                    pending = false;
+                }
+                Event::Resize(_, _) => {
+                    terminal.autoresize()?;
+                    pending = true;
+                }
+                _ => {}
+            }
+        }
+        pending |= app.tick();
+        if pending && last_draw.elapsed() >= MIN_REDRAW {
+            terminal.draw(|f| draw::draw(app, theme, f))?;
+            last_draw = Instant::now();
+            pending = false;
+        }
+    }
+}

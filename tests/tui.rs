@@ -1,0 +1,383 @@
+//! The workbench, headless: the app state machine driven by key sequences, rendered with
+//! ratatui's TestBackend, snapshotted by insta into the top-level `snapshots/` directory.
+//! Frames are deterministic (`Options::deterministic` hides rates, ETAs and estimates).
+
+use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+use ratatui::buffer::Buffer;
+use ratatui::style::{Color, Modifier};
+use rocklab::study::Study;
+use rocklab::tui::app::{App, Check, Effect, Options, ResultsTab, Screen};
+use rocklab::tui::draw::draw;
+use rocklab::tui::theme::Theme;
+use std::time::Duration;
+
+use KeyCode::{Backspace, Down, Enter, Esc, Left, Right, Up};
+
+const SMALL: (u16, u16) = (80, 24);
+const LARGE: (u16, u16) = (160, 48);
+
+fn new_app() -> App {
+    App::new(
+        Study::builtin_default(),
+        None,
+        Options {
+            deterministic: true,
+            jobs: Some(2),
+        },
+    )
+}
+
+fn render(app: &App, theme: Theme, (w, h): (u16, u16)) -> Buffer {
+    let mut terminal = Terminal::new(TestBackend::new(w, h)).unwrap();
+    terminal.draw(|f| draw(app, theme, f)).unwrap();
+    terminal.backend().buffer().clone()
+}
+
+fn text(buf: &Buffer) -> String {
+    let w = buf.area.width as usize;
+    buf.content
+        .chunks(w)
+        .map(|row| {
+            let line: String = row.iter().map(|c| c.symbol()).collect();
+            line.trim_end().to_string()
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// One letter per cell for its foreground colour (`.` default), upper case when reversed:
+/// the colours of map cells and spectrum bars, readable in a diff.
+fn styles(buf: &Buffer) -> String {
+    let w = buf.area.width as usize;
+    buf.content
+        .chunks(w)
+        .map(|row| {
+            let line: String = row
+                .iter()
+                .map(|c| {
+                    let ch = match c.fg {
+                        Color::Red => 'r',
+                        Color::Green => 'g',
+                        Color::Yellow => 'y',
+                        Color::Magenta => 'm',
+                        Color::Cyan => 'c',
+                        Color::Blue => 'b',
+                        Color::White => 'w',
+                        Color::DarkGray => 'd',
+                        Color::LightBlue => 'l',
+                        Color::LightRed => 'p',
+                        _ => '.',
+                    };
+                    if c.modifier.contains(Modifier::REVERSED) || c.bg == Color::Blue {
+                        if ch == '.' {
+                            '#'
+                        } else {
+                            ch.to_ascii_uppercase()
+                        }
+                    } else {
+                        ch
+                    }
+                })
+                .collect();
+            line.trim_end_matches('.').to_string()
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+fn snap(name: &str, value: String) {
+    insta::with_settings!({
+        snapshot_path => concat!(env!("CARGO_MANIFEST_DIR"), "/snapshots"),
+        prepend_module_to_snapshot => false,
+        omit_expression => true,
+    }, {
+        insta::assert_snapshot!(name, value);
+    });
+}
+
+fn snap_text(app: &App, name: &str) {
+    for (size, tag) in [(SMALL, "80x24"), (LARGE, "160x48")] {
+        snap(
+            &format!("{name}_{tag}"),
+            text(&render(app, Theme::COLOR, size)),
+        );
+    }
+}
+
+fn snap_text_and_styles(app: &App, name: &str) {
+    for (size, tag) in [(SMALL, "80x24"), (LARGE, "160x48")] {
+        let buf = render(app, Theme::COLOR, size);
+        snap(
+            &format!("{name}_{tag}"),
+            format!(
+                "{}\n--- foreground colours ---\n{}",
+                text(&buf),
+                styles(&buf)
+            ),
+        );
+    }
+}
+
+fn key(app: &mut App, code: KeyCode) -> Effect {
+    app.handle_key(KeyEvent::new(code, KeyModifiers::NONE))
+}
+
+fn keys(app: &mut App, codes: &[KeyCode]) {
+    for c in codes {
+        key(app, *c);
+    }
+}
+
+fn typed(app: &mut App, text: &str) {
+    app.type_text(text);
+}
+
+fn ctrl(app: &mut App, c: char) -> Effect {
+    app.handle_key(KeyEvent::new(KeyCode::Char(c), KeyModifiers::CONTROL))
+}
+
+/// Jump to a field with `/`, open its editor, replace the value, apply.
+fn set_field(app: &mut App, field: &str, value: &str) {
+    key(app, KeyCode::Char('/'));
+    typed(app, field);
+    key(app, Enter);
+    key(app, Enter);
+    ctrl(app, 'u');
+    ctrl(app, 'k');
+    typed(app, value);
+    key(app, Enter);
+}
+
+fn scene_count(app: &App) -> usize {
+    match &app.check {
+        Check::Ok(points) => points.len(),
+        Check::Invalid(msg) => panic!("study invalid: {msg}"),
+    }
+}
+
+/// Shrink the default study to a few quick scenes, by keys.
+fn shrink(app: &mut App) {
+    set_field(app, "frequency_ratios", "[2.0, 4.0, 8.0]");
+    set_field(app, "amplitude_ratios", "[1.5, 6.0]");
+}
+
+fn run_to_completion(app: &mut App) {
+    key(app, KeyCode::Char('r'));
+    assert_eq!(app.screen, Screen::Run);
+    assert!(
+        app.wait_idle(Duration::from_secs(120)),
+        "sweep did not finish"
+    );
+}
+
+#[test]
+fn study_screen_shows_the_default_study_and_its_scene_count() {
+    let mut app = new_app();
+    let n = scene_count(&app);
+    assert!(n > 0);
+    let buf = text(&render(&app, Theme::COLOR, SMALL));
+    assert!(buf.contains(&format!("{n} scenes")), "{buf}");
+    snap_text(&app, "study_start");
+    keys(&mut app, &[Down, Down, Down]);
+    snap_text(&app, "study_cursor");
+}
+
+#[test]
+fn editing_a_grid_changes_the_scene_count_and_marks_the_study_unsaved() {
+    let mut app = new_app();
+    let before = scene_count(&app);
+    set_field(&mut app, "frequency_ratios", "[2.0, 4.0, 8.0]");
+    let after = scene_count(&app);
+    assert!(app.dirty);
+    assert!(after < before, "{after} ≥ {before}");
+    snap_text(&app, "study_edited");
+    // The scene count is proportional to the number of points on the grid.
+    set_field(
+        &mut app,
+        "frequency_ratios",
+        "[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]",
+    );
+    assert_eq!(scene_count(&app), 2 * after);
+}
+
+#[test]
+fn a_malformed_value_is_refused_with_the_parser_message_and_the_study_is_kept() {
+    let mut app = new_app();
+    let before = scene_count(&app);
+    key(&mut app, KeyCode::Char('/'));
+    typed(&mut app, "frequency_ratios");
+    key(&mut app, Enter);
+    key(&mut app, Enter);
+    typed(&mut app, "]]");
+    key(&mut app, Enter);
+    assert!(
+        app.editor.edit.is_some(),
+        "the editor stays open on an error"
+    );
+    assert!(app.editor.edit_error.is_some());
+    assert!(!app.dirty);
+    snap_text(&app, "study_parse_error");
+    key(&mut app, Esc);
+    assert!(app.editor.edit.is_none());
+    assert_eq!(scene_count(&app), before);
+}
+
+#[test]
+fn a_physically_invalid_value_is_reported_and_blocks_the_run() {
+    let mut app = new_app();
+    set_field(&mut app, "alpha", "-0.1");
+    assert!(matches!(app.check, Check::Invalid(_)));
+    let buf = text(&render(&app, Theme::COLOR, SMALL));
+    assert!(buf.contains("✗"), "{buf}");
+    key(&mut app, KeyCode::Char('r'));
+    assert!(app.run.is_none(), "an invalid study must not run");
+    snap_text(&app, "study_invalid");
+}
+
+#[test]
+fn list_elements_can_be_duplicated_and_deleted() {
+    let mut app = new_app();
+    let before = scene_count(&app);
+    key(&mut app, KeyCode::Char('/'));
+    typed(&mut app, "[0]");
+    key(&mut app, Enter);
+    key(&mut app, KeyCode::Char('a'));
+    let grown = scene_count(&app);
+    assert!(grown > before);
+    key(&mut app, KeyCode::Char('d'));
+    assert_eq!(scene_count(&app), before);
+}
+
+#[test]
+fn quitting_with_unsaved_changes_asks_first() {
+    let mut app = new_app();
+    set_field(&mut app, "frequency_ratios", "[2.0]");
+    assert_eq!(key(&mut app, KeyCode::Char('q')), Effect::None);
+    snap_text(&app, "study_quit_guard");
+    assert_eq!(key(&mut app, KeyCode::Char('n')), Effect::None);
+    assert_eq!(key(&mut app, KeyCode::Char('q')), Effect::None);
+    assert_eq!(key(&mut app, KeyCode::Char('y')), Effect::Quit);
+    // Ctrl-C also asks once, then quits.
+    let mut app = new_app();
+    set_field(&mut app, "frequency_ratios", "[2.0]");
+    assert_eq!(ctrl(&mut app, 'c'), Effect::None);
+    assert_eq!(ctrl(&mut app, 'c'), Effect::Quit);
+    // Without changes, q quits at once.
+    let mut app = new_app();
+    assert_eq!(key(&mut app, KeyCode::Char('q')), Effect::Quit);
+}
+
+#[test]
+fn save_as_writes_a_study_that_opens_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("shrunk.ron");
+    let mut app = new_app();
+    set_field(&mut app, "frequency_ratios", "[2.0, 4.0]");
+    let count = scene_count(&app);
+    key(&mut app, KeyCode::Char('S'));
+    ctrl(&mut app, 'u');
+    ctrl(&mut app, 'k');
+    typed(&mut app, path.to_str().unwrap());
+    key(&mut app, Enter);
+    assert!(!app.dirty, "{:?}", app.message);
+    let saved = Study::load(&path).unwrap();
+    assert_eq!(saved.expand().unwrap().len(), count);
+    // Open it in a fresh workbench through the prompt.
+    let mut fresh = new_app();
+    key(&mut fresh, KeyCode::Char('o'));
+    typed(&mut fresh, path.to_str().unwrap());
+    key(&mut fresh, Enter);
+    assert_eq!(scene_count(&fresh), count);
+    assert_eq!(fresh.path.as_deref(), Some(path.as_path()));
+}
+
+#[test]
+fn help_overlay_and_small_terminals() {
+    let mut app = new_app();
+    key(&mut app, KeyCode::Char('?'));
+    assert!(app.help);
+    snap_text(&app, "help");
+    key(&mut app, Esc);
+    assert!(!app.help);
+    snap("too_small_30x8", text(&render(&app, Theme::COLOR, (30, 8))));
+    // Just above the minimum, every screen still draws.
+    for s in ['1', '2', '3', '4'] {
+        key(&mut app, KeyCode::Char(s));
+        let buf = text(&render(&app, Theme::COLOR, (40, 10)));
+        assert!(buf.contains("rocklab"), "{buf}");
+    }
+}
+
+/// The key-sequence test: edit a grid, run the small study to completion, land on the
+/// results, move through spectra, maps and the comparison, open a scene.
+#[test]
+fn edit_run_and_read_results_by_keys() {
+    let mut app = new_app();
+    shrink(&mut app);
+    let total = scene_count(&app);
+    snap_text(&app, "run_before");
+    run_to_completion(&mut app);
+    assert_eq!(app.screen, Screen::Results, "{:?}", app.message);
+    let run = app.run.as_ref().unwrap();
+    assert_eq!(run.done, total);
+    assert_eq!(run.finished, Some(false));
+    let view = app.results.as_ref().unwrap();
+    assert_eq!(view.results.outcomes.len(), total);
+    assert!(!view.spectra.is_empty());
+
+    snap_text_and_styles(&app, "results_spectra");
+    keys(&mut app, &[Right, Right, Down]);
+    snap_text_and_styles(&app, "results_spectra_cursor");
+    key(&mut app, KeyCode::Char(']'));
+    snap_text_and_styles(&app, "results_spectra_next_quantity");
+
+    key(&mut app, KeyCode::Char('m'));
+    assert_eq!(app.results.as_ref().unwrap().tab, ResultsTab::Maps);
+    keys(&mut app, &[Right, Up]);
+    snap_text_and_styles(&app, "results_map");
+    let mono = render(&app, Theme::MONO, SMALL);
+    snap(
+        "results_map_mono_80x24",
+        format!(
+            "{}\n--- foreground colours ---\n{}",
+            text(&mono),
+            styles(&mono)
+        ),
+    );
+
+    key(&mut app, KeyCode::Char('c'));
+    snap_text_and_styles(&app, "results_compare");
+
+    key(&mut app, KeyCode::Char('2'));
+    snap_text(&app, "run_finished");
+
+    // Open the scene under the spectra cursor.
+    keys(&mut app, &[KeyCode::Char('3'), KeyCode::Char('s'), Left]);
+    key(&mut app, Enter);
+    assert_eq!(app.screen, Screen::Scene);
+    assert!(app.wait_idle(Duration::from_secs(60)));
+    snap_text(&app, "scene");
+    key(&mut app, Esc);
+    assert_eq!(app.screen, Screen::Results);
+    key(&mut app, Backspace);
+}
+
+#[test]
+fn cancel_keeps_what_finished() {
+    let mut app = new_app();
+    key(&mut app, KeyCode::Char('r'));
+    key(&mut app, KeyCode::Char('c'));
+    assert!(app.wait_idle(Duration::from_secs(120)));
+    let run = app.run.as_ref().unwrap();
+    assert_eq!(run.finished, Some(true));
+    let kept = app.results.as_ref().unwrap().results.outcomes.len();
+    assert_eq!(kept, run.done, "every finished scene is kept");
+    assert!(kept < run.total, "cancelled at once, yet all {kept} ran");
+    assert_eq!(
+        app.screen,
+        Screen::Run,
+        "a cancelled run stays on the Run screen"
+    );
+}
