@@ -10,3 +10,5 @@ pub mod report;
 pub mod scene;
 pub mod sim;
 pub mod solver;
+pub mod study;
+pub mod sweep;

@@ -1,4 +1,13 @@
-//! Results to files: CSV histories, atomic writes.
+//! Results to files (CSV histories, atomic writes) and aggregation of sweep results
+//! (spectra, overturning maps, comparisons).
+
+mod aggregate;
+mod export;
+
+pub use aggregate::{
+    OverturningMap, Quantity, Spectrum, compare, maps, quantities, sparkline, spectra,
+};
+pub use export::{load_results, results_csv, results_json, save_results, summary};
 
 use crate::sim::History;
 use anyhow::Context;
