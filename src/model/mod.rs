@@ -110,6 +110,8 @@ pub trait SimModel<const N: usize>: OdeSystem<N> {
     fn energy(&self, y: &[f64; N]) -> Energy;
     fn peaks(&self) -> Peaks;
     fn counters(&self) -> Counters;
+    /// Name of event `index` (for event logs).
+    fn event_name(&self, index: usize) -> &'static str;
     fn history_columns(&self) -> Vec<&'static str>;
     fn history_row(&self, t: f64, y: &[f64; N]) -> Vec<f64>;
 }

@@ -334,9 +334,7 @@ impl<'m> RigidModel<'m> {
             return;
         }
         let g = self.x_xdot(y).1 * self.bare_xddot(t, y);
-        if self.seq_engaged && g < 0.0 {
-            self.toggle_sequential(y);
-        } else if !self.seq_engaged && g > 0.0 {
+        if (self.seq_engaged && g < 0.0) || (!self.seq_engaged && g > 0.0) {
             self.toggle_sequential(y);
         }
     }
@@ -386,11 +384,13 @@ impl<'m> RigidModel<'m> {
         if self.dev.flywheels() > 0 {
             return Action::Continue;
         }
-        // Nothing moves until the ground acceleration exceeds g·tanα: do not integrate.
-        match self.motion.first_exceedance(t, G * self.uplift_ratio) {
-            Some(until) => Action::Idle { until },
-            None => Action::Stop(EndReason::Rest),
-        }
+        // Nothing moves until the ground acceleration exceeds g·tanα: do not integrate. Idle to
+        // the end of the motion if it never does (the block still rides the ground).
+        let until = self
+            .motion
+            .first_exceedance(t, G * self.uplift_ratio)
+            .unwrap_or_else(|| self.motion.end().max(t));
+        Action::Idle { until }
     }
 
     fn absolute_acceleration(&self, t: f64, y: &[f64], dy: &[f64]) -> f64 {
@@ -458,6 +458,16 @@ impl<const N: usize> OdeSystem<N> for RigidModel<'_> {
     fn events(&self, t: f64, y: &[f64; N], g: &mut [f64]) {
         for (i, gi) in g.iter_mut().enumerate() {
             *gi = self.event_value(self.events[i], t, y);
+        }
+    }
+
+    fn sign_after_zero(&self, index: usize, _t: f64, y: &[f64; N]) -> f64 {
+        match self.events[index] {
+            // Just after an impact, or at uplift from rest (θ̇ = 0, θ̈ toward the pivot side),
+            // the block moves onto its pivot's side.
+            Ev::Impact if y[1] == 0.0 => 1.0,
+            Ev::Impact => (self.pivot * y[1]).signum(),
+            _ => 0.0,
         }
     }
 }
@@ -538,6 +548,10 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
                 y[j] = x;
                 self.ledger.reset += before - after;
                 self.counters.resets += 1;
+                // Without play the reset lands on the clutch corner and engages at once.
+                if matches!(self.dev, DeviceModel::Clutch(c) if c.play == 0.0) {
+                    self.counters.engagements += 1;
+                }
                 Action::Continue
             }
             Ev::GuardA | Ev::GuardB => Action::Continue,
@@ -545,8 +559,11 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
     }
 
     fn wake(&mut self, t: f64, y: &mut [f64; N]) -> Action {
-        let side = -self.motion.accel(t).signum();
-        self.uplift(if side == 0.0 { 1.0 } else { side }, y)
+        let ag = self.motion.accel(t);
+        if ag.abs() <= G * self.uplift_ratio {
+            return Action::Stop(EndReason::Rest);
+        }
+        self.uplift(-ag.signum(), y)
     }
 
     fn at_rest(&self, _t: f64, _y: &[f64; N]) -> bool {
@@ -614,6 +631,22 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
 
     fn counters(&self) -> Counters {
         self.counters
+    }
+
+    fn event_name(&self, index: usize) -> &'static str {
+        match self.events[index] {
+            Ev::Impact => "impact",
+            Ev::Overturn => "overturn",
+            Ev::Uplift(_) => "uplift",
+            Ev::Sequential => "sequential_switch",
+            Ev::DiracZone => "dirac_zone",
+            Ev::ContactA => "contact_a",
+            Ev::ContactB => "contact_b",
+            Ev::ResetA => "reset_a",
+            Ev::ResetB => "reset_b",
+            Ev::GuardA => "guard_a",
+            Ev::GuardB => "guard_b",
+        }
     }
 
     fn history_columns(&self) -> Vec<&'static str> {
