@@ -4,7 +4,9 @@
 //! friction, Dirac impact work)]. Only the flywheels the device has are in the state.
 
 use super::device::DeviceModel;
-use super::{Action, Counters, EndReason, Energy, Ledger, Peaks, SimModel, extremum_on_step};
+use super::{
+    Action, Counters, EndReason, Energy, Ledger, Peaks, SimModel, extremum_on_step, refined_max,
+};
 use crate::excitation::{G, Motion};
 use crate::scene::{Form, Impact, RigidBlock};
 use crate::solver::{Dense, Direction, MAX_EVENTS, OdeSystem};
@@ -578,11 +580,13 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
             self.peaks.rotation = self.peaks.rotation.max(rot);
             self.peaks.drift = self.peaks.drift.max(self.drift_of(rot));
         }
-        for k in 1..=4 {
-            let t = dense.t0 + (t_end - dense.t0) * k as f64 / 4.0;
-            let a = self.absolute_acceleration(t, &dense.state(t), &dense.derivative(t));
-            self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a.abs() / G);
-        }
+        let accel_g = |t: f64| {
+            self.absolute_acceleration(t, &dense.state(t), &dense.derivative(t))
+                .abs()
+                / G
+        };
+        let peak = refined_max(accel_g, dense.t0, t_end, 4, self.peaks.abs_acceleration_g);
+        self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(peak);
     }
 
     fn observe_point(&mut self, t: f64, y: &[f64; N]) {
