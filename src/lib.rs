@@ -10,4 +10,6 @@ pub mod report;
 pub mod scene;
 pub mod sim;
 pub mod solver;
+pub mod study;
+pub mod sweep;
 pub mod tui;

@@ -1,5 +1,9 @@
 //! Command-line interface: clap commands at the edge, library errors turned into messages.
 
+pub mod bench;
+pub mod compare;
+pub mod plot;
+pub mod run;
 pub mod simulate;
 
 use clap::{Parser, Subcommand};
@@ -19,10 +23,22 @@ pub struct Cli {
     pub mono: bool,
 }
 
+// Parsed once per process: the size difference between the commands' arguments does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Run one scene and print its peaks.
-    Simulate(Box<simulate::SimulateArgs>),
+    Simulate(simulate::SimulateArgs),
+    /// Work-precision tables: peak errors, steps, RHS evaluations and time per tolerance.
+    Bench(bench::BenchArgs),
+    /// Run a study (RON file or `default`): parallel sweep, spectra, maps, CSV/JSON results.
+    Run(run::RunArgs),
+    /// Combine the results of `run --shard i/N` into one.
+    Merge(run::MergeArgs),
+    /// Side-by-side spectra of two device variants and their ratio per point.
+    Compare(compare::CompareArgs),
+    /// Figures from a results file: spectra, overturning maps, a scene's histories.
+    Plot(plot::PlotArgs),
     /// Open the terminal workbench on a saved study (default: the built-in study).
     Tui(TuiArgs),
 }
@@ -77,6 +93,11 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Some(Command::Simulate(args)) => simulate::run(&args),
+        Some(Command::Bench(args)) => bench::run(&args),
+        Some(Command::Run(args)) => run::run(&args),
+        Some(Command::Merge(args)) => run::merge(&args),
+        Some(Command::Compare(args)) => compare::run(&args),
+        Some(Command::Plot(args)) => plot::run(&args),
         Some(Command::Tui(args)) => tui(&args),
         None => tui(&TuiArgs {
             study: None,

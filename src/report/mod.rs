@@ -1,4 +1,15 @@
-//! Results to files: CSV histories, atomic writes.
+//! Results to files (CSV histories, atomic writes) and aggregation of sweep results
+//! (spectra, overturning maps, comparisons).
+
+mod aggregate;
+mod export;
+mod plot;
+
+pub use aggregate::{
+    OverturningMap, Quantity, Spectrum, compare, maps, quantities, sparkline, spectra,
+};
+pub use export::{load_results, results_csv, results_json, save_results, summary};
+pub use plot::{ImageFormat, plot_history, plot_maps, plot_spectra, scene_title};
 
 use crate::sim::History;
 use anyhow::Context;
@@ -16,8 +27,21 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
         .with_context(|| format!("cannot create a file in {}", dir.display()))?;
     tmp.write_all(bytes)?;
     tmp.as_file().sync_all()?;
+    readable_by_all(tmp.as_file())?;
     tmp.persist(path)
         .with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(())
+}
+
+/// Temporary files are created private (0600); results are for sharing (0644).
+pub fn readable_by_all(file: &std::fs::File) -> anyhow::Result<()> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        file.set_permissions(std::fs::Permissions::from_mode(0o644))?;
+    }
+    #[cfg(not(unix))]
+    let _ = file;
     Ok(())
 }
 

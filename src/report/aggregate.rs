@@ -1,0 +1,272 @@
+//! Aggregation of sweep results: spectra, overturning maps, comparisons, sparklines. Pure
+//! functions of the results.
+
+use crate::sim::SceneResult;
+use crate::sweep::SweepResults;
+use serde::{Deserialize, Serialize};
+
+/// A response quantity reported per scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    /// |θ|max (rad).
+    PeakRotation,
+    /// |θ|max / α.
+    PeakRotationRatio,
+    /// Peak column deformation |u|max (m), flexible structures.
+    PeakDeformation,
+    /// Peak drift (flexible structures).
+    PeakDrift,
+    /// Peak absolute horizontal acceleration / g.
+    PeakAbsAcceleration,
+}
+
+impl Quantity {
+    pub const ALL: [Quantity; 5] = [
+        Quantity::PeakRotation,
+        Quantity::PeakRotationRatio,
+        Quantity::PeakDeformation,
+        Quantity::PeakDrift,
+        Quantity::PeakAbsAcceleration,
+    ];
+
+    /// The snake_case name used in study files and CSV.
+    pub fn name(self) -> &'static str {
+        match self {
+            Quantity::PeakRotation => "peak_rotation",
+            Quantity::PeakRotationRatio => "peak_rotation_ratio",
+            Quantity::PeakDeformation => "peak_deformation",
+            Quantity::PeakDrift => "peak_drift",
+            Quantity::PeakAbsAcceleration => "peak_abs_acceleration",
+        }
+    }
+
+    /// Axis label for plots and summaries.
+    pub fn label(self) -> &'static str {
+        match self {
+            Quantity::PeakRotation => "|θ|max (rad)",
+            Quantity::PeakRotationRatio => "|θ|max/α",
+            Quantity::PeakDeformation => "|u|max (m)",
+            Quantity::PeakDrift => "peak drift",
+            Quantity::PeakAbsAcceleration => "|ẍ|max/g",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Quantity> {
+        Quantity::ALL.into_iter().find(|q| q.name() == name)
+    }
+
+    /// The value of this quantity in a result; None if the structure overturned (peaks of an
+    /// overturned structure are not a response).
+    pub fn of(self, r: &SceneResult) -> Option<f64> {
+        if r.overturned {
+            return None;
+        }
+        Some(match self {
+            Quantity::PeakRotation => r.peaks.rotation,
+            Quantity::PeakRotationRatio => r.peak_rotation_ratio,
+            Quantity::PeakDeformation => r.peaks.deformation,
+            Quantity::PeakDrift => r.peaks.drift,
+            Quantity::PeakAbsAcceleration => r.peaks.abs_acceleration_g,
+        })
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Spectrum {
+    pub quantity: Quantity,
+    pub group: String,
+    pub axis: String,
+    pub xs: Vec<f64>,
+    /// None: overturned or failed.
+    pub ys: Vec<Option<f64>>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OverturningMap {
+    pub group: String,
+    pub x_axis: String,
+    pub y_axis: String,
+    pub xs: Vec<f64>,
+    pub ys: Vec<f64>,
+    /// [iy][ix]: Some(true) overturned, Some(false) survived, None failed or not run.
+    pub cells: Vec<Vec<Option<bool>>>,
+}
+
+/// The study's quantities (or the peak rotation ratio for ad-hoc point lists).
+pub fn quantities(results: &SweepResults) -> Vec<Quantity> {
+    results
+        .study
+        .as_ref()
+        .map(|s| s.quantities.clone())
+        .unwrap_or_else(|| vec![Quantity::PeakRotationRatio])
+}
+
+/// One spectrum per group (plus the map's y value when the study has a map) and quantity,
+/// over the first coordinate of the points (the study's spectrum axis), sorted by x.
+pub fn spectra(results: &SweepResults) -> Vec<Spectrum> {
+    let map_y = results
+        .study
+        .as_ref()
+        .and_then(|s| s.map.map(|m| (m, s.spectrum, s)))
+        .map(|(m, spectrum, s)| {
+            // The map axis that is not the spectrum axis separates spectra.
+            let other = if m.x == spectrum { m.y } else { m.x };
+            s.axis_label(other)
+        });
+    // (group, axis, points (x, outcome)) in order of first appearance.
+    type Series<'a> = (String, String, Vec<(f64, &'a crate::sweep::SceneOutcome)>);
+    let mut series: Vec<Series> = Vec::new();
+    for o in &results.outcomes {
+        let Some((axis, x)) = o.point.coords.first() else {
+            continue;
+        };
+        let mut group = o.point.group.clone();
+        if let Some(label) = &map_y
+            && let Some(v) = o.point.coord(label)
+        {
+            group = format!("{group} {label}={}", crate::study::fmt_num(v));
+        }
+        match series.iter_mut().find(|(g, _, _)| *g == group) {
+            Some((_, _, pts)) => pts.push((*x, o)),
+            None => series.push((group, axis.clone(), vec![(*x, o)])),
+        }
+    }
+    let mut out = Vec::new();
+    for q in quantities(results) {
+        for (group, axis, pts) in &series {
+            let mut pts = pts.clone();
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            out.push(Spectrum {
+                quantity: q,
+                group: group.clone(),
+                axis: axis.clone(),
+                xs: pts.iter().map(|(x, _)| *x).collect(),
+                ys: pts
+                    .iter()
+                    .map(|(_, o)| o.result.as_ref().ok().and_then(|r| q.of(r)))
+                    .collect(),
+            });
+        }
+    }
+    out
+}
+
+/// One overturning map per group, if the study asks for one.
+pub fn maps(results: &SweepResults) -> Vec<OverturningMap> {
+    let Some(study) = &results.study else {
+        return vec![];
+    };
+    let Some(axes) = study.map else {
+        return vec![];
+    };
+    let (xl, yl) = (study.axis_label(axes.x), study.axis_label(axes.y));
+    let mut groups: Vec<String> = Vec::new();
+    for o in &results.outcomes {
+        if !groups.contains(&o.point.group) {
+            groups.push(o.point.group.clone());
+        }
+    }
+    // Axis values come from the full expansion, so a partial run shows its gaps.
+    let all = study.expand().unwrap_or_default();
+    groups
+        .into_iter()
+        .map(|group| {
+            let in_group = |g: &String| *g == group;
+            let mut xs: Vec<f64> = Vec::new();
+            let mut ys: Vec<f64> = Vec::new();
+            for p in all.iter().filter(|p| in_group(&p.group)) {
+                if let (Some(x), Some(y)) = (p.coord(&xl), p.coord(&yl)) {
+                    push_unique(&mut xs, x);
+                    push_unique(&mut ys, y);
+                }
+            }
+            xs.sort_by(f64::total_cmp);
+            ys.sort_by(f64::total_cmp);
+            let mut cells = vec![vec![None; xs.len()]; ys.len()];
+            for o in results.outcomes.iter().filter(|o| in_group(&o.point.group)) {
+                let (Some(x), Some(y)) = (o.point.coord(&xl), o.point.coord(&yl)) else {
+                    continue;
+                };
+                let ix = xs.iter().position(|v| *v == x);
+                let iy = ys.iter().position(|v| *v == y);
+                if let (Some(ix), Some(iy)) = (ix, iy) {
+                    cells[iy][ix] = o.result.as_ref().ok().map(|r| r.overturned);
+                }
+            }
+            OverturningMap {
+                group,
+                x_axis: xl.clone(),
+                y_axis: yl.clone(),
+                xs,
+                ys,
+                cells,
+            }
+        })
+        .collect()
+}
+
+fn push_unique(v: &mut Vec<f64>, x: f64) {
+    if !v.contains(&x) {
+        v.push(x);
+    }
+}
+
+/// Ratio b/a per point of two spectra over the same axis (matched by x); None where either is
+/// missing or a is zero.
+pub fn compare(a: &Spectrum, b: &Spectrum) -> Vec<Option<f64>> {
+    a.xs.iter()
+        .zip(&a.ys)
+        .map(|(x, ya)| {
+            let i = b.xs.iter().position(|xb| xb == x)?;
+            match (ya, b.ys[i]) {
+                (Some(ya), Some(yb)) if *ya != 0.0 => Some(yb / ya),
+                _ => None,
+            }
+        })
+        .collect()
+}
+
+/// Unicode sparkline scaled to the largest value; gaps (None) are spaces.
+pub fn sparkline(values: &[Option<f64>]) -> String {
+    const BARS: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
+    let finite = values.iter().flatten().filter(|v| v.is_finite());
+    let max = finite.clone().fold(f64::NEG_INFINITY, |m, v| m.max(*v));
+    let min = finite.fold(f64::INFINITY, |m, v| m.min(*v)).min(0.0);
+    values
+        .iter()
+        .map(|v| match v {
+            Some(v) if v.is_finite() => {
+                let span = max - min;
+                let f = if span > 0.0 { (v - min) / span } else { 0.0 };
+                BARS[((f * 7.0).round() as usize).min(7)]
+            }
+            _ => ' ',
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sparkline_scales_to_the_maximum_and_leaves_gaps() {
+        assert_eq!(sparkline(&[Some(0.0), Some(0.5), None, Some(1.0)]), "▁▅ █");
+        assert_eq!(sparkline(&[]), "");
+    }
+
+    #[test]
+    fn compare_matches_points_by_x() {
+        let s = |xs: Vec<f64>, ys: Vec<Option<f64>>| Spectrum {
+            quantity: Quantity::PeakRotationRatio,
+            group: String::new(),
+            axis: "x".into(),
+            xs,
+            ys,
+        };
+        let a = s(vec![1.0, 2.0, 3.0], vec![Some(2.0), Some(4.0), None]);
+        let b = s(vec![2.0, 1.0, 3.0], vec![Some(3.0), Some(1.0), Some(1.0)]);
+        assert_eq!(compare(&a, &b), vec![Some(0.5), Some(0.75), None]);
+    }
+}

@@ -1,0 +1,217 @@
+//! Sweep results to files: a tidy long CSV, a JSON results file (study, hash, every scene with
+//! its result, spectra, maps) and a plain-text summary with sparklines.
+
+use super::aggregate::{OverturningMap, Spectrum, maps, quantities, sparkline, spectra};
+use crate::study::fmt_num;
+use crate::sweep::SweepResults;
+use anyhow::Context;
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// The results file format version.
+pub const RESULTS_FORMAT: u32 = 1;
+
+#[derive(Serialize)]
+struct ResultsFile<'a> {
+    format: u32,
+    #[serde(flatten)]
+    results: &'a SweepResults,
+    spectra: Vec<Spectrum>,
+    maps: Vec<OverturningMap>,
+}
+
+pub fn results_json(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
+    let file = ResultsFile {
+        format: RESULTS_FORMAT,
+        results,
+        spectra: spectra(results),
+        maps: maps(results),
+    };
+    Ok(serde_json::to_vec_pretty(&file)?)
+}
+
+pub fn save_results(path: &Path, results: &SweepResults) -> anyhow::Result<()> {
+    super::write_atomic(path, &results_json(results)?)
+}
+
+/// Read a results file written by [`save_results`] (spectra and maps are recomputed on use).
+pub fn load_results(path: &Path) -> anyhow::Result<SweepResults> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read results file {}", path.display()))?;
+    let value: serde_json::Value = serde_json::from_str(&text).with_context(|| {
+        format!(
+            "{} is not a rocklab results file (bad JSON)",
+            path.display()
+        )
+    })?;
+    let format = value.get("format").and_then(|f| f.as_u64());
+    if format != Some(RESULTS_FORMAT as u64) {
+        anyhow::bail!(
+            "{}: results format {:?} is not supported (this build reads format {RESULTS_FORMAT})",
+            path.display(),
+            format
+        );
+    }
+    serde_json::from_value(value)
+        .with_context(|| format!("{} is not a rocklab results file", path.display()))
+}
+
+/// Tidy long CSV: one row per scene and quantity, one column per varying axis.
+pub fn results_csv(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
+    let mut axes: Vec<String> = Vec::new();
+    for o in &results.outcomes {
+        for (name, _) in &o.point.coords {
+            if !axes.contains(name) {
+                axes.push(name.clone());
+            }
+        }
+    }
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let mut header: Vec<String> = ["scene", "key", "group", "device"]
+        .map(String::from)
+        .to_vec();
+    header.extend(axes.iter().cloned());
+    header.extend(["quantity", "value", "overturned", "status"].map(String::from));
+    w.write_record(&header)?;
+    let quantities = quantities(results);
+    for o in &results.outcomes {
+        for q in &quantities {
+            let mut row = vec![
+                o.point.index.to_string(),
+                o.point.key.clone(),
+                o.point.group.clone(),
+                o.point.scene.device.name().to_string(),
+            ];
+            for axis in &axes {
+                row.push(
+                    o.point
+                        .coord(axis)
+                        .map(|v| format!("{v}"))
+                        .unwrap_or_default(),
+                );
+            }
+            row.push(q.name().to_string());
+            match &o.result {
+                Ok(r) => {
+                    row.push(q.of(r).map(|v| format!("{v:.9e}")).unwrap_or_default());
+                    row.push(r.overturned.to_string());
+                    row.push("ok".into());
+                }
+                Err(reason) => {
+                    row.extend([String::new(), String::new(), format!("failed: {reason}")]);
+                }
+            }
+            w.write_record(&row)?;
+        }
+    }
+    Ok(w.into_inner()?)
+}
+
+/// Plain-text summary: counts, one sparkline per spectrum, maps as character grids.
+pub fn summary(results: &SweepResults) -> String {
+    let mut s = String::new();
+    let name = results
+        .study
+        .as_ref()
+        .map_or("(points)", |s| s.name.as_str());
+    let failed = results
+        .outcomes
+        .iter()
+        .filter(|o| o.result.is_err())
+        .count();
+    let overturned = results
+        .outcomes
+        .iter()
+        .filter(|o| o.result.as_ref().is_ok_and(|r| r.overturned))
+        .count();
+    let _ = writeln!(
+        s,
+        "study {name} (hash {}): {} scenes, {overturned} overturned, {failed} failed{}",
+        results.study_hash,
+        results.outcomes.len(),
+        if results.cancelled {
+            ", INCOMPLETE (cancelled or missing shards)"
+        } else {
+            ""
+        }
+    );
+    for o in results
+        .outcomes
+        .iter()
+        .filter(|o| o.result.is_err())
+        .take(5)
+    {
+        let _ = writeln!(
+            s,
+            "  failed scene {} ({}): {}",
+            o.point.index,
+            o.point.group,
+            o.result.as_ref().err().map_or("", |e| e.as_str())
+        );
+    }
+    let spectra = spectra(results);
+    let width = spectra
+        .iter()
+        .map(|sp| sp.group.chars().count())
+        .max()
+        .unwrap_or(0);
+    let mut last_q = None;
+    for sp in &spectra {
+        if last_q != Some(sp.quantity) {
+            let (lo, hi) = (sp.xs.first(), sp.xs.last());
+            let _ = writeln!(
+                s,
+                "\n{} over {} ({} … {}); blank = overturned or failed",
+                sp.quantity.label(),
+                sp.axis,
+                lo.map_or(String::new(), |v| fmt_num(*v)),
+                hi.map_or(String::new(), |v| fmt_num(*v))
+            );
+            last_q = Some(sp.quantity);
+        }
+        let peak = sp
+            .xs
+            .iter()
+            .zip(&sp.ys)
+            .filter_map(|(x, y)| y.map(|y| (*x, y)))
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        let peak = peak.map_or("—".to_string(), |(x, y)| {
+            format!("max {} at {}={}", fmt_sig(y), sp.axis, fmt_num(x))
+        });
+        let _ = writeln!(
+            s,
+            "  {:width$}  {}  {peak}",
+            sp.group,
+            sparkline(&sp.ys),
+            width = width
+        );
+    }
+    for m in maps(results) {
+        let _ = writeln!(
+            s,
+            "\noverturning map, {}: {} (→) × {} (↑); █ overturned, · safe, ? missing",
+            m.group, m.x_axis, m.y_axis
+        );
+        for (iy, row) in m.cells.iter().enumerate().rev() {
+            let line: String = row
+                .iter()
+                .map(|c| match c {
+                    Some(true) => '█',
+                    Some(false) => '·',
+                    None => '?',
+                })
+                .collect();
+            let _ = writeln!(s, "  {:>8} {line}", fmt_num(m.ys[iy]));
+        }
+    }
+    s
+}
+
+fn fmt_sig(v: f64) -> String {
+    if v != 0.0 && (v.abs() < 1e-3 || v.abs() >= 1e5) {
+        format!("{v:.3e}")
+    } else {
+        format!("{v:.4}")
+    }
+}

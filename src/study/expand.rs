@@ -1,0 +1,649 @@
+//! Validation and expansion of a study into scenes: the cartesian product of every parameter
+//! grid, one device variant at a time; the last parameter (the excitation's frequency or the
+//! record scale) varies fastest.
+
+use super::{
+    AmplitudeAxis, Axis, DeviceVariant, ExcitationFamily, FrequencyAxis, ScenePoint,
+    StructureFamily, Study, StudyError, VERSION, Values, scene_key,
+};
+use crate::scene::{
+    Amplitude, Clutch, ClutchStiffness, Damping, Device, Excitation, FlexibleStructure, Frequency,
+    RigidBlock, Scene, Structure,
+};
+
+/// Studies larger than this are almost certainly a typo in a range.
+pub const MAX_SCENES: usize = 1_000_000;
+
+/// One grid parameter of a device variant's expansion.
+struct Param {
+    /// Study field name (also the key used to build the scene).
+    id: &'static str,
+    /// Path of the field in the study file, for messages.
+    path: String,
+    /// Axis label in coordinates and groups (paper notation).
+    label: String,
+    axis: Option<Axis>,
+    values: Vec<f64>,
+    /// Names for a categorical parameter (records); values are then indices.
+    names: Option<Vec<String>>,
+}
+
+impl Param {
+    fn new(id: &'static str, path: String, label: &str, axis: Option<Axis>, v: &Values) -> Self {
+        Param {
+            id,
+            path,
+            label: label.to_string(),
+            axis,
+            values: v.expand(),
+            names: None,
+        }
+    }
+}
+
+pub fn validate(study: &Study) -> Result<(), StudyError> {
+    expand(study).map(|_| ())
+}
+
+pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
+    check_top_level(study)?;
+    let mut points = Vec::new();
+    for (d, device) in study.devices.iter().enumerate() {
+        let mut params = structure_params(&study.structure);
+        params.extend(device_params(device, d)?);
+        params.extend(excitation_params(&study.excitation)?);
+        for p in &params {
+            if p.values.is_empty() {
+                return Err(StudyError::field(
+                    p.path.clone(),
+                    "empty list",
+                    "give at least one value",
+                ));
+            }
+        }
+        let count: usize = params
+            .iter()
+            .map(|p| p.values.len())
+            .try_fold(1usize, |acc, n| acc.checked_mul(n))
+            .unwrap_or(usize::MAX);
+        if points.len().saturating_add(count) > MAX_SCENES {
+            return Err(StudyError::field(
+                "devices",
+                format!("the study expands to more than {MAX_SCENES} scenes"),
+                "shorten a range or list; every list multiplies the scene count",
+            ));
+        }
+        check_axes(study, &params)?;
+        let mut odometer = vec![0usize; params.len()];
+        loop {
+            let value = |id: &str| {
+                params
+                    .iter()
+                    .zip(&odometer)
+                    .find(|(p, _)| p.id == id)
+                    .map(|(p, &i)| p.values[i])
+            };
+            let scene = Scene {
+                structure: build_structure(&study.structure, &value),
+                device: build_device(device, &value),
+                impact: study.impact,
+                excitation: build_excitation(&study.excitation, &params, &odometer)?,
+                duration: study.duration,
+                rtol: study.rtol,
+                initial_rotation: 0.0,
+            };
+            scene
+                .validate()
+                .map_err(|e| invalid_scene(e, study, &params, d))?;
+            let (group, coords) = label(study, device, &params, &odometer);
+            points.push(ScenePoint {
+                index: points.len(),
+                key: scene_key(&scene),
+                scene,
+                group,
+                coords,
+            });
+            if !advance(&mut odometer, &params) {
+                break;
+            }
+        }
+    }
+    probe_support(&points)?;
+    Ok(points)
+}
+
+/// Step the odometer (last parameter fastest); false when it wraps around.
+fn advance(odometer: &mut [usize], params: &[Param]) -> bool {
+    for i in (0..params.len()).rev() {
+        odometer[i] += 1;
+        if odometer[i] < params[i].values.len() {
+            return true;
+        }
+        odometer[i] = 0;
+    }
+    false
+}
+
+fn check_top_level(study: &Study) -> Result<(), StudyError> {
+    if study.version != VERSION {
+        return Err(StudyError::field(
+            "version",
+            format!("schema version {} is not supported", study.version),
+            &format!("this build reads `version: {VERSION}`"),
+        ));
+    }
+    if study.name.trim().is_empty() {
+        return Err(StudyError::field(
+            "name",
+            "empty name",
+            "the name labels the results",
+        ));
+    }
+    if study.devices.is_empty() {
+        return Err(StudyError::field(
+            "devices",
+            "no device variants",
+            "list at least one, e.g. devices: [none]",
+        ));
+    }
+    if study.quantities.is_empty() {
+        return Err(StudyError::field(
+            "quantities",
+            "no response quantities",
+            "e.g. quantities: [peak_rotation_ratio]",
+        ));
+    }
+    if !(study.duration.is_finite() && study.duration > 0.0) {
+        return Err(StudyError::field(
+            "duration",
+            format!("{} is not a duration", study.duration),
+            "simulated time per scene in seconds, > 0",
+        ));
+    }
+    if !(1e-14..=0.1).contains(&study.rtol) {
+        return Err(StudyError::field(
+            "rtol",
+            format!("{} is out of range", study.rtol),
+            "relative tolerance must be in [1e-14, 0.1]; 1e-6 is the default",
+        ));
+    }
+    if let Some(map) = study.map
+        && map.x == map.y
+    {
+        return Err(StudyError::field(
+            "map",
+            "the map's x and y axes are the same",
+            "e.g. map: (x: frequency, y: amplitude)",
+        ));
+    }
+    match &study.structure {
+        StructureFamily::Rigid { size, p, .. } if size.is_some() == p.is_some() => {
+            return Err(StudyError::field(
+                "structure.size",
+                "give exactly one of `size` (R, m) and `p` (rad/s)",
+                "p = √(3g/4R); e.g. rigid(p: 2.0, alpha: 0.1745)",
+            ));
+        }
+        StructureFamily::Flexible {
+            omega_n,
+            omega_ratio,
+            ..
+        } if omega_n.is_some() == omega_ratio.is_some() => {
+            return Err(StudyError::field(
+                "structure.omega_n",
+                "give exactly one of `omega_n` (rad/s) and `omega_ratio` (ωn/p)",
+                "e.g. flexible(r0: 10.0, alpha: 0.2, xi: 0.02, omega_ratio: 8.0)",
+            ));
+        }
+        _ => {}
+    }
+    if let ExcitationFamily::Record { names, .. } = &study.excitation
+        && names.is_empty()
+    {
+        return Err(StudyError::field(
+            "excitation.names",
+            "no records",
+            "list record names from `rocklab records`",
+        ));
+    }
+    Ok(())
+}
+
+fn structure_params(s: &StructureFamily) -> Vec<Param> {
+    let f = |id, label, axis, v: &Values| Param::new(id, format!("structure.{id}"), label, axis, v);
+    match s {
+        StructureFamily::Rigid {
+            size,
+            p,
+            alpha,
+            mass,
+            ..
+        } => {
+            let mut out = Vec::new();
+            if let Some(size) = size {
+                out.push(f("size", "R", Some(Axis::Size), size));
+            }
+            if let Some(p) = p {
+                out.push(f("p", "p", Some(Axis::P), p));
+            }
+            out.push(f("alpha", "α", Some(Axis::Alpha), alpha));
+            out.push(f("mass", "m", None, mass));
+            out
+        }
+        StructureFamily::Flexible {
+            r0,
+            alpha,
+            xi,
+            omega_n,
+            omega_ratio,
+            mass,
+        } => {
+            let mut out = vec![
+                f("r0", "R0", Some(Axis::R0), r0),
+                f("alpha", "α", Some(Axis::Alpha), alpha),
+                f("xi", "ξ", Some(Axis::Xi), xi),
+            ];
+            if let Some(w) = omega_n {
+                out.push(f("omega_n", "ωn", Some(Axis::OmegaN), w));
+            }
+            if let Some(r) = omega_ratio {
+                out.push(f("omega_ratio", "ωn/p", Some(Axis::OmegaRatio), r));
+            }
+            out.push(f("mass", "m", None, mass));
+            out
+        }
+    }
+}
+
+fn device_params(device: &DeviceVariant, d: usize) -> Result<Vec<Param>, StudyError> {
+    let f = |id, label, v: &Values| Param::new(id, format!("devices[{d}].{id}"), label, None, v);
+    Ok(match device {
+        DeviceVariant::None => vec![],
+        DeviceVariant::Inerter { sigma, .. } | DeviceVariant::Sequential { sigma, .. } => {
+            vec![f("sigma", "σ", sigma)]
+        }
+        DeviceVariant::Mechanistic {
+            sigma,
+            k_theta,
+            clutch_frequency_ratio,
+            cbar,
+            xi_theta,
+            friction,
+            eta,
+            play,
+            epsilon,
+            rho,
+            ..
+        } => {
+            if k_theta.is_some() && clutch_frequency_ratio.is_some() {
+                return Err(StudyError::field(
+                    format!("devices[{d}].k_theta"),
+                    "give at most one of `k_theta` and `clutch_frequency_ratio`",
+                    "kθ in N·m/rad, or the clutch frequency √(k/mr) as a multiple of p",
+                ));
+            }
+            if cbar.is_some() && xi_theta.is_some() {
+                return Err(StudyError::field(
+                    format!("devices[{d}].cbar"),
+                    "give at most one of `cbar` and `xi_theta`",
+                    "c̄ = c/J in 1/s, or the damping ratio ξθ = c/(2√(kθ J))",
+                ));
+            }
+            let mut out = vec![f("sigma", "σ", sigma)];
+            match (k_theta, clutch_frequency_ratio) {
+                (Some(k), _) => out.push(f("k_theta", "kθ", k)),
+                (None, Some(r)) => out.push(f("clutch_frequency_ratio", "ωc/p", r)),
+                (None, None) => out.push(f(
+                    "clutch_frequency_ratio",
+                    "ωc/p",
+                    &Values::One(match ClutchStiffness::default() {
+                        ClutchStiffness::FrequencyRatio(r) | ClutchStiffness::KTheta(r) => r,
+                    }),
+                )),
+            }
+            match (cbar, xi_theta) {
+                (_, Some(x)) => out.push(f("xi_theta", "ξθ", x)),
+                (Some(c), None) => out.push(f("cbar", "c̄", c)),
+                (None, None) => out.push(f(
+                    "cbar",
+                    "c̄",
+                    &Values::One(match Damping::default() {
+                        Damping::CBar(c) | Damping::XiTheta(c) => c,
+                    }),
+                )),
+            }
+            out.extend([
+                f("friction", "fμ", friction),
+                f("eta", "η", eta),
+                f("play", "up", play),
+                f("epsilon", "ε", epsilon),
+                f("rho", "ρ", rho),
+            ]);
+            out
+        }
+    })
+}
+
+fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Param>, StudyError> {
+    Ok(match e {
+        ExcitationFamily::Pulse {
+            amplitude,
+            frequency,
+            ..
+        } => {
+            let (alabel, avalues) = match amplitude {
+                AmplitudeAxis::G(v) => ("A/g", v),
+                AmplitudeAxis::TanAlphaRatio(v) => ("A/(g·tanα)", v),
+                AmplitudeAxis::AlphaRatio(v) => ("A/(g·α)", v),
+            };
+            let (flabel, fvalues) = match frequency {
+                FrequencyAxis::RadPerSec(v) => ("ωg", v),
+                FrequencyAxis::Ratio(v) => ("ωg/p", v),
+            };
+            vec![
+                Param::new(
+                    "amplitude",
+                    "excitation.amplitude".into(),
+                    alabel,
+                    Some(Axis::Amplitude),
+                    avalues,
+                ),
+                Param::new(
+                    "frequency",
+                    "excitation.frequency".into(),
+                    flabel,
+                    Some(Axis::Frequency),
+                    fvalues,
+                ),
+            ]
+        }
+        ExcitationFamily::Record { names, scale } => {
+            let mut record = Param::new(
+                "record",
+                "excitation.names".into(),
+                "record",
+                None,
+                &Values::List((0..names.len()).map(|i| i as f64).collect()),
+            );
+            record.names = Some(names.clone());
+            vec![
+                record,
+                Param::new(
+                    "scale",
+                    "excitation.scale".into(),
+                    "scale",
+                    Some(Axis::Scale),
+                    scale,
+                ),
+            ]
+        }
+    })
+}
+
+/// The spectrum and map axes must be parameters of the study; all values well formed.
+fn check_axes(study: &Study, params: &[Param]) -> Result<(), StudyError> {
+    let has = |axis: Axis| params.iter().any(|p| p.axis == Some(axis));
+    if !has(study.spectrum) {
+        return Err(StudyError::field(
+            "spectrum",
+            format!(
+                "the spectrum axis `{}` is not a parameter of this study",
+                axis_name(study.spectrum)
+            ),
+            "pulse studies use `frequency`; record studies an axis of the structure, e.g. `omega_n`",
+        ));
+    }
+    if let Some(map) = study.map {
+        for axis in [map.x, map.y] {
+            if !has(axis) {
+                return Err(StudyError::field(
+                    "map",
+                    format!(
+                        "the map axis `{}` is not a parameter of this study",
+                        axis_name(axis)
+                    ),
+                    "e.g. map: (x: frequency, y: amplitude) with lists or ranges for both",
+                ));
+            }
+        }
+    }
+    let all_values = params.iter().map(|p| (p.path.as_str(), &p.values));
+    for (path, values) in all_values {
+        if let Some(v) = values.iter().find(|v| !v.is_finite()) {
+            return Err(StudyError::field(
+                path,
+                format!("{v} is not a finite number"),
+                "",
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn axis_name(axis: Axis) -> String {
+    ron::to_string(&axis).unwrap_or_default()
+}
+
+fn build_structure(s: &StructureFamily, value: &dyn Fn(&str) -> Option<f64>) -> Structure {
+    let get = |id: &str| value(id).unwrap_or(f64::NAN);
+    match s {
+        StructureFamily::Rigid { form, .. } => {
+            let size = value("size").unwrap_or_else(|| {
+                // p = √(3g/4R)  ⇒  R = 3g/(4p²)
+                let p = get("p");
+                3.0 * crate::excitation::G / (4.0 * p * p)
+            });
+            Structure::Rigid(RigidBlock {
+                size,
+                alpha: get("alpha"),
+                mass: get("mass"),
+                form: *form,
+            })
+        }
+        StructureFamily::Flexible { .. } => {
+            let r0 = get("r0");
+            let omega_n = value("omega_n").unwrap_or_else(|| {
+                // ωn = (ωn/p)·p with p = √(g/R0)
+                get("omega_ratio") * (crate::excitation::G / r0).sqrt()
+            });
+            Structure::Flexible(FlexibleStructure {
+                r0,
+                alpha: get("alpha"),
+                mass: get("mass"),
+                xi: get("xi"),
+                omega_n,
+            })
+        }
+    }
+}
+
+fn build_device(d: &DeviceVariant, value: &dyn Fn(&str) -> Option<f64>) -> Device {
+    let get = |id: &str| value(id).unwrap_or(f64::NAN);
+    match d {
+        DeviceVariant::None => Device::None,
+        DeviceVariant::Inerter { coupling, .. } => Device::Inerter {
+            sigma: get("sigma"),
+            coupling: coupling.clone(),
+        },
+        DeviceVariant::Sequential { .. } => Device::Sequential {
+            sigma: get("sigma"),
+        },
+        DeviceVariant::Mechanistic { reset, .. } => Device::Mechanistic(Clutch {
+            sigma: get("sigma"),
+            stiffness: match value("k_theta") {
+                Some(k) => ClutchStiffness::KTheta(k),
+                None => ClutchStiffness::FrequencyRatio(get("clutch_frequency_ratio")),
+            },
+            rho: get("rho"),
+            epsilon: get("epsilon"),
+            damping: match value("xi_theta") {
+                Some(x) => Damping::XiTheta(x),
+                None => Damping::CBar(get("cbar")),
+            },
+            friction: get("friction"),
+            eta: get("eta"),
+            play: get("play"),
+            reset: *reset,
+        }),
+    }
+}
+
+fn build_excitation(
+    e: &ExcitationFamily,
+    params: &[Param],
+    odometer: &[usize],
+) -> Result<Excitation, StudyError> {
+    let value = |id: &str| {
+        params
+            .iter()
+            .zip(odometer)
+            .find(|(p, _)| p.id == id)
+            .map(|(p, &i)| p.values[i])
+            .unwrap_or(f64::NAN)
+    };
+    match e {
+        ExcitationFamily::Pulse {
+            shape,
+            amplitude,
+            frequency,
+        } => {
+            let a = value("amplitude");
+            let w = value("frequency");
+            Ok(Excitation::Pulse {
+                shape: *shape,
+                amplitude: match amplitude {
+                    AmplitudeAxis::G(_) => Amplitude::G(a),
+                    AmplitudeAxis::TanAlphaRatio(_) => Amplitude::TanAlphaRatio(a),
+                    AmplitudeAxis::AlphaRatio(_) => Amplitude::AlphaRatio(a),
+                },
+                frequency: match frequency {
+                    FrequencyAxis::RadPerSec(_) => Frequency::RadPerSec(w),
+                    FrequencyAxis::Ratio(_) => Frequency::Ratio(w),
+                },
+            })
+        }
+        ExcitationFamily::Record { .. } => Err(StudyError::field(
+            "excitation",
+            "ground-motion records are not available in this build yet",
+            "records arrive with the record library (issue 4); use a pulse excitation for now",
+        )),
+    }
+}
+
+/// A scene-level validation failure, pointed at the study field that produced it.
+fn invalid_scene(
+    e: crate::scene::Invalid,
+    study: &Study,
+    params: &[Param],
+    d: usize,
+) -> StudyError {
+    let path = match e.field {
+        "duration" | "rtol" => e.field.to_string(),
+        "restitution" | "width" => "impact".to_string(),
+        "amplitude" | "frequency" => format!("excitation.{}", e.field),
+        // Scene::validate names the flexible R0 `size`.
+        "size" => match &study.structure {
+            StructureFamily::Flexible { .. } => "structure.r0".into(),
+            StructureFamily::Rigid { p: Some(_), .. } => "structure.p".into(),
+            StructureFamily::Rigid { .. } => "structure.size".into(),
+        },
+        f if params
+            .iter()
+            .any(|p| p.id == f && p.path.starts_with("structure")) =>
+        {
+            format!("structure.{f}")
+        }
+        f => format!("devices[{d}].{f}"),
+    };
+    StudyError::field(
+        path,
+        format!("{} = {}: {}", e.field, e.value, e.expected),
+        "physically invalid values are rejected before anything runs",
+    )
+}
+
+/// Group label and coordinates of the point at `odometer`.
+fn label(
+    study: &Study,
+    device: &DeviceVariant,
+    params: &[Param],
+    odometer: &[usize],
+) -> (String, Vec<(String, f64)>) {
+    let map_axes: Vec<Axis> = study.map.map(|m| vec![m.x, m.y]).unwrap_or_default();
+    let mut first: Vec<(String, f64)> = Vec::new();
+    let mut rest: Vec<(String, f64)> = Vec::new();
+    let mut record = None;
+    let mut group_parts = Vec::new();
+    for (p, &i) in params.iter().zip(odometer) {
+        let v = p.values[i];
+        if let Some(names) = &p.names {
+            if names.len() > 1 || study.devices.len() == 1 {
+                record = Some(names[i].clone());
+            }
+            continue;
+        }
+        let is_spectrum = p.axis == Some(study.spectrum);
+        let is_map = p.axis.is_some_and(|a| map_axes.contains(&a));
+        if is_spectrum {
+            first.insert(0, (p.label.clone(), v));
+        } else if is_map {
+            first.push((p.label.clone(), v));
+        } else if p.values.len() > 1 {
+            rest.push((p.label.clone(), v));
+            group_parts.push(format!("{}={}", p.label, fmt_num(v)));
+        }
+    }
+    let mut group = device_label(device);
+    if !group_parts.is_empty() {
+        group = format!("{group} {}", group_parts.join(" "));
+    }
+    if let Some(r) = record {
+        group = format!("{r} · {group}");
+    }
+    first.extend(rest);
+    (group, first)
+}
+
+pub fn device_label(device: &DeviceVariant) -> String {
+    let (label, default) = match device {
+        DeviceVariant::None => (None, "bare"),
+        DeviceVariant::Inerter { label, .. } => (label.as_ref(), "inerter"),
+        DeviceVariant::Sequential { label, .. } => (label.as_ref(), "sequential"),
+        DeviceVariant::Mechanistic { label, .. } => (label.as_ref(), "mechanistic"),
+    };
+    label.cloned().unwrap_or_else(|| default.to_string())
+}
+
+/// A short, exact-enough rendering of a parameter value for labels.
+pub fn fmt_num(v: f64) -> String {
+    if v == v.round() && v.abs() < 1e9 {
+        return format!("{}", v as i64);
+    }
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "0" || s == "-0" {
+        format!("{v:.3e}")
+    } else {
+        s.to_string()
+    }
+}
+
+/// Families the simulation core cannot run yet fail here, before anything runs: one quick
+/// probe per structure family (the core rejects unsupported families before integrating).
+fn probe_support(points: &[ScenePoint]) -> Result<(), StudyError> {
+    let flexible = points
+        .iter()
+        .find(|p| matches!(p.scene.structure, Structure::Flexible(_)));
+    if let Some(point) = flexible {
+        let mut scene = point.scene.clone();
+        scene.duration = 1e-3;
+        if let Err(crate::sim::SimError::Unsupported(what)) = crate::sim::run(&scene) {
+            return Err(StudyError::field(
+                "structure",
+                format!("{what} is not available in this build yet"),
+                "the flexible family arrives with issue 3; use `rigid(…)` for now",
+            ));
+        }
+    }
+    Ok(())
+}

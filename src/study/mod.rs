@@ -1,0 +1,375 @@
+//! Studies: a saved RON file that describes grids of scenes. A study expands into
+//! [`ScenePoint`]s (a scene, its group label, its axis coordinates and a cache key); the sweep
+//! runs them and the report aggregates them into spectra and overturning maps. No physics here:
+//! every number that matters comes from `sim::run` on a scene.
+
+// StudyError carries file, position, field and hint by value: errors are rare and built once,
+// so their size does not matter.
+#![allow(clippy::result_large_err)]
+
+mod error;
+mod expand;
+mod values;
+
+pub use error::StudyError;
+pub use expand::{device_label, fmt_num};
+pub use values::Values;
+
+use crate::excitation::PulseShape;
+use crate::report::Quantity;
+use crate::scene::{Coupling, Form, Impact, ResetRule, Scene};
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+use std::path::Path;
+
+/// The schema version this build reads and writes.
+pub const VERSION: u32 = 1;
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Study {
+    pub version: u32,
+    pub name: String,
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub description: String,
+    pub structure: StructureFamily,
+    pub devices: Vec<DeviceVariant>,
+    pub excitation: ExcitationFamily,
+    /// Response quantities reported as spectra.
+    #[serde(default = "default_quantities")]
+    pub quantities: Vec<Quantity>,
+    /// The x axis of the spectra (must vary in the study).
+    #[serde(default = "default_spectrum_axis")]
+    pub spectrum: Axis,
+    /// An overturning map over two varying axes, e.g. (x: frequency, y: amplitude).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub map: Option<MapAxes>,
+    #[serde(default)]
+    pub impact: Impact,
+    /// Simulated time per scene (s).
+    pub duration: f64,
+    /// Integrator relative tolerance.
+    #[serde(default = "crate::scene::default_rtol")]
+    pub rtol: f64,
+}
+
+fn default_quantities() -> Vec<Quantity> {
+    vec![Quantity::PeakRotationRatio]
+}
+
+fn default_spectrum_axis() -> Axis {
+    Axis::Frequency
+}
+
+fn unit_values() -> Values {
+    Values::One(1.0)
+}
+
+fn zero_values() -> Values {
+    Values::One(0.0)
+}
+
+fn default_eta_values() -> Values {
+    Values::One(crate::scene::default_eta())
+}
+
+fn default_epsilon_values() -> Values {
+    Values::One(crate::scene::default_epsilon())
+}
+
+fn default_rho_values() -> Values {
+    Values::One(crate::scene::default_rho())
+}
+
+/// A family of structures; every parameter is a value, a list or a range.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum StructureFamily {
+    /// Rectangular block: give `size` (R, m) or `p` (rad/s), and α (rad).
+    Rigid {
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        size: Option<Values>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        p: Option<Values>,
+        alpha: Values,
+        #[serde(default = "unit_values")]
+        mass: Values,
+        #[serde(default)]
+        form: Form,
+    },
+    /// Flexible rocking structure: R0 (m), α (rad), ξ, and ωn (rad/s) or ωn/p.
+    Flexible {
+        r0: Values,
+        alpha: Values,
+        xi: Values,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        omega_n: Option<Values>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        omega_ratio: Option<Values>,
+        #[serde(default = "unit_values")]
+        mass: Values,
+    },
+}
+
+/// A device variant; a mechanistic clutch takes grids of its parameters (cartesian product).
+/// (A handful per study: the size difference between variants does not matter.)
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum DeviceVariant {
+    /// The bare structure.
+    None,
+    /// A single inerter without clutch.
+    Inerter {
+        sigma: Values,
+        #[serde(default = "rigid_coupling")]
+        coupling: Coupling,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        label: Option<String>,
+    },
+    /// Twin clutched inerters, Makris–Kampas sequential law.
+    Sequential {
+        sigma: Values,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        label: Option<String>,
+    },
+    /// Twin clutched inerters with the paper's mechanistic clutch. Stiffness: `k_theta` or
+    /// `clutch_frequency_ratio` (default ratio 50); damping: `cbar` (default 1 s⁻¹) or `xi_theta`.
+    Mechanistic {
+        sigma: Values,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        k_theta: Option<Values>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        clutch_frequency_ratio: Option<Values>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        cbar: Option<Values>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        xi_theta: Option<Values>,
+        /// Dry friction fμ / (mr·g).
+        #[serde(default = "zero_values")]
+        friction: Values,
+        #[serde(default = "default_eta_values")]
+        eta: Values,
+        /// Gear play up (m).
+        #[serde(default = "zero_values")]
+        play: Values,
+        #[serde(default = "default_epsilon_values")]
+        epsilon: Values,
+        #[serde(default = "default_rho_values")]
+        rho: Values,
+        #[serde(default)]
+        reset: ResetRule,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        label: Option<String>,
+    },
+}
+
+fn rigid_coupling() -> Coupling {
+    Coupling::Rigid
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum ExcitationFamily {
+    /// Analytic pulses: amplitude and frequency axes.
+    Pulse {
+        shape: PulseShape,
+        amplitude: AmplitudeAxis,
+        frequency: FrequencyAxis,
+    },
+    /// Recorded ground motions from the record library, each scaled by `scale`.
+    Record {
+        names: Vec<String>,
+        #[serde(default = "unit_values")]
+        scale: Values,
+    },
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AmplitudeAxis {
+    /// A/g.
+    G(Values),
+    /// A/(g·tan α).
+    TanAlphaRatio(Values),
+    /// A/(g·α).
+    AlphaRatio(Values),
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrequencyAxis {
+    /// ωg (rad/s).
+    RadPerSec(Values),
+    /// ωg/p.
+    Ratio(Values),
+}
+
+/// A study parameter that can serve as a spectrum or map axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Axis {
+    /// The pulse frequency (ωg or ωg/p, as the study gives it).
+    Frequency,
+    /// The pulse amplitude (A/g, A/(g·α) or A/(g·tanα)).
+    Amplitude,
+    /// The record scale factor.
+    Scale,
+    Alpha,
+    Size,
+    P,
+    R0,
+    Xi,
+    OmegaN,
+    OmegaRatio,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MapAxes {
+    pub x: Axis,
+    pub y: Axis,
+}
+
+/// One scene of an expanded study.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ScenePoint {
+    /// Position in the study's expansion order.
+    pub index: usize,
+    pub scene: Scene,
+    /// Variant label: the device plus every varying parameter that is not an axis.
+    pub group: String,
+    /// Axis name → value; the spectrum axis first, then the map's y axis if any, then the
+    /// other varying parameters.
+    pub coords: Vec<(String, f64)>,
+    /// Hash of the scene and solver settings: the cache key for reruns.
+    pub key: String,
+}
+
+impl ScenePoint {
+    pub fn coord(&self, name: &str) -> Option<f64> {
+        self.coords.iter().find(|(n, _)| n == name).map(|(_, v)| *v)
+    }
+}
+
+/// Cache key of a scene: the scene (solver settings included) and the crate version, hashed.
+pub fn scene_key(scene: &Scene) -> String {
+    let json = serde_json::to_string(scene).expect("scenes serialise");
+    short_hash(&format!("rocklab {} {json}", env!("CARGO_PKG_VERSION")))
+}
+
+fn short_hash(text: &str) -> String {
+    let digest = Sha256::digest(text.as_bytes());
+    digest[..8].iter().map(|b| format!("{b:02x}")).collect()
+}
+
+impl Study {
+    /// The built-in default: a small rigid-block spectrum (bare, sequential, mechanistic) that
+    /// runs in a few seconds.
+    pub fn builtin_default() -> Study {
+        Study::from_ron_str(include_str!("../../studies/default.ron"), "default.ron")
+            .expect("the built-in default study parses")
+    }
+
+    pub fn from_ron_str(text: &str, origin: &str) -> Result<Study, StudyError> {
+        let study: Study = ron_options()
+            .from_str(text)
+            .map_err(|e| StudyError::from_ron(e, origin))?;
+        study.validate().map_err(|e| e.located(text, origin))?;
+        Ok(study)
+    }
+
+    pub fn load(path: &Path) -> Result<Study, StudyError> {
+        let origin = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| StudyError {
+            origin: origin.clone(),
+            line: None,
+            column: None,
+            field: None,
+            message: format!("cannot read the study file: {e}"),
+            hint: Some("check the path; `rocklab run default` runs the built-in study".into()),
+        })?;
+        Study::from_ron_str(&text, &origin)
+    }
+
+    /// Pretty RON that parses back to the same study.
+    pub fn to_ron_string(&self) -> String {
+        let config = ron::ser::PrettyConfig::new()
+            .extensions(ron::extensions::Extensions::IMPLICIT_SOME)
+            .struct_names(false);
+        ron_options()
+            .to_string_pretty(self, config)
+            .expect("studies serialise")
+    }
+
+    pub fn save(&self, path: &Path) -> anyhow::Result<()> {
+        crate::report::write_atomic(path, self.to_ron_string().as_bytes())
+    }
+
+    /// Physical and structural validity. Errors name the field (as a path) with a hint; the
+    /// file position is filled in by [`Study::from_ron_str`].
+    pub fn validate(&self) -> Result<(), StudyError> {
+        expand::validate(self)
+    }
+
+    pub fn expand(&self) -> Result<Vec<ScenePoint>, StudyError> {
+        expand::expand(self)
+    }
+
+    /// Hash of the canonical RON: identifies the study a results file came from.
+    pub fn hash(&self) -> String {
+        short_hash(&self.to_ron_string())
+    }
+}
+
+fn ron_options() -> ron::Options {
+    ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+}
+
+impl Study {
+    /// The coordinate label of an axis in this study (e.g. `ωg/p`, `A/(g·α)`, `ωn`).
+    pub fn axis_label(&self, axis: Axis) -> String {
+        let label = match (axis, &self.excitation) {
+            (Axis::Frequency, ExcitationFamily::Pulse { frequency, .. }) => match frequency {
+                FrequencyAxis::RadPerSec(_) => "ωg",
+                FrequencyAxis::Ratio(_) => "ωg/p",
+            },
+            (Axis::Amplitude, ExcitationFamily::Pulse { amplitude, .. }) => match amplitude {
+                AmplitudeAxis::G(_) => "A/g",
+                AmplitudeAxis::TanAlphaRatio(_) => "A/(g·tanα)",
+                AmplitudeAxis::AlphaRatio(_) => "A/(g·α)",
+            },
+            (Axis::Frequency, _) => "ωg",
+            (Axis::Amplitude, _) => "A/g",
+            (Axis::Scale, _) => "scale",
+            (Axis::Alpha, _) => "α",
+            (Axis::Size, _) => "R",
+            (Axis::P, _) => "p",
+            (Axis::R0, _) => "R0",
+            (Axis::Xi, _) => "ξ",
+            (Axis::OmegaN, _) => "ωn",
+            (Axis::OmegaRatio, _) => "ωn/p",
+        };
+        label.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builtin_default_round_trips_and_expands() {
+        let study = Study::builtin_default();
+        let text = study.to_ron_string();
+        let back = Study::from_ron_str(&text, "round-trip").unwrap();
+        assert_eq!(back, study, "{text}");
+        let points = study.expand().unwrap();
+        assert_eq!(points.len(), 3 * 12);
+        assert_eq!(points[0].coords[0].0, "ωg/p");
+        assert_eq!(points[0].group, "bare");
+        assert_eq!(points[12].group, "sequential");
+        // The frequency axis varies fastest.
+        assert_eq!(points[1].coords[0].1, 2.0);
+    }
+}

@@ -1,0 +1,197 @@
+//! Sweeps: run a study's scenes in parallel (rayon), in shards, reusing cached results, and
+//! stop cleanly on cancel. Results come back in expansion order whatever the thread count, so
+//! a sweep is deterministic.
+
+use crate::sim::{self, SceneResult};
+use crate::study::{ScenePoint, Study, StudyError};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Progress {
+    /// `total` scenes to go through (cached ones included).
+    Started {
+        total: usize,
+    },
+    /// Scene `index` (expansion index) finished; `ok` is false for a failed scene.
+    SceneDone {
+        index: usize,
+        ok: bool,
+    },
+    Finished {
+        cancelled: bool,
+    },
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct SweepOptions {
+    /// Worker threads; None uses all cores.
+    pub jobs: Option<usize>,
+    /// (i, N): run only scenes whose expansion index is i mod N (0-based i).
+    pub shard: Option<(usize, usize)>,
+    /// A previous results file whose finished scenes are reused (matched by scene key).
+    pub cache: Option<PathBuf>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SceneOutcome {
+    pub point: ScenePoint,
+    /// The scene's result, or why it failed.
+    pub result: Result<SceneResult, String>,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SweepResults {
+    pub study_hash: String,
+    /// The study the points came from (quantities, axes); None for ad-hoc point lists.
+    #[serde(default)]
+    pub study: Option<Study>,
+    /// Finished scenes in expansion order (cancelled or other shards' scenes are absent).
+    pub outcomes: Vec<SceneOutcome>,
+    /// Whether the sweep was cancelled before every selected scene ran.
+    #[serde(default)]
+    pub cancelled: bool,
+    /// The shard this result holds, if any.
+    #[serde(default)]
+    pub shard: Option<(usize, usize)>,
+}
+
+/// Expand and run a whole study.
+#[allow(clippy::result_large_err)]
+pub fn run_study(
+    study: &Study,
+    opts: &SweepOptions,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<SweepResults, StudyError> {
+    let points = study.expand()?;
+    let mut results = run(&points, opts, cancel, progress);
+    results.study_hash = study.hash();
+    results.study = Some(study.clone());
+    Ok(results)
+}
+
+/// Run `points` (or the shard's slice of them). Never panics on a bad scene: failures are
+/// recorded with their reason and the sweep goes on.
+pub fn run(
+    points: &[ScenePoint],
+    opts: &SweepOptions,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> SweepResults {
+    let selected: Vec<&ScenePoint> = points
+        .iter()
+        .filter(|p| in_shard(p.index, opts.shard))
+        .collect();
+    progress(Progress::Started {
+        total: selected.len(),
+    });
+    let cache = opts
+        .cache
+        .as_ref()
+        .and_then(|path| crate::report::load_results(path).ok())
+        .map(cache_by_key)
+        .unwrap_or_default();
+    let run_one = |point: &&ScenePoint| -> Option<SceneOutcome> {
+        let result = match cache.get(&point.key) {
+            Some(r) => r.clone(),
+            None if cancel.load(Ordering::Relaxed) => return None,
+            None => run_guarded(point),
+        };
+        progress(Progress::SceneDone {
+            index: point.index,
+            ok: result.is_ok(),
+        });
+        Some(SceneOutcome {
+            point: (*point).clone(),
+            result,
+        })
+    };
+    let finished: Vec<Option<SceneOutcome>> = match rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.jobs.unwrap_or(0))
+        .build()
+    {
+        Ok(pool) => pool.install(|| selected.par_iter().map(run_one).collect()),
+        // No pool (e.g. threads unavailable): run on this thread.
+        Err(_) => selected.iter().map(run_one).collect(),
+    };
+    let cancelled = finished.iter().any(Option::is_none);
+    progress(Progress::Finished { cancelled });
+    SweepResults {
+        study_hash: String::new(),
+        study: None,
+        outcomes: finished.into_iter().flatten().collect(),
+        cancelled,
+        shard: opts.shard,
+    }
+}
+
+pub fn in_shard(index: usize, shard: Option<(usize, usize)>) -> bool {
+    shard.is_none_or(|(i, n)| index % n == i)
+}
+
+/// One scene, with a panic in the core recorded as a failure instead of ending the sweep.
+fn run_guarded(point: &ScenePoint) -> Result<SceneResult, String> {
+    std::panic::catch_unwind(|| sim::run(&point.scene))
+        .map_err(|panic| {
+            let msg = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_default();
+            format!("internal error (panic): {msg}")
+        })?
+        .map_err(|e| e.to_string())
+}
+
+fn cache_by_key(results: SweepResults) -> HashMap<String, Result<SceneResult, String>> {
+    results
+        .outcomes
+        .into_iter()
+        .map(|o| (o.point.key, o.result))
+        .collect()
+}
+
+/// Combine shard results of one study into one, in expansion order. Errors if the shards
+/// come from different studies or overlap inconsistently.
+pub fn merge(parts: Vec<SweepResults>) -> anyhow::Result<SweepResults> {
+    let Some(first) = parts.first() else {
+        anyhow::bail!("nothing to merge");
+    };
+    let hash = first.study_hash.clone();
+    let study = first.study.clone();
+    let mut by_index: std::collections::BTreeMap<usize, SceneOutcome> = Default::default();
+    let mut cancelled = false;
+    for part in parts {
+        if part.study_hash != hash {
+            anyhow::bail!(
+                "results of different studies (hash {} and {}) cannot be merged",
+                hash,
+                part.study_hash
+            );
+        }
+        cancelled |= part.cancelled;
+        for o in part.outcomes {
+            if let Some(prev) = by_index.get(&o.point.index)
+                && prev.point.key != o.point.key
+            {
+                anyhow::bail!("two results for scene {} disagree", o.point.index);
+            }
+            by_index.insert(o.point.index, o);
+        }
+    }
+    let total = match &study {
+        Some(s) => s.expand().map(|p| p.len()).unwrap_or(by_index.len()),
+        None => by_index.len(),
+    };
+    Ok(SweepResults {
+        study_hash: hash,
+        study,
+        cancelled: cancelled || by_index.len() < total,
+        outcomes: by_index.into_values().collect(),
+        shard: None,
+    })
+}
