@@ -8,7 +8,7 @@ use ratatui::backend::TestBackend;
 use ratatui::buffer::Buffer;
 use ratatui::style::{Color, Modifier};
 use rocklab::study::Study;
-use rocklab::tui::app::{App, Check, Effect, Options, ResultsTab, Screen};
+use rocklab::tui::app::{App, Check, Effect, Options, ResultsTab, SceneState, Screen};
 use rocklab::tui::draw::draw;
 use rocklab::tui::theme::Theme;
 use std::time::Duration;
@@ -158,9 +158,17 @@ fn scene_count(app: &App) -> usize {
 }
 
 /// Shrink the default study to a few quick scenes, by keys.
-fn shrink(app: &mut App) {
-    set_field(app, "frequency_ratios", "[2.0, 4.0, 8.0]");
-    set_field(app, "amplitude_ratios", "[1.5, 6.0]");
+/// Shrink the default study's frequency grid and add an overturning map over frequency ×
+/// amplitude, by keys: 3 variants × 4 frequencies × 3 amplitudes.
+fn small_map_study(app: &mut App) {
+    set_field(app, "frequency", "ratio([2.0, 4.0, 6.0, 8.0])");
+    set_field(app, "amplitude", "alpha_ratio([1.0, 2.0, 4.0])");
+    set_field(app, "map", "(x: frequency, y: amplitude)");
+    assert!(
+        app.editor.edit_error.is_none(),
+        "{:?}",
+        app.editor.edit_error
+    );
 }
 
 fn run_to_completion(app: &mut App) {
@@ -188,7 +196,7 @@ fn study_screen_shows_the_default_study_and_its_scene_count() {
 fn editing_a_grid_changes_the_scene_count_and_marks_the_study_unsaved() {
     let mut app = new_app();
     let before = scene_count(&app);
-    set_field(&mut app, "frequency_ratios", "[2.0, 4.0, 8.0]");
+    set_field(&mut app, "frequency", "ratio([2.0, 4.0, 8.0])");
     let after = scene_count(&app);
     assert!(app.dirty);
     assert!(after < before, "{after} ≥ {before}");
@@ -197,9 +205,15 @@ fn editing_a_grid_changes_the_scene_count_and_marks_the_study_unsaved() {
     set_field(
         &mut app,
         "frequency_ratios",
-        "[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]",
+        "ratio([1.0, 2.0, 3.0, 4.0, 5.0, 6.0])",
     );
-    assert_eq!(scene_count(&app), 2 * after);
+    assert_eq!(
+        scene_count(&app),
+        2 * after,
+        "{:?} {:?}",
+        app.editor.edit_error,
+        app.message
+    );
 }
 
 #[test]
@@ -207,7 +221,7 @@ fn a_malformed_value_is_refused_with_the_parser_message_and_the_study_is_kept() 
     let mut app = new_app();
     let before = scene_count(&app);
     key(&mut app, KeyCode::Char('/'));
-    typed(&mut app, "frequency_ratios");
+    typed(&mut app, "frequency");
     key(&mut app, Enter);
     key(&mut app, Enter);
     typed(&mut app, "]]");
@@ -225,15 +239,37 @@ fn a_malformed_value_is_refused_with_the_parser_message_and_the_study_is_kept() 
 }
 
 #[test]
-fn a_physically_invalid_value_is_reported_and_blocks_the_run() {
+fn a_physically_invalid_value_is_refused_with_the_field_and_a_hint() {
     let mut app = new_app();
+    let before = scene_count(&app);
     set_field(&mut app, "alpha", "-0.1");
-    assert!(matches!(app.check, Check::Invalid(_)));
-    let buf = text(&render(&app, Theme::COLOR, SMALL));
-    assert!(buf.contains("✗"), "{buf}");
-    key(&mut app, KeyCode::Char('r'));
-    assert!(app.run.is_none(), "an invalid study must not run");
+    let err = app.editor.edit_error.clone().expect("refused");
+    assert!(err.contains("alpha"), "{err}");
+    assert!(!app.dirty);
     snap_text(&app, "study_invalid");
+    key(&mut app, Esc);
+    assert_eq!(scene_count(&app), before);
+}
+
+#[test]
+fn an_unset_optional_field_can_be_set_and_unset() {
+    let mut app = new_app();
+    let before = scene_count(&app);
+    // The default study has no overturning map: set one over frequency × amplitude.
+    set_field(&mut app, "map", "(x: frequency, y: amplitude)");
+    assert!(
+        app.editor.edit_error.is_none(),
+        "{:?}",
+        app.editor.edit_error
+    );
+    set_field(&mut app, "amplitude", "alpha_ratio([1.5, 3.0])");
+    assert_eq!(scene_count(&app), 2 * before);
+    assert!(app.study.map.is_some());
+    key(&mut app, KeyCode::Char('/'));
+    typed(&mut app, "map");
+    key(&mut app, Enter);
+    key(&mut app, KeyCode::Char('d'));
+    assert!(app.study.map.is_none());
 }
 
 #[test]
@@ -253,7 +289,7 @@ fn list_elements_can_be_duplicated_and_deleted() {
 #[test]
 fn quitting_with_unsaved_changes_asks_first() {
     let mut app = new_app();
-    set_field(&mut app, "frequency_ratios", "[2.0]");
+    set_field(&mut app, "frequency", "ratio(2.0)");
     assert_eq!(key(&mut app, KeyCode::Char('q')), Effect::None);
     snap_text(&app, "study_quit_guard");
     assert_eq!(key(&mut app, KeyCode::Char('n')), Effect::None);
@@ -261,7 +297,7 @@ fn quitting_with_unsaved_changes_asks_first() {
     assert_eq!(key(&mut app, KeyCode::Char('y')), Effect::Quit);
     // Ctrl-C also asks once, then quits.
     let mut app = new_app();
-    set_field(&mut app, "frequency_ratios", "[2.0]");
+    set_field(&mut app, "frequency", "ratio(2.0)");
     assert_eq!(ctrl(&mut app, 'c'), Effect::None);
     assert_eq!(ctrl(&mut app, 'c'), Effect::Quit);
     // Without changes, q quits at once.
@@ -274,7 +310,7 @@ fn save_as_writes_a_study_that_opens_again() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("shrunk.ron");
     let mut app = new_app();
-    set_field(&mut app, "frequency_ratios", "[2.0, 4.0]");
+    set_field(&mut app, "frequency", "ratio([2.0, 4.0])");
     let count = scene_count(&app);
     key(&mut app, KeyCode::Char('S'));
     ctrl(&mut app, 'u');
@@ -315,8 +351,9 @@ fn help_overlay_and_small_terminals() {
 #[test]
 fn edit_run_and_read_results_by_keys() {
     let mut app = new_app();
-    shrink(&mut app);
+    small_map_study(&mut app);
     let total = scene_count(&app);
+    assert_eq!(total, 36);
     snap_text(&app, "run_before");
     run_to_completion(&mut app);
     assert_eq!(app.screen, Screen::Results, "{:?}", app.message);
@@ -353,11 +390,28 @@ fn edit_run_and_read_results_by_keys() {
     key(&mut app, KeyCode::Char('2'));
     snap_text(&app, "run_finished");
 
-    // Open the scene under the spectra cursor.
-    keys(&mut app, &[KeyCode::Char('3'), KeyCode::Char('s'), Left]);
+    // Open the scene under the comparison cursor (variant B, the mechanistic model): its rerun
+    // with histories must reproduce the spectrum value at that point.
+    keys(&mut app, &[KeyCode::Char('3'), KeyCode::Char('c'), Left]);
+    let (expected, x) = {
+        let view = app.results.as_ref().unwrap();
+        let b = view.rows()[view.cmp_b];
+        assert!(b.group.contains("mechanistic"), "{}", b.group);
+        (b.ys[view.x], b.xs[view.x])
+    };
+    let expected = expected.expect("B survives at the cursor");
     key(&mut app, Enter);
-    assert_eq!(app.screen, Screen::Scene);
+    assert_eq!(app.screen, Screen::Scene, "{:?}", app.message);
     assert!(app.wait_idle(Duration::from_secs(60)));
+    let scene = app.scene.as_ref().unwrap();
+    assert_eq!(scene.point.coords[0].1, x);
+    match &scene.state {
+        SceneState::Done(result, history) => {
+            assert!((result.peak_rotation_ratio - expected).abs() <= 1e-12 * expected);
+            assert!(history.rows.len() > 10);
+        }
+        _ => panic!("the scene did not finish"),
+    }
     snap_text(&app, "scene");
     key(&mut app, Esc);
     assert_eq!(app.screen, Screen::Results);

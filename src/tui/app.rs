@@ -63,6 +63,44 @@ pub struct Row {
     pub leaf: bool,
     /// The row is an element of a list: it can be duplicated or deleted.
     pub in_list: bool,
+    /// An optional field that is not set: editing it adds the field to the struct at `path`.
+    pub absent: Option<&'static str>,
+}
+
+/// Optional study fields that serialisation leaves out when unset, so the tree would not show
+/// them: (struct or variant, field, text the editor starts with).
+const OPTIONAL_FIELDS: &[(&str, &str, &str)] = &[
+    ("study", "description", "\"\""),
+    ("study", "map", "(x: frequency, y: amplitude)"),
+    ("rigid", "size", "1.0"),
+    ("rigid", "p", "2.0"),
+    ("flexible", "omega_n", "10.0"),
+    ("flexible", "omega_ratio", "5.0"),
+    ("inerter", "label", "\"\""),
+    ("sequential", "label", "\"\""),
+    ("mechanistic", "k_theta", "[1000.0, 10000.0]"),
+    ("mechanistic", "clutch_frequency_ratio", "50.0"),
+    ("mechanistic", "cbar", "1.0"),
+    ("mechanistic", "xi_theta", "0.1"),
+    ("mechanistic", "label", "\"\""),
+];
+
+/// Rows for the optional fields that `node` (a struct named `owner`) does not set.
+fn absent_rows(owner: &str, node: &Node, depth: usize, path: &[usize], out: &mut Vec<Row>) {
+    let present: Vec<String> = node.children().into_iter().map(|(l, _)| l).collect();
+    for (o, field, _) in OPTIONAL_FIELDS {
+        if *o == owner && !present.iter().any(|p| p == field) {
+            out.push(Row {
+                depth,
+                label: field.to_string(),
+                path: path.to_vec(),
+                text: "unset".into(),
+                leaf: true,
+                in_list: false,
+                absent: Some(field),
+            });
+        }
+    }
 }
 
 pub struct StudyEditor {
@@ -105,7 +143,7 @@ pub struct GroupProgress {
 
 enum RunMsg {
     Progress(Progress),
-    Done(SweepResults),
+    Done(Box<SweepResults>),
 }
 
 pub struct RunState {
@@ -200,17 +238,32 @@ impl ResultsView {
         view
     }
 
-    /// Compare the sequential and the mechanistic model when both are there, else the first two.
+    /// Compare the sequential and the mechanistic model when both are there (the pair with the
+    /// same other parameters and the most points where both survive), else the first two.
     fn default_comparison(&mut self) {
         let rows = self.rows();
-        let find = |word: &str| {
-            rows.iter()
-                .position(|s| s.group.to_lowercase().contains(word))
-        };
-        match (find("sequential"), find("mechanistic")) {
-            (Some(a), Some(b)) => (self.cmp_a, self.cmp_b) = (a, b),
-            _ => (self.cmp_a, self.cmp_b) = (0, rows.len().saturating_sub(1).min(1)),
+        let strip = |group: &str, word: &str| group.to_lowercase().replacen(word, "", 1);
+        let mut best: Option<(usize, usize, usize)> = None;
+        for (a, sa) in rows.iter().enumerate() {
+            if !sa.group.to_lowercase().contains("sequential") {
+                continue;
+            }
+            for (b, sb) in rows.iter().enumerate() {
+                if !sb.group.to_lowercase().contains("mechanistic")
+                    || strip(&sa.group, "sequential") != strip(&sb.group, "mechanistic")
+                {
+                    continue;
+                }
+                let both = report::compare(sa, sb).iter().flatten().count();
+                if best.is_none_or(|(_, _, n)| both > n) {
+                    best = Some((a, b, both));
+                }
+            }
         }
+        (self.cmp_a, self.cmp_b) = match best {
+            Some((a, b, _)) => (a, b),
+            None => (0, rows.len().saturating_sub(1).min(1)),
+        };
     }
 
     pub fn current_quantity(&self) -> Option<Quantity> {
@@ -253,10 +306,26 @@ impl ResultsView {
         }
     }
 
+    /// The point of a spectrum or map. A spectrum of a study with a map is named after its
+    /// group and the other map axis (`"{group} {label}={value}"`): match that too.
     fn find_point(&self, group: &str, coords: &[(&String, f64)]) -> Option<&ScenePoint> {
         let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1e-300);
+        let same_group = |p: &ScenePoint| {
+            if p.group == group {
+                return true;
+            }
+            let Some(rest) = group
+                .strip_prefix(p.group.as_str())
+                .and_then(|r| r.strip_prefix(' '))
+            else {
+                return false;
+            };
+            rest.rsplit_once('=').is_some_and(|(label, value)| {
+                p.coord(label).map(crate::study::fmt_num).as_deref() == Some(value)
+            })
+        };
         self.results.outcomes.iter().map(|o| &o.point).find(|p| {
-            p.group == group
+            same_group(p)
                 && coords.iter().all(|(axis, v)| {
                     p.coords
                         .iter()
@@ -368,6 +437,7 @@ impl App {
         for (i, (label, child)) in self.editor.tree.children().into_iter().enumerate() {
             flatten(child, 0, &mut vec![i], &label, false, &mut rows);
         }
+        absent_rows("study", &self.editor.tree, 0, &[], &mut rows);
         self.editor.rows = rows;
         self.editor.cursor = self
             .editor
@@ -594,9 +664,11 @@ impl App {
         let needle = text.trim().to_lowercase();
         let rows = &self.editor.rows;
         let n = rows.len();
-        let found = (1..=n)
-            .map(|k| (self.editor.cursor + k) % n.max(1))
-            .find(|&i| rows[i].label.to_lowercase().contains(&needle));
+        // An exact name first, then any name containing the text.
+        let order = || (1..=n).map(|k| (self.editor.cursor + k) % n.max(1));
+        let found = order()
+            .find(|&i| rows[i].label.to_lowercase() == needle)
+            .or_else(|| order().find(|&i| rows[i].label.to_lowercase().contains(&needle)));
         match found {
             Some(i) if !needle.is_empty() => self.editor.cursor = i,
             _ => self.complain(format!("no field named like \"{}\"", text.trim())),
@@ -635,10 +707,15 @@ impl App {
             KeyCode::Home | KeyCode::Char('g') => ed.cursor = 0,
             KeyCode::End | KeyCode::Char('G') => ed.cursor = n.saturating_sub(1),
             KeyCode::Enter | KeyCode::Char('e') => {
-                if let Some(row) = ed.rows.get(ed.cursor)
-                    && let Some(node) = ed.tree.get(&row.path)
-                {
-                    ed.edit = Some(LineEdit::new(tree::to_ron(node)));
+                if let Some(row) = ed.rows.get(ed.cursor) {
+                    let text = match row.absent {
+                        Some(field) => OPTIONAL_FIELDS
+                            .iter()
+                            .find(|(_, f, _)| *f == field)
+                            .map_or(String::new(), |(_, _, t)| t.to_string()),
+                        None => ed.tree.get(&row.path).map_or(String::new(), tree::to_ron),
+                    };
+                    ed.edit = Some(LineEdit::new(text));
                     ed.edit_error = None;
                 }
             }
@@ -679,7 +756,16 @@ impl App {
                 let Some(row) = self.editor.rows.get(self.editor.cursor) else {
                     return;
                 };
-                let doc = tree::to_ron_with(&self.editor.tree, &row.path, &text);
+                let doc = match row.absent {
+                    Some(field) => {
+                        let mut tree = self.editor.tree.clone();
+                        if let Some(fields) = tree.get_mut(&row.path).and_then(tree::fields_mut) {
+                            fields.push((field, Node::Raw(text)));
+                        }
+                        tree::to_ron(&tree)
+                    }
+                    None => tree::to_ron_with(&self.editor.tree, &row.path, &text),
+                };
                 self.apply_document(&doc, true);
             }
         }
@@ -729,10 +815,29 @@ impl App {
         });
     }
 
+    /// Delete a list element, or unset a field (the study's default applies, or the parser
+    /// says the field is required).
     fn delete_row(&mut self) {
-        self.edit_list(|items, i| {
-            items.remove(i);
-        });
+        let Some(row) = self.editor.rows.get(self.editor.cursor) else {
+            return;
+        };
+        if row.in_list {
+            self.edit_list(|items, i| {
+                items.remove(i);
+            });
+            return;
+        }
+        if row.absent.is_some() || row.path.is_empty() {
+            return;
+        }
+        let (parent, i) = row.path.split_at(row.path.len() - 1);
+        let mut tree = self.editor.tree.clone();
+        if let Some(fields) = tree.get_mut(parent).and_then(tree::fields_mut)
+            && i[0] < fields.len()
+        {
+            fields.remove(i[0]);
+            self.apply_document(&tree::to_ron(&tree), false);
+        }
     }
 
     /// Change the list holding the selected row, then reparse the study.
@@ -741,7 +846,7 @@ impl App {
             return;
         };
         if !row.in_list {
-            self.complain("a and d add and delete list elements; this row is not in a list");
+            self.complain("a duplicates a list element; this row is not in a list");
             return;
         }
         let (parent, i) = row.path.split_at(row.path.len() - 1);
@@ -787,6 +892,7 @@ impl App {
         let cancel = Arc::new(AtomicBool::new(false));
         let (tx, rx) = channel();
         let thread_points = points.clone();
+        let study = self.study.clone();
         let thread_cancel = cancel.clone();
         let opts = SweepOptions {
             jobs: self.options.jobs,
@@ -795,12 +901,15 @@ impl App {
         };
         std::thread::spawn(move || {
             let progress_tx = Mutex::new(tx.clone());
-            let results = sweep::run(&thread_points, &opts, &thread_cancel, &|p| {
+            let progress = |p| {
                 if let Ok(tx) = progress_tx.lock() {
                     let _ = tx.send(RunMsg::Progress(p));
                 }
-            });
-            let _ = tx.send(RunMsg::Done(results));
+            };
+            // The study itself goes along so that spectra and maps know its quantities and axes.
+            let results = sweep::run_study(&study, &opts, &thread_cancel, &progress)
+                .unwrap_or_else(|_| sweep::run(&thread_points, &opts, &thread_cancel, &progress));
+            let _ = tx.send(RunMsg::Done(Box::new(results)));
         });
         self.calibration = None;
         self.run = Some(RunState {
@@ -1033,7 +1142,7 @@ impl App {
                 self.seconds_per_scene = Some(walls.iter().sum::<f64>() / walls.len() as f64);
             }
             let done = results.outcomes.len();
-            self.results = Some(ResultsView::new(results, cancelled));
+            self.results = Some(ResultsView::new(*results, cancelled));
             if cancelled {
                 self.say(format!("sweep cancelled: {done} finished scenes kept"));
             } else if self.screen == Screen::Run {
@@ -1113,7 +1222,17 @@ fn flatten(
     let children = node.children();
     let scalar_list =
         matches!(node, Node::Seq(items) if items.iter().all(|n| n.children().is_empty()));
-    let inline = children.is_empty() || scalar_list || text.chars().count() <= 40;
+    let owner = match node {
+        Node::Variant(name, _) => *name,
+        _ => "",
+    };
+    // Structs with optional parameters expand so that the unset ones show; an optional label
+    // alone does not justify a row per field.
+    let has_optional = OPTIONAL_FIELDS
+        .iter()
+        .any(|(o, f, _)| *o == owner && *f != "label");
+    let inline =
+        children.is_empty() || scalar_list || (text.chars().count() <= 40 && !has_optional);
     if inline {
         out.push(Row {
             depth,
@@ -1122,6 +1241,7 @@ fn flatten(
             text,
             leaf: true,
             in_list,
+            absent: None,
         });
         return;
     }
@@ -1132,6 +1252,7 @@ fn flatten(
         text: node.tag(),
         leaf: false,
         in_list,
+        absent: None,
     });
     let list = node.is_seq();
     for (i, (child_label, child)) in children.into_iter().enumerate() {
@@ -1139,6 +1260,7 @@ fn flatten(
         flatten(child, depth + 1, path, &child_label, list, out);
         path.pop();
     }
+    absent_rows(owner, node, depth + 1, path, out);
 }
 
 /// Parse errors of an edit name a position inside the generated one-line document, which

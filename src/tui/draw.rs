@@ -95,7 +95,8 @@ fn hints(app: &App) -> Vec<(&'static str, &'static str)> {
             ("↑↓", "move"),
             ("Enter", "edit"),
             ("/", "find"),
-            ("a/d", "add/del"),
+            ("a", "dup"),
+            ("d", "del/unset"),
             ("r", "run"),
             ("s", "save"),
             ("S", "save as"),
@@ -209,7 +210,11 @@ fn draw_study(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
         match (&app.editor.edit, selected) {
             (Some(line), true) => spans.extend(edit_spans(theme, line)),
             _ => {
-                let style = if row.leaf { theme.value() } else { theme.dim() };
+                let style = if row.leaf && row.absent.is_none() {
+                    theme.value()
+                } else {
+                    theme.dim()
+                };
                 spans.push(Span::styled(truncate(&row.text, value_room), style));
             }
         }
@@ -397,16 +402,6 @@ fn gauge(theme: Theme, done: usize, total: usize, width: usize) -> Span<'static>
 
 // ----- Results -----
 
-pub fn quantity_label(q: Quantity) -> &'static str {
-    match q {
-        Quantity::PeakRotation => "peak rotation θmax (rad)",
-        Quantity::PeakRotationRatio => "peak rotation θmax/α",
-        Quantity::PeakDeformation => "peak deformation (m)",
-        Quantity::PeakDrift => "peak drift",
-        Quantity::PeakAbsAcceleration => "peak abs. acceleration (g)",
-    }
-}
-
 fn draw_results(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
     let Some(view) = &app.results else {
         frame.render_widget(
@@ -441,7 +436,9 @@ fn draw_results(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
 }
 
 fn quantity_line(view: &ResultsView, theme: Theme) -> Line<'static> {
-    let name = view.current_quantity().map_or("no spectra", quantity_label);
+    let name = view
+        .current_quantity()
+        .map_or("no spectra", Quantity::label);
     Line::from(vec![
         Span::styled("[ ] ", theme.key()),
         Span::styled(name.to_string(), theme.title()),
@@ -590,7 +587,15 @@ fn axis_line(xs: &[f64], st: &Strip, indent: usize, axis: &str) -> Line<'static>
     ))
 }
 
-const LABEL_WIDTH: usize = 18;
+/// Width of the variant names left of the bars: the longest name, within limits.
+fn label_width(rows: &[&Spectrum], extra: usize, area: Rect) -> usize {
+    let longest = rows
+        .iter()
+        .map(|s| s.group.chars().count() + extra)
+        .max()
+        .unwrap_or(0);
+    longest.clamp(8, (area.width as usize / 3).max(8))
+}
 
 fn draw_spectra(view: &ResultsView, theme: Theme, frame: &mut Frame, area: Rect) {
     let rows = view.rows();
@@ -601,7 +606,7 @@ fn draw_spectra(view: &ResultsView, theme: Theme, frame: &mut Frame, area: Rect)
         return;
     }
     let n = rows.iter().map(|s| s.xs.len()).max().unwrap_or(0);
-    let label_width = LABEL_WIDTH.min(area.width as usize / 4);
+    let label_width = label_width(&rows, 0, area);
     let width = (area.width as usize).saturating_sub(label_width + 11);
     let st = strip(n, width, view.x);
     // Blocks that fit, up to 4 rows tall each; keep the selected one in view.
@@ -669,7 +674,7 @@ fn draw_compare(view: &ResultsView, theme: Theme, frame: &mut Frame, area: Rect)
     let b: &Spectrum = rows[view.cmp_b.min(rows.len() - 1)];
     let ratio = report::compare(a, b);
     let n = a.xs.len().max(b.xs.len());
-    let label_width = LABEL_WIDTH.min(area.width as usize / 4);
+    let label_width = label_width(&[a, b], 2, area);
     let width = (area.width as usize).saturating_sub(label_width + 11);
     let st = strip(n, width, view.x);
     let height = ((area.height as usize).saturating_sub(10) / 3).clamp(1, 4);
@@ -1009,7 +1014,10 @@ fn draw_help(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
             "Enter / e",
             "edit the value (RON: 0.5, [1.0, 2.0], name(…))",
         ),
-        k("a / d", "duplicate / delete a list element"),
+        k(
+            "a / d",
+            "duplicate / delete a list element; d unsets a field",
+        ),
         k("s S o n", "save, save as, open, new from default"),
         h("Run"),
         k("c / Esc", "cancel (finished scenes are kept)"),

@@ -24,6 +24,8 @@ pub enum Node {
     Struct(Vec<(&'static str, Node)>),
     Map(Vec<(Node, Node)>),
     Variant(&'static str, Body),
+    /// RON text typed by the user, written out as is (an edit before it is parsed).
+    Raw(String),
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -124,25 +126,32 @@ impl Node {
 /// RON text of a node, on one line.
 pub fn to_ron(node: &Node) -> String {
     let mut out = String::new();
-    write_ron(node, &mut out, None, &mut Vec::new());
+    write_ron(node, &mut out);
     out
 }
 
 /// RON text of the whole tree with the node at `path` replaced by raw `text`.
 pub fn to_ron_with(node: &Node, path: &[usize], text: &str) -> String {
-    let mut out = String::new();
-    write_ron(node, &mut out, Some((path, text)), &mut Vec::new());
-    out
+    let mut tree = node.clone();
+    if let Some(target) = tree.get_mut(path) {
+        *target = Node::Raw(text.to_string());
+    }
+    to_ron(&tree)
 }
 
-fn write_ron(node: &Node, out: &mut String, splice: Option<(&[usize], &str)>, at: &mut Vec<usize>) {
-    if let Some((path, text)) = splice
-        && path == at.as_slice()
-    {
-        out.push_str(text);
-        return;
+/// The named fields of a struct (or struct variant) node, to add or remove a field.
+pub fn fields_mut(node: &mut Node) -> Option<&mut Vec<(&'static str, Node)>> {
+    match node {
+        Node::Some(inner) | Node::Variant(_, Body::Newtype(inner)) => fields_mut(inner),
+        Node::Struct(fields) | Node::Variant(_, Body::Struct(fields)) => Some(fields),
+        _ => None,
     }
-    let mut items = |out: &mut String, nodes: &mut dyn Iterator<Item = (Option<&str>, &Node)>| {
+}
+
+/// Written for the study parser, which enables RON's `implicit_some`: `Some(x)` is written
+/// as `x`, as in hand-written study files.
+fn write_ron(node: &Node, out: &mut String) {
+    fn items<'a>(out: &mut String, nodes: impl Iterator<Item = (Option<&'a str>, &'a Node)>) {
         for (i, (name, n)) in nodes.enumerate() {
             if i > 0 {
                 out.push_str(", ");
@@ -151,11 +160,9 @@ fn write_ron(node: &Node, out: &mut String, splice: Option<(&[usize], &str)>, at
                 out.push_str(name);
                 out.push_str(": ");
             }
-            at.push(i);
-            write_ron(n, out, splice, at);
-            at.pop();
+            write_ron(n, out);
         }
-    };
+    }
     match node {
         Node::Unit => out.push_str("()"),
         Node::Bool(b) => out.push_str(if *b { "true" } else { "false" }),
@@ -168,25 +175,21 @@ fn write_ron(node: &Node, out: &mut String, splice: Option<(&[usize], &str)>, at
             let _ = write!(out, "{c:?}");
         }
         Node::None => out.push_str("None"),
-        Node::Some(inner) => {
-            out.push_str("Some(");
-            // Transparent: the wrapper and its content share one path.
-            write_ron(inner, out, splice, at);
-            out.push(')');
-        }
+        Node::Some(inner) => write_ron(inner, out),
+        Node::Raw(text) => out.push_str(text),
         Node::Seq(nodes) => {
             out.push('[');
-            items(out, &mut nodes.iter().map(|n| (None, n)));
+            items(out, nodes.iter().map(|n| (None, n)));
             out.push(']');
         }
         Node::Tuple(nodes) => {
             out.push('(');
-            items(out, &mut nodes.iter().map(|n| (None, n)));
+            items(out, nodes.iter().map(|n| (None, n)));
             out.push(')');
         }
         Node::Struct(fields) => {
             out.push('(');
-            items(out, &mut fields.iter().map(|(k, n)| (Some(*k), n)));
+            items(out, fields.iter().map(|(k, n)| (Some(*k), n)));
             out.push(')');
         }
         Node::Map(entries) => {
@@ -195,11 +198,9 @@ fn write_ron(node: &Node, out: &mut String, splice: Option<(&[usize], &str)>, at
                 if i > 0 {
                     out.push_str(", ");
                 }
-                out.push_str(&to_ron(k));
+                write_ron(k, out);
                 out.push_str(": ");
-                at.push(i);
-                write_ron(v, out, splice, at);
-                at.pop();
+                write_ron(v, out);
             }
             out.push('}');
         }
@@ -209,18 +210,17 @@ fn write_ron(node: &Node, out: &mut String, splice: Option<(&[usize], &str)>, at
                 Body::Unit => {}
                 Body::Newtype(inner) => {
                     out.push('(');
-                    // Transparent: the wrapper and its content share one path.
-                    write_ron(inner, out, splice, at);
+                    write_ron(inner, out);
                     out.push(')');
                 }
                 Body::Tuple(nodes) => {
                     out.push('(');
-                    items(out, &mut nodes.iter().map(|n| (None, n)));
+                    items(out, nodes.iter().map(|n| (None, n)));
                     out.push(')');
                 }
                 Body::Struct(fields) => {
                     out.push('(');
-                    items(out, &mut fields.iter().map(|(k, n)| (Some(*k), n)));
+                    items(out, fields.iter().map(|(k, n)| (Some(*k), n)));
                     out.push(')');
                 }
             }
@@ -542,6 +542,13 @@ mod tests {
     use crate::excitation::PulseShape;
     use crate::scene::*;
 
+    fn parse<T: serde::de::DeserializeOwned>(text: &str) -> T {
+        ron::Options::default()
+            .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+            .from_str(text)
+            .unwrap()
+    }
+
     fn scene() -> Scene {
         Scene {
             structure: Structure::Rigid(RigidBlock {
@@ -551,7 +558,9 @@ mod tests {
                 form: Form::Exact,
             }),
             device: Device::Mechanistic(Clutch::paper_default(0.3)),
-            impact: Impact::Housner { restitution: None },
+            impact: Impact::Housner {
+                restitution: Some(0.9),
+            },
             excitation: Excitation::Pulse {
                 shape: PulseShape::Sine,
                 amplitude: Amplitude::AlphaRatio(2.0),
@@ -567,7 +576,7 @@ mod tests {
     fn ron_text_of_the_tree_parses_back_to_the_same_value() {
         let s = scene();
         let text = to_ron(&Node::from_value(&s).unwrap());
-        let back: Scene = ron::from_str(&text).unwrap();
+        let back: Scene = parse(&text);
         assert_eq!(back, s);
     }
 
@@ -577,7 +586,7 @@ mod tests {
         let tree = Node::from_value(&s).unwrap();
         // structure → Rigid(…) → alpha (field 1 of the block).
         let text = to_ron_with(&tree, &[0, 1], "0.125");
-        let back: Scene = ron::from_str(&text).unwrap();
+        let back: Scene = parse(&text);
         let mut expected = s.clone();
         if let Structure::Rigid(b) = &mut expected.structure {
             b.alpha = 0.125;
@@ -585,7 +594,7 @@ mod tests {
         assert_eq!(back, expected);
         // The whole device, switched to another variant.
         let text = to_ron_with(&tree, &[1], "sequential(sigma: 0.5)");
-        let back: Scene = ron::from_str(&text).unwrap();
+        let back: Scene = parse(&text);
         assert_eq!(back.device, Device::Sequential { sigma: 0.5 });
         assert_eq!(tree.get(&[0, 1]), Some(&Node::Float(0.25)));
     }
