@@ -2,9 +2,15 @@
 //! shared across scenes) and evaluated in the right-hand side, so evaluation must be cheap and
 //! allocation free.
 
+pub mod library;
 pub mod pulse;
+pub mod reader;
+pub mod record;
 
+pub use library::{Library, Record, RecordError, RecordMeta, Source, StandIn};
 pub use pulse::{Pulse, PulseShape};
+pub use reader::ParseError;
+pub use record::{KinkPolicy, RecordMotion, Series};
 
 /// Standard gravity used throughout rocklab (MODEL.md: g = 9.81 m/s²).
 pub const G: f64 = 9.81;
@@ -13,6 +19,8 @@ pub const G: f64 = 9.81;
 #[derive(Clone, Debug)]
 pub enum Motion {
     Pulse(Pulse),
+    /// A sampled record, linear between samples.
+    Record(RecordMotion),
 }
 
 impl Motion {
@@ -21,6 +29,7 @@ impl Motion {
     pub fn accel(&self, t: f64) -> f64 {
         match self {
             Motion::Pulse(p) => p.accel(t),
+            Motion::Record(r) => r.accel(t),
         }
     }
 
@@ -28,6 +37,7 @@ impl Motion {
     pub fn end(&self) -> f64 {
         match self {
             Motion::Pulse(p) => p.end(),
+            Motion::Record(r) => r.end(),
         }
     }
 
@@ -36,6 +46,7 @@ impl Motion {
     pub fn next_breakpoint(&self, t: f64) -> Option<f64> {
         match self {
             Motion::Pulse(p) => p.next_breakpoint(t),
+            Motion::Record(r) => r.next_breakpoint(t),
         }
     }
 
@@ -43,6 +54,7 @@ impl Motion {
     pub fn jumps_at(&self, t: f64) -> bool {
         match self {
             Motion::Pulse(p) => p.jumps_at(t),
+            Motion::Record(r) => r.jumps_at(t),
         }
     }
 
@@ -50,6 +62,7 @@ impl Motion {
     pub fn first_exceedance(&self, t0: f64, level: f64) -> Option<f64> {
         match self {
             Motion::Pulse(p) => scan_exceedance(|t| p.accel(t), t0, p.end(), level, p.period()),
+            Motion::Record(r) => r.first_exceedance(t0, level),
         }
     }
 
@@ -57,6 +70,7 @@ impl Motion {
     pub fn peak_abs(&self, t0: f64, t1: f64) -> f64 {
         match self {
             Motion::Pulse(p) => scan_peak(|t| p.accel(t), t0, t1.min(p.end()), p.period()),
+            Motion::Record(r) => r.peak_abs(t0, t1),
         }
     }
 }
