@@ -31,7 +31,9 @@ pub fn sparkline(samples: &[f64], width: usize) -> String {
     (0..width)
         .map(|b| {
             let lo = b * samples.len() / width;
-            let hi = ((b + 1) * samples.len() / width).max(lo + 1).min(samples.len());
+            let hi = ((b + 1) * samples.len() / width)
+                .max(lo + 1)
+                .min(samples.len());
             let m = samples[lo..hi].iter().fold(0.0_f64, |m, a| m.max(a.abs()));
             SPARK[((m / peak) * 7.0).round() as usize]
         })
@@ -82,7 +84,10 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
     if failures.is_empty() {
         Ok(())
     } else {
-        anyhow::bail!("records that could not be read:\n  {}", failures.join("\n  "))
+        anyhow::bail!(
+            "records that could not be read:\n  {}",
+            failures.join("\n  ")
+        )
     }
 }
 
@@ -97,15 +102,28 @@ fn table(library: &Library, rows: &[std::sync::Arc<Record>]) -> String {
     );
     out.push_str(&format!(
         "{:<2} {:<19} {:<44} {:>6} {:>6} {:>7} {:>6} {:>6} {:>7} {:<9} {}\n",
-        "#", "name", "event, station", "npts", "dt s", "dur s", "PGA g", "PGV", "Tab1 PGV", "source", "|a| envelope"
+        "#",
+        "name",
+        "event, station",
+        "npts",
+        "dt s",
+        "dur s",
+        "PGA g",
+        "PGV",
+        "Tab1 PGV",
+        "source",
+        "|a| envelope"
     ));
     for r in rows {
         let s = &r.series;
         let meta = r.meta.as_ref();
-        let place = meta.map_or(String::new(), |m| format!("{} {}, {}", m.event, m.year, m.station));
+        let place = meta.map_or(String::new(), |m| {
+            format!("{} {}, {}", m.event, m.year, m.station)
+        });
         out.push_str(&format!(
             "{:<2} {:<19} {:<44} {:>6} {:>6} {:>7.2} {:>6.3} {:>6.3} {:>7} {:<9} {}\n",
-            meta.and_then(|m| m.table1).map_or("-".into(), |n| n.to_string()),
+            meta.and_then(|m| m.table1)
+                .map_or("-".into(), |n| n.to_string()),
             r.name,
             truncate(&place, 44),
             s.npts(),

@@ -4,8 +4,8 @@ use super::UsageError;
 use crate::excitation::{KinkPolicy, PulseShape, library};
 use crate::scene::{
     Amplitude, Clutch, ClutchStiffness, Coupling, Damping, Device, Excitation, FlexibleStructure,
-    Form, Frequency, Impact, RecordScale, ResetRule, RigidBlock, Scene, Structure,
-    default_epsilon, default_eta, default_rho,
+    Form, Frequency, Impact, RecordScale, ResetRule, RigidBlock, Scene, Structure, default_epsilon,
+    default_eta, default_rho,
 };
 use crate::sim::{self, SceneResult};
 use clap::{Args, ValueEnum};
@@ -332,8 +332,18 @@ impl SimulateArgs {
     fn excitation(&self) -> Result<(Excitation, f64), UsageError> {
         let record_only = "with --record";
         only_with(self.scale, "--scale", self.record.is_some(), record_only)?;
-        only_with(self.scale_pga, "--scale-pga", self.record.is_some(), record_only)?;
-        only_with(self.scale_pgv, "--scale-pgv", self.record.is_some(), record_only)?;
+        only_with(
+            self.scale_pga,
+            "--scale-pga",
+            self.record.is_some(),
+            record_only,
+        )?;
+        only_with(
+            self.scale_pgv,
+            "--scale-pgv",
+            self.record.is_some(),
+            record_only,
+        )?;
         if self.record.is_none() && (self.baseline || self.kinks.is_some()) {
             return Err(UsageError::new(
                 "--baseline and --kinks only apply with --record",
@@ -360,7 +370,9 @@ impl SimulateArgs {
             if let Some(dir) = &self.records_dir
                 && !library::set_records_dir(dir.clone())
             {
-                return Err(UsageError::new("--records-dir was set after records were loaded"));
+                return Err(UsageError::new(
+                    "--records-dir was set after records were loaded",
+                ));
             }
             let scale = match (self.scale, self.scale_pga, self.scale_pgv) {
                 (_, Some(a), _) => RecordScale::Pga(a),
@@ -387,7 +399,12 @@ impl SimulateArgs {
             };
             return Ok((excitation, record.series.end() + 10.0));
         }
-        only_with(self.records_dir.as_ref().map(|_| 0.0), "--records-dir", false, record_only)?;
+        only_with(
+            self.records_dir.as_ref().map(|_| 0.0),
+            "--records-dir",
+            false,
+            record_only,
+        )?;
         let pulse = self.pulse.unwrap_or(PulseKind::Sine);
         let mp = pulse == PulseKind::Mp;
         only_with(self.gamma, "--gamma", mp, "to --pulse mp")?;

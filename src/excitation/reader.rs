@@ -289,7 +289,7 @@ fn parse_columns(text: &str, origin: &str, dt_given: Option<f64>) -> Result<Seri
             }
             let t0 = rows[0].1[0];
             let dt = (rows[n - 1].1[0] - t0) / (n - 1) as f64;
-            if !(dt > 0.0) {
+            if dt.is_nan() || dt <= 0.0 {
                 return Err(err(origin, rows[n - 1].0, "times must increase"));
             }
             if t0 < 0.0 {
@@ -299,14 +299,16 @@ fn parse_columns(text: &str, origin: &str, dt_given: Option<f64>) -> Result<Seri
                     format!("negative start time {t0}"),
                 ));
             }
-            // Printed times carry rounding; more than 1% of dt off the grid is a real gap.
-            for (k, (line, r)) in rows.iter().enumerate() {
-                if (r[0] - (t0 + k as f64 * dt)).abs() > 0.01 * dt {
+            // Printed times carry rounding; a step more than 1% off the first is a real gap.
+            let step = rows[1].1[0] - t0;
+            for pair in rows.windows(2) {
+                let (line, r) = (&pair[1].0, &pair[1].1);
+                if (r[0] - pair[0].1[0] - step).abs() > 0.01 * step {
                     return Err(err(
                         origin,
                         *line,
                         format!(
-                            "time {} is off the uniform grid t0 + k·dt (dt = {dt}); resample to a uniform step",
+                            "time {} breaks the uniform step {step} of the first rows; resample to a uniform step",
                             r[0]
                         ),
                     ));

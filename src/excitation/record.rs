@@ -73,9 +73,11 @@ impl Series {
     pub fn accel(&self, t: f64) -> f64 {
         let x = (t - self.t0) * self.inv_dt;
         let last = self.accel.len() - 1;
-        if !(x >= 0.0) || x > last as f64 {
+        // The tolerance keeps t = t0 + k·dt on sample k despite rounding in k·dt.
+        if x.is_nan() || x < -1e-9 || x > last as f64 + 1e-9 {
             return 0.0;
         }
+        let x = x.max(0.0);
         let i = x as usize;
         if i >= last {
             return self.accel[last];
