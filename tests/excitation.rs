@@ -296,6 +296,11 @@ fn first_exceedance_and_peak_are_exact() {
     // Level 3 from t = 0.1 (a = 2): crossed downward to −3 on [0.1, 0.2]: 2 − 6u = −3.
     assert!((m.first_exceedance(0.1, 3.0).unwrap() - (0.1 + 0.1 * 5.0 / 6.0)).abs() < 1e-15);
     assert_eq!(m.first_exceedance(0.0, 4.0), None);
+    // The returned time is where the excess is strict (callers test |a_g| > level there).
+    for (t0, level) in [(0.0, 1.0), (0.1, 3.0), (0.0, 0.3), (0.21, 1.7)] {
+        let t = m.first_exceedance(t0, level).unwrap();
+        assert!(m.accel(t).abs() > level && t >= t0, "{t0} {level} {t}");
+    }
     assert_eq!(m.first_exceedance(0.25, 1.5), None);
     assert!((m.peak_abs(0.0, 0.3) - 4.0).abs() < 1e-15);
     assert!((m.peak_abs(0.0, 0.15) - 2.0).abs() < 1e-15);

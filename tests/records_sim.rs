@@ -203,3 +203,25 @@ fn scaling_to_pga_reaches_the_target_on_the_ground() {
     let m = sim::motion_for(&s).unwrap();
     assert!((m.peak_abs(0.0, m.end()) / rocklab::excitation::G - 0.3).abs() < 1e-12);
 }
+
+#[test]
+fn a_record_below_the_uplift_threshold_leaves_the_block_at_rest() {
+    // The imperial_valley stand-in peaks at 0.059 g < tan 0.2: the block rides the ground and
+    // its absolute acceleration is the record's PGA.
+    let s = scene(
+        Excitation::Record {
+            name: "imperial_valley".into(),
+            scale: RecordScale::Factor(1.0),
+            baseline: false,
+            kinks: KinkPolicy::default(),
+        },
+        Device::None,
+        1e-6,
+    );
+    let r = sim::run(&s).unwrap();
+    let m = sim::motion_for(&s).unwrap();
+    let pga_g = m.peak_abs(0.0, m.end()) / rocklab::excitation::G;
+    assert!(pga_g > 0.05 && pga_g < 0.2f64.tan());
+    assert_eq!((r.counters.uplifts, r.peaks.rotation), (0, 0.0));
+    assert!((r.peaks.abs_acceleration_g - pga_g).abs() < 1e-12);
+}

@@ -1,5 +1,6 @@
 //! Command-line interface: clap commands at the edge, library errors turned into messages.
 
+pub mod bench;
 pub mod records;
 pub mod simulate;
 
@@ -25,6 +26,8 @@ pub enum Command {
     Simulate(simulate::SimulateArgs),
     /// List the ground-motion records (npts, dt, PGA, PGV, source).
     Records(records::RecordsArgs),
+    /// Work-precision tables: peak errors, steps, RHS evaluations and time per tolerance.
+    Bench(bench::BenchArgs),
 }
 
 /// Bad flags or values: reported in one line, exit code 2.
@@ -58,6 +61,7 @@ pub fn main() -> ExitCode {
     let outcome = match cli.command {
         Some(Command::Simulate(args)) => simulate::run(&args),
         Some(Command::Records(args)) => records::run(&args),
+        Some(Command::Bench(args)) => bench::run(&args),
         None => {
             eprintln!("the workbench is not built yet; try `rocklab simulate --help`");
             return ExitCode::from(2);

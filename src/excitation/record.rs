@@ -204,8 +204,8 @@ impl RecordMotion {
         (near(s.t0) && s.accel[0] != 0.0) || (near(s.end()) && s.accel[s.npts() - 1] != 0.0)
     }
 
-    /// First time ≥ t0 at which |a_g| reaches `level`: the exact crossing of the linear
-    /// segment that carries |a_g| past it.
+    /// First time ≥ t0 at which |a_g| exceeds `level`: the exact crossing of the linear
+    /// segment that carries |a_g| past it (nudged by ulps to where the excess is strict).
     pub fn first_exceedance(&self, t0: f64, level: f64) -> Option<f64> {
         let s = &*self.series;
         if self.factor == 0.0 || t0 > s.end() {
@@ -224,11 +224,24 @@ impl RecordMotion {
             let (tb, b) = (s.time(k), s.accel[k]);
             if b.abs() > lev {
                 let u = (lev.copysign(b) - a) / (b - a);
-                return Some((ta + u * (tb - ta)).clamp(ta, tb));
+                let crossing = (ta + u * (tb - ta)).clamp(ta, tb);
+                return Some(self.strictly_past(crossing, tb, level));
             }
             (ta, a) = (tb, b);
         }
         None
+    }
+
+    /// The first time from `t` on (to within a few ulps) where |a_g| > level strictly, so a
+    /// caller that tests |a_g| > level at the returned time sees it exceeded; |a_g(tb)| > level.
+    fn strictly_past(&self, t: f64, tb: f64, level: f64) -> f64 {
+        let mut nudge = f64::EPSILON * t.abs().max(self.series.dt);
+        let mut u = t;
+        while u < tb && self.accel(u).abs() <= level {
+            u = (t + nudge).min(tb);
+            nudge *= 2.0;
+        }
+        u
     }
 
     /// Peak |a_g| over [t0, t1]: the ends and the samples between them.

@@ -49,6 +49,11 @@ pub trait OdeSystem<const N: usize> {
         Direction::Either
     }
     fn events(&self, _t: f64, _y: &[f64; N], _g: &mut [f64]) {}
+    /// The sign event function `index` takes just after (t, y), where it is exactly zero
+    /// because a jump put the state on its surface; 0 if the system cannot tell.
+    fn sign_after_zero(&self, _index: usize, _t: f64, _y: &[f64; N]) -> f64 {
+        0.0
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -58,6 +63,9 @@ pub struct Options<const N: usize> {
     /// (quadratures such as energy accumulators).
     pub atol: [f64; N],
     pub h_max: f64,
+    /// The first `controlled` components form the state group of the error norm, the rest the
+    /// quadrature group (use N when there are no quadratures).
+    pub controlled: usize,
     /// Accepted plus rejected steps allowed over the integrator's lifetime.
     pub max_steps: u64,
 }
@@ -254,24 +262,18 @@ impl<const N: usize> Integrator<N> {
         self.stats.rhs_evals += 1;
     }
 
-    /// Event signs at the start. A function that is exactly zero (the state was put on its
-    /// surface by a jump) takes the sign it has a moment later, along y + δ·f; if that is zero
-    /// too it stays undetermined (0) and adopts its sign at the end of the next step.
+    /// Event signs at the start. A function that is exactly zero (a jump put the state on its
+    /// surface: θ = 0 after an impact, δ = 0 after a clutch reset) takes the sign the system
+    /// says it will have ([`OdeSystem::sign_after_zero`]); if the system cannot tell, it stays
+    /// undetermined and adopts the sign of its first sub-sample, so no crossing is reported at
+    /// the restart point itself. (A generic probe along y + δ·f is not used: where the rate is
+    /// also ~0, e.g. a reset at a velocity crossing, its sign is decided by roundoff.)
     fn reset_event_signs<S: OdeSystem<N>>(&mut self, sys: &S) {
         let m = sys.event_count();
-        if m == 0 {
-            return;
-        }
         sys.events(self.t, &self.y, &mut self.g[..m]);
-        if self.g[..m].contains(&0.0) {
-            let delta = 1e-9 * self.h.abs().max(1e-12);
-            let probe: [f64; N] = std::array::from_fn(|i| self.y[i] + delta * self.f[i]);
-            let mut g2 = [0.0; MAX_EVENTS];
-            sys.events(self.t + delta, &probe, &mut g2[..m]);
-            for i in 0..m {
-                if self.g[i] == 0.0 {
-                    self.g[i] = g2[i];
-                }
+        for i in 0..m {
+            if self.g[i] == 0.0 {
+                self.g[i] = sys.sign_after_zero(i, self.t, &self.y);
             }
         }
     }
@@ -280,17 +282,24 @@ impl<const N: usize> Integrator<N> {
         self.opts.atol[i] + self.opts.rtol * a.abs().max(b.abs())
     }
 
+    /// Error norm: the larger of the RMS norms over the two groups of components (the leading
+    /// `opts.controlled` state components, and the trailing quadratures), so adding well-behaved
+    /// quadratures never dilutes the state's error.
     fn norm(&self, v: &[f64; N], y0: &[f64; N], y1: &[f64; N]) -> f64 {
-        let mut sum = 0.0;
-        let mut n = 0;
-        for i in 0..N {
-            if self.opts.atol[i].is_finite() {
-                let s = v[i] / self.error_scale(i, y0[i], y1[i]);
-                sum += s * s;
-                n += 1;
+        let rms = |range: std::ops::Range<usize>| {
+            let mut sum = 0.0;
+            let mut n = 0;
+            for i in range {
+                if self.opts.atol[i].is_finite() {
+                    let s = v[i] / self.error_scale(i, y0[i], y1[i]);
+                    sum += s * s;
+                    n += 1;
+                }
             }
-        }
-        if n == 0 { 0.0 } else { (sum / n as f64).sqrt() }
+            if n == 0 { 0.0 } else { (sum / n as f64).sqrt() }
+        };
+        let split = self.opts.controlled.min(N);
+        rms(0..split).max(rms(split..N))
     }
 
     /// Hairer's starting step guess (Solving ODEs I, §II.4).
@@ -573,6 +582,7 @@ mod tests {
             rtol,
             atol: [rtol; 2],
             h_max: f64::INFINITY,
+            controlled: 2,
             max_steps: 1_000_000,
         }
     }
