@@ -88,8 +88,10 @@ fn embedded_and_directory_copies_are_identical_and_shared() {
         assert!(matches!(a.source, Source::File(_)));
         assert!(matches!(b.source, Source::Embedded(_)));
         assert_eq!(a.series, b.series);
-        // Parsed once, then shared.
+        // Parsed once, then shared, whatever alias names it.
         assert!(Arc::ptr_eq(&a, &dir.load(name, false).unwrap()));
+        let file = a.meta.as_ref().unwrap().file.clone();
+        assert!(Arc::ptr_eq(&a, &dir.load(&file, false).unwrap()));
     }
 }
 

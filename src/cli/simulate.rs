@@ -585,6 +585,18 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     if args.json {
         println!("{}", result_json(&scene, &result));
     } else {
+        if let Excitation::Record { name, baseline, .. } = &scene.excitation {
+            let record = library::global()?.load(name, *baseline)?;
+            let factor = match sim::motion_for(&scene)? {
+                crate::excitation::Motion::Record(m) => m.factor,
+                crate::excitation::Motion::Pulse(_) => 1.0,
+            };
+            println!(
+                "record {} × {factor:.6}: {}",
+                record.name,
+                record.source.label()
+            );
+        }
         print!("{}", summary(&scene, &result));
     }
     Ok(())

@@ -261,8 +261,11 @@ impl Library {
     /// Load (or fetch from the cache) a record by name, Table 1 number, file stem or path.
     /// `baseline` applies [`Series::baseline_corrected`].
     pub fn load(&self, name: &str, baseline: bool) -> Result<Arc<Record>, RecordError> {
-        let key = (name.to_string(), baseline);
-        if let Some(hit) = self.cache.lock().expect("cache lock").get(&key) {
+        // Keyed by what the name resolves to, so "northridge" and "2" share one parse; the lock
+        // is held while parsing so that concurrent scenes parse a record only once.
+        let key = (self.canonical(name), baseline);
+        let mut cache = self.cache.lock().expect("cache lock");
+        if let Some(hit) = cache.get(&key) {
             return Ok(hit.clone());
         }
         let mut record = self.resolve(name)?;
@@ -270,11 +273,14 @@ impl Library {
             record.series = Arc::new(record.series.baseline_corrected());
         }
         let record = Arc::new(record);
-        self.cache
-            .lock()
-            .expect("cache lock")
-            .insert(key, record.clone());
+        cache.insert(key, record.clone());
         Ok(record)
+    }
+
+    /// The index entry's name, else the name as given (a stem or a path).
+    fn canonical(&self, name: &str) -> String {
+        self.find_entry(name)
+            .map_or_else(|| name.to_string(), |m| format!("index:{}", m.name))
     }
 
     fn resolve(&self, name: &str) -> Result<Record, RecordError> {
