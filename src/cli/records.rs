@@ -100,17 +100,21 @@ fn table(library: &Library, rows: &[std::sync::Arc<Record>]) -> String {
                 .display()
                 .to_string())
     );
+    out.push_str(
+        "PGA (g) and PGV (m/s) are computed from the data; Tab1 PGV and Tp are the paper's Table 1.\n",
+    );
     out.push_str(&format!(
-        "{:<2} {:<19} {:<44} {:>6} {:>6} {:>7} {:>6} {:>6} {:>7} {:<9} {}\n",
+        "{:<2} {:<19} {:<44} {:>6} {:>6} {:>7} {:>6} {:>6} {:>8} {:>5} {:<9} {}\n",
         "#",
         "name",
         "event, station",
         "npts",
         "dt s",
         "dur s",
-        "PGA g",
+        "PGA",
         "PGV",
         "Tab1 PGV",
+        "Tp s",
         "source",
         "|a| envelope"
     ));
@@ -121,7 +125,7 @@ fn table(library: &Library, rows: &[std::sync::Arc<Record>]) -> String {
             format!("{} {}, {}", m.event, m.year, m.station)
         });
         out.push_str(&format!(
-            "{:<2} {:<19} {:<44} {:>6} {:>6} {:>7.2} {:>6.3} {:>6.3} {:>7} {:<9} {}\n",
+            "{:<2} {:<19} {:<44} {:>6} {:>6} {:>7.2} {:>6.3} {:>6.3} {:>8} {:>5} {:<9} {}\n",
             meta.and_then(|m| m.table1)
                 .map_or("-".into(), |n| n.to_string()),
             r.name,
@@ -133,6 +137,8 @@ fn table(library: &Library, rows: &[std::sync::Arc<Record>]) -> String {
             s.pgv(),
             meta.and_then(|m| m.pgv_table1)
                 .map_or("-".into(), |v| format!("{v:.2}")),
+            meta.and_then(|m| m.tp)
+                .map_or("-".into(), |v| format!("{v:.1}")),
             r.source.kind(),
             sparkline(s.samples(), 32),
         ));
