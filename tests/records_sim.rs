@@ -21,6 +21,7 @@ fn scene(excitation: Excitation, device: Device, rtol: f64) -> Scene {
         duration: 8.0,
         rtol,
         initial_rotation: 0.0,
+        stop_when_settled: false,
     }
 }
 

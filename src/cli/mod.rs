@@ -18,12 +18,10 @@ pub struct Cli {
     pub command: Option<Command>,
 }
 
-// Parsed once per process: the size difference between variants does not matter.
-#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Run one scene and print its peaks.
-    Simulate(simulate::SimulateArgs),
+    Simulate(Box<simulate::SimulateArgs>),
     /// List the ground-motion records (npts, dt, PGA, PGV, source).
     Records(records::RecordsArgs),
     /// Work-precision tables: peak errors, steps, RHS evaluations and time per tolerance.
