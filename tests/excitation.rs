@@ -236,7 +236,7 @@ fn malformed_files_give_clear_errors() {
             "dt.AT2:4:",
             "DT = 0 must be > 0",
         ),
-        ("0.1\n0.2\n", "nodt.txt:", "needs its time step"),
+        ("0.1\n0.2\n", "nodt.txt:", "needs a time step > 0"),
         (
             "0 0.1\n0.01 0.2\n0.05 0.3\n",
             "gap.txt:3:",
@@ -550,4 +550,38 @@ fn paper_scalings_apply_to_every_family() {
         assert!((peak(&pulse) / (1.5 * G * alpha.tan()) - 1.0).abs() < 1e-6);
         assert_eq!(pulse.omega, 8.0);
     }
+}
+
+#[test]
+fn a_broken_index_or_stand_in_is_a_clear_error() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(
+        tmp.path().join("index.ron"),
+        "[\n  (name: \"x\",\n  oops\n]\n",
+    )
+    .unwrap();
+    let e = Library::open(Some(tmp.path().to_path_buf()))
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("index.ron:3:"), "{e}");
+    let index = std::fs::read_to_string(records_dir().join("index.ron"))
+        .unwrap()
+        .replace(
+            "gamma: 2.0, nu: 0.0, dt: 0.005",
+            "gamma: 0.5, nu: 0.0, dt: 0.005",
+        );
+    std::fs::write(tmp.path().join("index.ron"), index).unwrap();
+    let lib = Library::open(Some(tmp.path().to_path_buf())).unwrap();
+    let e = lib.load("palm_springs", false).unwrap_err().to_string();
+    assert!(
+        e.contains("stand-in needs") && e.contains("palm_springs"),
+        "{e}"
+    );
+    // A dt given for a file that states its own, differently.
+    let e = parse("# dt: 0.01\n0.1\n", "x.txt", Some(0.02)).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("differs from its '# dt: 0.01' header")
+    );
 }

@@ -74,6 +74,27 @@ pub struct StandIn {
 }
 
 impl StandIn {
+    /// Reject parameters that cannot make a pulse (index.ron is hand-edited).
+    fn checked(self, name: &str) -> Result<Self, RecordError> {
+        let ok = self.tp > 0.0
+            && self.pgv > 0.0
+            && self.gamma > 1.0
+            && self.nu.is_finite()
+            && self.dt > 0.0
+            && self.dt <= self.tp / 10.0;
+        if ok && self.tp.is_finite() && self.pgv.is_finite() {
+            Ok(self)
+        } else {
+            Err(RecordError::Parse(ParseError {
+                origin: "index.ron".into(),
+                line: 0,
+                message: format!(
+                    "record '{name}': stand-in needs tp > 0, pgv > 0, γ > 1, finite ν and 0 < dt ≤ tp/10 (got {self:?})"
+                ),
+            }))
+        }
+    }
+
     /// The pulse sampled at dt, scaled so the sampled history's exact PGV equals `pgv`.
     pub fn series(&self) -> Series {
         let pulse = Pulse::mavroeidis_papageorgiou(self.tp, self.pgv, self.gamma, self.nu);
@@ -294,7 +315,7 @@ impl Library {
             let (source, series) = match self.read_data(&meta.file, meta.dt)? {
                 Some(found) => found,
                 None => match meta.stand_in {
-                    Some(s) => (Source::StandIn(s), s.series()),
+                    Some(s) => (Source::StandIn(s), s.checked(&meta.name)?.series()),
                     None => {
                         return Err(RecordError::Missing {
                             name: meta.name.clone(),

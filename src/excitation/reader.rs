@@ -265,13 +265,27 @@ fn parse_columns(text: &str, origin: &str, dt_given: Option<f64>) -> Result<Seri
     let scale = units.to_mps2();
     match columns {
         1 => {
-            let dt = dt_given.or(dt_header).ok_or_else(|| {
-                err(
+            if let (Some(given), Some(header)) = (dt_given, dt_header)
+                && given != header
+            {
+                return Err(err(
                     origin,
                     0,
-                    "a one-column file needs its time step: add a '# dt: 0.01' header line",
-                )
-            })?;
+                    format!(
+                        "dt {given} given for this file differs from its '# dt: {header}' header"
+                    ),
+                ));
+            }
+            let dt = dt_given
+                .or(dt_header)
+                .filter(|d| *d > 0.0 && d.is_finite())
+                .ok_or_else(|| {
+                    err(
+                        origin,
+                        0,
+                        "a one-column file needs a time step > 0: add a '# dt: 0.01' header line",
+                    )
+                })?;
             Ok(Series::new(
                 0.0,
                 dt,
