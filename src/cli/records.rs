@@ -8,7 +8,7 @@ use std::path::PathBuf;
 /// List the ground-motion records (npts, dt, duration, PGA, PGV, source, sparkline).
 #[derive(Args, Debug, Clone)]
 pub struct RecordsArgs {
-    /// Records directory (default: $ROCKLAB_RECORDS, else ./records if present; the shipped
+    /// Records directory (default: $ROCKLAB_RECORDS, else ./records if it holds an index.ron; the shipped
     /// records are also embedded in the binary).
     #[arg(long)]
     pub records_dir: Option<PathBuf>,

@@ -159,7 +159,7 @@ pub struct SimulateArgs {
     /// How the integrator treats the kinks between record samples.
     #[arg(long, value_enum)]
     pub kinks: Option<KinksKind>,
-    /// Records directory (default: $ROCKLAB_RECORDS, else ./records if present, else the
+    /// Records directory (default: $ROCKLAB_RECORDS, else ./records if it holds an index.ron, else the
     /// records embedded in the binary).
     #[arg(long)]
     pub records_dir: Option<PathBuf>,

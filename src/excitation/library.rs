@@ -6,7 +6,7 @@
 //! `file`), the same file embedded in the binary at build time (`embedded`), the entry's
 //! Mavroeidis–Papageorgiou stand-in (`stand-in`). Names not in the index match data files by
 //! stem; anything else is read as a path. The records directory is `--records-dir`, else
-//! `$ROCKLAB_RECORDS`, else `./records` when it exists.
+//! `$ROCKLAB_RECORDS`, else `./records` when it holds an `index.ron`.
 
 use super::pulse::Pulse;
 use super::reader::{self, ParseError};
@@ -222,11 +222,12 @@ impl Library {
         })
     }
 
-    /// The directory named by `$ROCKLAB_RECORDS`, else `./records` if it exists.
+    /// The directory named by `$ROCKLAB_RECORDS`, else `./records` if it holds an
+    /// `index.ron` (so an unrelated `records/` folder of results is not mistaken for one).
     pub fn default_dir() -> Option<PathBuf> {
         std::env::var_os(RECORDS_ENV)
             .map(PathBuf::from)
-            .or_else(|| Some(PathBuf::from("records")).filter(|p| p.is_dir()))
+            .or_else(|| Some(PathBuf::from("records")).filter(|p| p.join("index.ron").is_file()))
     }
 
     pub fn dir(&self) -> Option<&Path> {
