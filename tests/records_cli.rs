@@ -155,3 +155,41 @@ fn simulate_accepts_the_new_pulse_families() {
         assert!(v["peak_rotation"].as_f64().unwrap() > 0.0, "{args:?}");
     }
 }
+
+#[test]
+fn a_records_directory_from_the_environment_or_flag_replaces_a_stand_in() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::copy(
+        crate_dir().join("records/index.ron"),
+        tmp.path().join("index.ron"),
+    )
+    .unwrap();
+    std::fs::write(
+        tmp.path().join("RSN529_PALMSPR_NPS_FN.AT2"),
+        "PEER NGA STRONG MOTION DATABASE RECORD\nN. Palm Springs\nACCELERATION TIME HISTORY IN UNITS OF G\n3    0.0050    NPTS, DT\n 0.1 -0.4 0.2\n",
+    )
+    .unwrap();
+    let elsewhere = tempfile::tempdir().unwrap();
+    let by_env = Command::new(env!("CARGO_BIN_EXE_rocklab"))
+        .args(["records", "--json"])
+        .current_dir(elsewhere.path())
+        .env("ROCKLAB_RECORDS", tmp.path())
+        .output()
+        .unwrap();
+    let dir = tmp.path().to_str().unwrap();
+    let (code, by_flag, err) = rocklab(
+        &["records", "--json", "--records-dir", dir],
+        elsewhere.path(),
+    );
+    assert_eq!(code, 0, "{err}");
+    for out in [String::from_utf8(by_env.stdout).unwrap(), by_flag] {
+        let list: Vec<serde_json::Value> = serde_json::from_str(&out).unwrap();
+        let palm = list.iter().find(|r| r["name"] == "palm_springs").unwrap();
+        assert_eq!(palm["source"], "file");
+        assert_eq!(palm["npts"], 3);
+        assert!((palm["pga_g"].as_f64().unwrap() - 0.4).abs() < 1e-12);
+        // The others still come from the binary.
+        let landers = list.iter().find(|r| r["name"] == "landers").unwrap();
+        assert_eq!(landers["source"], "embedded");
+    }
+}
