@@ -1,6 +1,12 @@
 //! Ground motions: what the structure's base does. A [`Motion`] is compiled once per scene (or
 //! shared across scenes) and evaluated in the right-hand side, so evaluation must be cheap and
 //! allocation free.
+//!
+//! - [`pulse`]: analytic pulses (sine, cosine, Ricker, antisymmetric Ricker,
+//!   Mavroeidis–Papageorgiou), all scaled by peak acceleration and ω.
+//! - [`record`]: sampled records, linear between samples, O(1) lookup, shared via `Arc`.
+//! - [`reader`]: PEER AT2, one- and two-column files.
+//! - [`library`]: record names → parsed records (directory, embedded copies, stand-ins), cached.
 
 pub mod library;
 pub mod pulse;
