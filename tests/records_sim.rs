@@ -226,3 +226,51 @@ fn a_record_below_the_uplift_threshold_leaves_the_block_at_rest() {
     assert_eq!((r.counters.uplifts, r.peaks.rotation), (0, 0.0));
     assert!((r.peaks.abs_acceleration_g - pga_g).abs() < 1e-12);
 }
+
+/// Steps of a history that straddle a record sample (dt = 0.01 s) while the block rocks.
+fn straddling_steps(kinks: KinkPolicy) -> (usize, f64) {
+    let s = scene(
+        Excitation::Record {
+            name: "northridge".into(),
+            scale: RecordScale::Factor(0.5),
+            baseline: false,
+            kinks,
+        },
+        Device::None,
+        1e-10,
+    );
+    let (result, history) = sim::run_with_history(&s, true).unwrap();
+    let h = history.unwrap();
+    let (t, th, om) = (
+        h.column("t").unwrap(),
+        h.column("theta").unwrap(),
+        h.column("theta_dot").unwrap(),
+    );
+    let dt = 0.01;
+    let end = sim::motion_for(&s).unwrap().end();
+    // Integrator steps only: a row at rest on the ground starts an idle gap (the history has
+    // no row where the block wakes up).
+    let moving = |i: usize| th[i] != 0.0 || om[i] != 0.0;
+    let straddles = (0..t.len() - 1)
+        .filter(|&i| t[i + 1] <= end && t[i + 1] > t[i] && moving(i))
+        .filter(|&i| {
+            let next_sample = ((t[i] / dt + 1e-6).floor() + 1.0) * dt;
+            next_sample < t[i + 1] - 1e-9
+        })
+        .count();
+    (straddles, result.peaks.rotation)
+}
+
+#[test]
+fn stop_at_samples_never_steps_across_a_sample_and_agrees_with_step_over() {
+    let (stop, peak_stop) = straddling_steps(KinkPolicy::StopAtSamples);
+    let (over, peak_over) = straddling_steps(KinkPolicy::StepOver);
+    assert_eq!(stop, 0);
+    assert!(over > 100, "{over}");
+    // Bare block (contact is skipped exactly, nothing to miss): both policies converge to the
+    // same peak (BENCHMARKS.md, "Records: kinks between samples").
+    assert!(
+        (peak_stop - peak_over).abs() < 1e-6 * peak_stop,
+        "{peak_stop} {peak_over}"
+    );
+}
