@@ -206,8 +206,8 @@ fn parsing_round_trips_in_every_format() {
     assert!((t2.dt() - 0.02).abs() < 1e-15);
     assert!((t2.accel(0.52) + 0.2).abs() < 1e-12);
     assert_eq!(t2.accel(0.49), 0.0);
-    // One column with the dt given by the caller.
-    let one = parse("0.1\n-0.2\n", "one.txt", Some(0.05)).unwrap();
+    // One column with the dt given by the caller (Windows line ends and a BOM are fine).
+    let one = parse("\u{feff}0.1\r\n-0.2\r\n", "one.txt", Some(0.05)).unwrap();
     assert_eq!((one.npts(), one.dt()), (2, 0.05));
     assert!((one.samples()[1] + 0.2 * G).abs() < 1e-15);
 }

@@ -112,6 +112,7 @@ pub fn numbers_in(line: &str, origin: &str, line_no: usize) -> Result<Vec<f64>, 
 /// `dt:` and `units:`, and the data are one column (a, needs a dt from the header or from
 /// `dt`) or two columns (t, a; uniform spacing required). Units default to g.
 pub fn parse(text: &str, origin: &str, dt: Option<f64>) -> Result<Series, ParseError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if text.trim().is_empty() {
         return Err(err(origin, 0, "the file is empty"));
     }
