@@ -67,11 +67,9 @@ impl StudyError {
                     None => format!("add `{field}: …`"),
                 }),
             ),
-            E::NoSuchEnumVariant {
-                expected, found, ..
-            } => (
+            E::NoSuchEnumVariant { found, .. } => (
                 Some(found.clone()),
-                Some(format!("expected one of: {}", expected.join(", "))),
+                Some("variant names are snake_case, e.g. `none`, `alpha_ratio(1.5)`".into()),
             ),
             E::DuplicateStructField { field, .. } => {
                 (Some(field.to_string()), Some("give each field once".into()))

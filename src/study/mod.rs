@@ -271,12 +271,18 @@ impl Study {
             .expect("the built-in default study parses")
     }
 
+    /// Parse and validate.
     pub fn from_ron_str(text: &str, origin: &str) -> Result<Study, StudyError> {
-        let study: Study = ron_options()
-            .from_str(text)
-            .map_err(|e| StudyError::from_ron(e, origin))?;
+        let study = Study::parse_ron(text, origin)?;
         study.validate().map_err(|e| e.located(text, origin))?;
         Ok(study)
+    }
+
+    /// Parse only (schema errors), without the physical validation of [`Study::validate`].
+    pub fn parse_ron(text: &str, origin: &str) -> Result<Study, StudyError> {
+        ron_options()
+            .from_str(text)
+            .map_err(|e| StudyError::from_ron(e, origin))
     }
 
     pub fn load(path: &Path) -> Result<Study, StudyError> {
