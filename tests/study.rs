@@ -28,7 +28,8 @@ fn every_shipped_study_round_trips_and_validates_or_names_what_is_missing() {
     for (name, text) in studies {
         let study = Study::parse_ron(&text, &name).unwrap_or_else(|e| panic!("{e}"));
         let again = study.to_ron_string();
-        let back = Study::parse_ron(&again, "round-trip").unwrap_or_else(|e| panic!("{e}\n{again}"));
+        let back =
+            Study::parse_ron(&again, "round-trip").unwrap_or_else(|e| panic!("{e}\n{again}"));
         assert_eq!(back, study, "{name} does not round-trip:\n{again}");
         assert_eq!(back.hash(), study.hash());
         match Study::from_ron_str(&text, &name) {
@@ -44,10 +45,9 @@ fn every_shipped_study_round_trips_and_validates_or_names_what_is_missing() {
 
 #[test]
 fn the_builtin_default_is_the_shipped_default() {
-    let text = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/default.ron"),
-    )
-    .unwrap();
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/default.ron"))
+            .unwrap();
     assert_eq!(
         Study::builtin_default(),
         Study::from_ron_str(&text, "default.ron").unwrap()
@@ -79,7 +79,11 @@ fn a_clutch_grid_expands_to_the_cartesian_product_with_the_frequency_fastest() {
         assert!((p.scene.structure.p() - 2.5).abs() < 1e-12);
     }
     assert_eq!(
-        points.iter().map(|p| p.coords[0].1).take(5).collect::<Vec<_>>(),
+        points
+            .iter()
+            .map(|p| p.coords[0].1)
+            .take(5)
+            .collect::<Vec<_>>(),
         [2.0, 4.0, 6.0, 8.0, 2.0]
     );
     assert_eq!(points[0].group, "bare α=0.15");
@@ -130,20 +134,40 @@ const GOOD: &str = r#"(
 const CASES: &[(&str, &str, &str)] = &[
     ("unknown_field", "alpha: 0.1745", "alpah: 0.1745"),
     ("unknown_device", "none,", "bare,"),
-    ("unknown_clutch_field", "cbar: 1.0)", "cbar: 1.0, stifness: 3.0)"),
+    (
+        "unknown_clutch_field",
+        "cbar: 1.0)",
+        "cbar: 1.0, stifness: 3.0)",
+    ),
     ("missing_duration", "    duration: 10.0,\n", ""),
     ("bad_range", "steps: 10", "steps: 1"),
     ("range_typo", "steps: 10", "stesp: 10"),
     ("negative_sigma", "sigma: 0.5", "sigma: [0.5, -0.5]"),
     ("alpha_too_large", "alpha: 0.1745", "alpha: 2.0"),
     ("size_and_p", "rigid(p: 2.0,", "rigid(p: 2.0, size: 1.0,"),
-    ("cbar_and_xi_theta", "cbar: 1.0)", "cbar: 1.0, xi_theta: 0.02)"),
+    (
+        "cbar_and_xi_theta",
+        "cbar: 1.0)",
+        "cbar: 1.0, xi_theta: 0.02)",
+    ),
     ("negative_play", "cbar: 1.0)", "cbar: 1.0, play: -0.001)"),
     ("zero_frequency", "from: 1.0", "from: 0.0"),
     ("version", "version: 1", "version: 2"),
-    ("no_devices", "none,\n        mechanistic(sigma: 0.5, cbar: 1.0),", ""),
-    ("spectrum_axis_missing", "duration: 10.0,", "duration: 10.0, spectrum: omega_n,"),
-    ("map_same_axes", "duration: 10.0,", "duration: 10.0, map: (x: frequency, y: frequency),"),
+    (
+        "no_devices",
+        "none,\n        mechanistic(sigma: 0.5, cbar: 1.0),",
+        "",
+    ),
+    (
+        "spectrum_axis_missing",
+        "duration: 10.0,",
+        "duration: 10.0, spectrum: omega_n,",
+    ),
+    (
+        "map_same_axes",
+        "duration: 10.0,",
+        "duration: 10.0, map: (x: frequency, y: frequency),",
+    ),
     ("rtol", "duration: 10.0,", "duration: 10.0, rtol: 0.5,"),
     ("not_ron", "devices: [", "devices: ["),
 ];
@@ -158,8 +182,14 @@ fn bad_inputs_name_file_line_column_field_and_hint() {
             text = text.replacen("name: \"bad\"", "name: bad\"", 1);
         }
         let e = error_of(&text);
-        assert!(e.line.is_some() && e.column.is_some(), "{name}: no position in {e}");
-        assert!(e.field.is_some() || *name == "not_ron", "{name}: no field in {e}");
+        assert!(
+            e.line.is_some() && e.column.is_some(),
+            "{name}: no position in {e}"
+        );
+        assert!(
+            e.field.is_some() || *name == "not_ron",
+            "{name}: no field in {e}"
+        );
         assert!(e.hint.is_some(), "{name}: no hint in {e}");
         report.push_str(&format!("{name}:\n  {e}\n"));
     }
