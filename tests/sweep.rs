@@ -121,6 +121,7 @@ fn the_simulate_command_agrees_with_the_sweep() {
             "4",
             "--duration",
             "8",
+            "--stop-when-settled",
             "--json",
         ])
         .output()
@@ -137,6 +138,7 @@ fn the_simulate_command_agrees_with_the_sweep() {
         r.peak_rotation_ratio
     );
     assert_eq!(json["impacts"].as_u64().unwrap(), r.counters.impacts);
+    assert_eq!(json["end_time"].as_f64().unwrap(), r.end_time);
 }
 
 #[test]

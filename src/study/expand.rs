@@ -90,6 +90,7 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
                 duration: study.duration,
                 rtol: study.rtol,
                 initial_rotation: 0.0,
+                stop_when_settled: study.stop_when_settled,
             };
             scene
                 .validate()

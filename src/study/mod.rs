@@ -51,6 +51,14 @@ pub struct Study {
     /// Integrator relative tolerance.
     #[serde(default = "crate::scene::default_rtol")]
     pub rtol: f64,
+    /// End each scene once the ground has stopped and no peak can change any more (peaks are
+    /// unchanged; end times and final energies differ). On by default: studies report peaks.
+    #[serde(default = "yes")]
+    pub stop_when_settled: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 fn default_quantities() -> Vec<Quantity> {
