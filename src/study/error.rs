@@ -51,14 +51,9 @@ impl StudyError {
     pub fn from_ron(e: ron::error::SpannedError, origin: &str) -> Self {
         use ron::error::Error as E;
         let (field, hint) = match &e.code {
-            E::NoSuchStructField {
-                expected, found, ..
-            } => (
+            E::NoSuchStructField { found, .. } => (
                 Some(found.clone()),
-                Some(format!(
-                    "unknown field; expected one of: {}",
-                    expected.join(", ")
-                )),
+                Some("check the spelling: fields are snake_case as in studies/*.ron".into()),
             ),
             E::MissingStructField { field, outer } => (
                 Some(field.to_string()),
@@ -67,11 +62,9 @@ impl StudyError {
                     None => format!("add `{field}: …`"),
                 }),
             ),
-            E::NoSuchEnumVariant {
-                expected, found, ..
-            } => (
+            E::NoSuchEnumVariant { found, .. } => (
                 Some(found.clone()),
-                Some(format!("expected one of: {}", expected.join(", "))),
+                Some("variant names are snake_case, e.g. `none`, `alpha_ratio(1.5)`".into()),
             ),
             E::DuplicateStructField { field, .. } => {
                 (Some(field.to_string()), Some("give each field once".into()))

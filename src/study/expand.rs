@@ -26,6 +26,8 @@ struct Param {
     values: Vec<f64>,
     /// Names for a categorical parameter (records); values are then indices.
     names: Option<Vec<String>>,
+    /// What is wrong with the list or range itself, if anything.
+    shape_error: Option<(String, &'static str)>,
 }
 
 impl Param {
@@ -37,6 +39,7 @@ impl Param {
             axis,
             values: v.expand(),
             names: None,
+            shape_error: v.shape_error(),
         }
     }
 }
@@ -53,12 +56,8 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
         params.extend(device_params(device, d)?);
         params.extend(excitation_params(&study.excitation)?);
         for p in &params {
-            if p.values.is_empty() {
-                return Err(StudyError::field(
-                    p.path.clone(),
-                    "empty list",
-                    "give at least one value",
-                ));
+            if let Some((message, hint)) = &p.shape_error {
+                return Err(StudyError::field(p.path.clone(), message.clone(), hint));
             }
         }
         let count: usize = params
@@ -91,6 +90,7 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
                 duration: study.duration,
                 rtol: study.rtol,
                 initial_rotation: 0.0,
+                stop_when_settled: study.stop_when_settled,
             };
             scene
                 .validate()

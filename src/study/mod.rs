@@ -51,6 +51,14 @@ pub struct Study {
     /// Integrator relative tolerance.
     #[serde(default = "crate::scene::default_rtol")]
     pub rtol: f64,
+    /// End each scene once the ground has stopped and no peak can change any more (peaks are
+    /// unchanged; end times and final energies differ). On by default: studies report peaks.
+    #[serde(default = "yes")]
+    pub stop_when_settled: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 fn default_quantities() -> Vec<Quantity> {
@@ -271,12 +279,18 @@ impl Study {
             .expect("the built-in default study parses")
     }
 
+    /// Parse and validate.
     pub fn from_ron_str(text: &str, origin: &str) -> Result<Study, StudyError> {
-        let study: Study = ron_options()
-            .from_str(text)
-            .map_err(|e| StudyError::from_ron(e, origin))?;
+        let study = Study::parse_ron(text, origin)?;
         study.validate().map_err(|e| e.located(text, origin))?;
         Ok(study)
+    }
+
+    /// Parse only (schema errors), without the physical validation of [`Study::validate`].
+    pub fn parse_ron(text: &str, origin: &str) -> Result<Study, StudyError> {
+        ron_options()
+            .from_str(text)
+            .map_err(|e| StudyError::from_ron(e, origin))
     }
 
     pub fn load(path: &Path) -> Result<Study, StudyError> {

@@ -145,6 +145,39 @@ fn run_guarded(point: &ScenePoint) -> Result<SceneResult, String> {
             format!("internal error (panic): {msg}")
         })?
         .map_err(|e| e.to_string())
+        .and_then(|r| {
+            if all_finite(&r) {
+                Ok(r)
+            } else {
+                Err("the result holds a non-finite number (NaN or ∞)".into())
+            }
+        })
+}
+
+/// Whether the numbers of a result are finite (JSON cannot carry NaN or ∞, and a peak that is
+/// not finite is not a response).
+fn all_finite(r: &SceneResult) -> bool {
+    let e = &r.energy;
+    [
+        r.end_time,
+        r.peaks.rotation,
+        r.peaks.deformation,
+        r.peaks.drift,
+        r.peaks.abs_acceleration_g,
+        r.peak_rotation_ratio,
+        r.energy_residual,
+        e.input,
+        e.structure,
+        e.inerter,
+        e.column_damping,
+        e.device_damping,
+        e.friction,
+        e.impact,
+        e.disengagement,
+        e.reset,
+    ]
+    .iter()
+    .all(|v| v.is_finite())
 }
 
 fn cache_by_key(results: SweepResults) -> HashMap<String, Result<SceneResult, String>> {
