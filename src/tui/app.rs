@@ -238,30 +238,34 @@ impl ResultsView {
         view
     }
 
-    /// Compare the sequential and the mechanistic model when both are there (the pair with the
-    /// same other parameters and the most points where both survive), else the first two.
+    /// Start the comparison on two device variants with the same other parameters (the
+    /// spectra names differ only in their first word): sequential vs mechanistic if there,
+    /// else the pair with the most points where both survive; else the first two spectra.
     fn default_comparison(&mut self) {
         let rows = self.rows();
-        let strip = |group: &str, word: &str| group.to_lowercase().replacen(word, "", 1);
-        let mut best: Option<(usize, usize, usize)> = None;
-        for (a, sa) in rows.iter().enumerate() {
-            if !sa.group.to_lowercase().contains("sequential") {
-                continue;
+        let split = |g: &str| -> (String, String) {
+            let g = g.to_lowercase();
+            match g.split_once(' ') {
+                Some((device, rest)) => (device.to_string(), rest.to_string()),
+                None => (g, String::new()),
             }
-            for (b, sb) in rows.iter().enumerate() {
-                if !sb.group.to_lowercase().contains("mechanistic")
-                    || strip(&sa.group, "sequential") != strip(&sb.group, "mechanistic")
-                {
+        };
+        let mut best: Option<((bool, usize), usize, usize)> = None;
+        for (a, sa) in rows.iter().enumerate() {
+            for (b, sb) in rows.iter().enumerate().skip(a + 1) {
+                let ((da, ra), (db, rb)) = (split(&sa.group), split(&sb.group));
+                if da == db || ra != rb {
                     continue;
                 }
-                let both = report::compare(sa, sb).iter().flatten().count();
-                if best.is_none_or(|(_, _, n)| both > n) {
-                    best = Some((a, b, both));
+                let classic = da.contains("sequential") && db.contains("mechanistic");
+                let score = (classic, report::compare(sa, sb).iter().flatten().count());
+                if best.as_ref().is_none_or(|(s, _, _)| score > *s) {
+                    best = Some((score, a, b));
                 }
             }
         }
         (self.cmp_a, self.cmp_b) = match best {
-            Some((a, b, _)) => (a, b),
+            Some((_, a, b)) => (a, b),
             None => (0, rows.len().saturating_sub(1).min(1)),
         };
     }

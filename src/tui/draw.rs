@@ -650,7 +650,6 @@ fn draw_spectra(view: &ResultsView, theme: Theme, frame: &mut Frame, area: Rect)
         )),
         Span::styled("  Enter: open scene", theme.dim()),
     ]));
-    // Every variant's value at the cursor.
     let values: Vec<String> = rows
         .iter()
         .map(|s| {
@@ -658,7 +657,11 @@ fn draw_spectra(view: &ResultsView, theme: Theme, frame: &mut Frame, area: Rect)
             format!("{} {}", s.group, v.map_or("×".into(), fmt_num))
         })
         .collect();
-    lines.push(Line::styled(values.join("  │  "), theme.base()));
+    // Every variant's value at the cursor, when that fits in two lines.
+    let all = values.join("  │  ");
+    if all.chars().count() <= 2 * area.width as usize {
+        lines.push(Line::styled(all, theme.base()));
+    }
     frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
 }
 
