@@ -12,6 +12,8 @@ fi
 SOCK="rocklab-smoke-$$"
 SESSION=smoke
 OUT=$(mktemp -d)
+# A foreground colour escape as tmux reports it (palette, 256-colour or RGB).
+COLOUR=$'\e''\[([0-9;]*;)?(3[0-7]|9[0-7]|38;[25];[0-9;]+)m'
 tm() { tmux -L "$SOCK" -f /dev/null "$@"; }
 cleanup() { tm kill-server >/dev/null 2>&1; rm -rf "$OUT"; }
 trap cleanup EXIT
@@ -45,6 +47,15 @@ wait_for 50 "scenes in" || fail "the default study summary (scene count) is not 
 wait_for 10 "q quit" || fail "the status line with key hints is not drawn"
 [ "$(tm display -p -t "$SESSION" '#{alternate_on}')" = 1 ] || fail "the workbench is not on the alternate screen"
 
+# Colours are on by default (foreground colour escapes in the pane)...
+tm capture-pane -e -p -t "$SESSION" | grep -qE "$COLOUR" || fail "no colours drawn without NO_COLOR"
+
+# A resize below the minimum shows a notice; back to 80×24 redraws the study.
+tm resize-window -t "$SESSION" -x 30 -y 8
+wait_for 50 "too small" || fail "no notice after resizing to 30×8"
+tm resize-window -t "$SESSION" -x 80 -y 24
+wait_for 50 "scenes in" || fail "the study was not redrawn after resizing back to 80×24"
+
 # The help overlay opens and closes.
 tm send-keys -t "$SESSION" '?'
 wait_for 30 "everywhere" || fail "? did not open the help overlay"
@@ -59,4 +70,17 @@ grep -qx "rocklab-exit=0" "$OUT/exit" || fail "exit status: $(cat "$OUT/exit")"
 # Raw mode off: the shell's output has normal line endings (raw mode would not map \n to \r\n,
 # leaving the second line indented).
 tm capture-pane -p -t "$SESSION" | grep -qx "rocklab-exited" || fail "the terminal was left in raw mode"
-echo "PASS: workbench drew the default study and exited cleanly on q"
+
+# ...and off under NO_COLOR: no colour escapes at all, only reverse video and bold.
+tm kill-session -t "$SESSION"
+tm new-session -d -s "$SESSION" -x 80 -y 24 \
+  "NO_COLOR=1 TERM=xterm-256color '$BIN'; echo \"rocklab-exit=\$?\" > '$OUT/exit'; echo rocklab-exited; sleep 60" \
+  || fail "cannot start tmux"
+wait_for 100 "scenes in" || fail "the workbench did not draw under NO_COLOR"
+if tm capture-pane -e -p -t "$SESSION" | grep -qE "$COLOUR"; then
+  fail "colours drawn under NO_COLOR"
+fi
+tm send-keys -t "$SESSION" q
+wait_for 100 "rocklab-exited" || fail "q did not end the workbench under NO_COLOR"
+grep -qx "rocklab-exit=0" "$OUT/exit" || fail "exit status under NO_COLOR: $(cat "$OUT/exit")"
+echo "PASS: workbench drew the default study in colour and under NO_COLOR, handled resizes, and exited cleanly on q"
