@@ -93,7 +93,7 @@ fn snap(name: &str, value: String) {
         prepend_module_to_snapshot => false,
         omit_expression => true,
     }, {
-        insta::assert_snapshot!(name, value);
+        insta::assert_snapshot!(format!("tui_{name}"), value);
     });
 }
 

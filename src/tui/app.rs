@@ -4,6 +4,7 @@
 
 use super::edit::{EditOutcome, LineEdit};
 use super::tree::{self, Node};
+use crate::excitation::library::Library;
 use crate::report::{self, OverturningMap, Quantity, Spectrum};
 use crate::sim::{self, History, SceneResult};
 use crate::study::{ScenePoint, Study};
@@ -84,6 +85,93 @@ const OPTIONAL_FIELDS: &[(&str, &str, &str)] = &[
     ("mechanistic", "xi_theta", "0.1"),
     ("mechanistic", "label", "\"\""),
 ];
+
+/// One line of help per study field, shown under the tree for the selected row.
+const FIELD_HELP: &[(&str, &str)] = &[
+    ("version", "schema version of the study file (1)"),
+    ("name", "study name; `rocklab run` writes to out/<name>"),
+    ("description", "free text"),
+    (
+        "structure",
+        "rigid(p or size, alpha, mass, form) or flexible(r0, alpha, xi, omega_n or omega_ratio, mass)",
+    ),
+    ("p", "frequency parameter p (rad/s), instead of size"),
+    ("size", "half-diagonal R (m), instead of p"),
+    ("alpha", "slenderness α (rad)"),
+    ("mass", "structure mass (kg)"),
+    ("form", "exact or slender (small-α) equations"),
+    ("r0", "R0 = √(B² + H²) (m)"),
+    ("xi", "column damping ratio ξ"),
+    ("omega_n", "column natural frequency ωn (rad/s)"),
+    ("omega_ratio", "column frequency as ωn/p"),
+    (
+        "devices",
+        "variants: none, inerter(sigma, coupling), sequential(sigma), mechanistic(sigma, …); a: duplicate",
+    ),
+    ("sigma", "inerter mass ratio σ = mr/m"),
+    (
+        "k_theta",
+        "clutch stiffness kθ (N·m/rad), instead of clutch_frequency_ratio",
+    ),
+    (
+        "clutch_frequency_ratio",
+        "clutch frequency √(k/mr) as a multiple of p (default 50)",
+    ),
+    (
+        "cbar",
+        "flywheel damping c̄ = c/J (1/s), instead of xi_theta (default 1)",
+    ),
+    ("xi_theta", "flywheel damping ratio ξθ, instead of cbar"),
+    ("friction", "dry friction fμ / (mr·g)"),
+    ("eta", "friction transition η (s/rad)"),
+    ("play", "gear play up (m)"),
+    ("epsilon", "clutch tanh smoothing ε (per rad)"),
+    ("rho", "pinion radius ρ (m)"),
+    ("reset", "re-engagement reset with play: paper or strict"),
+    ("label", "name of the variant in results"),
+    (
+        "excitation",
+        "pulse(shape, amplitude, frequency) or record(names: [\"…\"], scale: …)",
+    ),
+    ("shape", "sine, cosine, ricker, …"),
+    (
+        "amplitude",
+        "alpha_ratio(A/(g·α)), tan_alpha_ratio(A/(g·tanα)) or g(A/g)",
+    ),
+    ("frequency", "ratio(ωg/p) or rad_per_sec(ωg)"),
+    ("names", "ground-motion records"),
+    ("scale", "record scale factors"),
+    (
+        "quantities",
+        "peak_rotation, peak_rotation_ratio, peak_deformation, peak_drift, peak_abs_acceleration",
+    ),
+    (
+        "spectrum",
+        "x axis of the spectra: frequency, amplitude, scale, alpha, size, p, …",
+    ),
+    (
+        "map",
+        "overturning map over two axes: (x: frequency, y: amplitude)",
+    ),
+    (
+        "impact",
+        "housner(restitution: None or r) or dirac(width: n)",
+    ),
+    ("duration", "simulated time per scene (s)"),
+    ("rtol", "integrator relative tolerance"),
+    (
+        "stop_when_settled",
+        "end a scene once the structure has settled after the motion",
+    ),
+];
+
+/// Help for a study field, by name (list elements have none).
+pub fn field_help(label: &str) -> Option<&'static str> {
+    FIELD_HELP
+        .iter()
+        .find(|(f, _)| *f == label)
+        .map(|(_, h)| *h)
+}
 
 /// Rows for the optional fields that `node` (a struct named `owner`) does not set.
 fn absent_rows(owner: &str, node: &Node, depth: usize, path: &[usize], out: &mut Vec<Row>) {
@@ -371,6 +459,8 @@ pub struct App {
     generation: u64,
     /// Set by a first Ctrl-C with unsaved changes: a second one quits anyway.
     ctrl_c_armed: bool,
+    /// Names of the ground-motion records available to `record(names: …)`.
+    pub record_names: Vec<String>,
 }
 
 fn key_press(code: KeyCode) -> KeyEvent {
@@ -404,6 +494,9 @@ impl App {
             calibration: None,
             generation: 0,
             ctrl_c_armed: false,
+            record_names: Library::open(Library::default_dir())
+                .map(|l| l.names())
+                .unwrap_or_default(),
         };
         app.study_changed();
         app

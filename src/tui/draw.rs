@@ -3,6 +3,7 @@
 
 use super::app::{
     App, Check, Prompt, ResultsTab, ResultsView, RunState, SceneState, SceneView, Screen,
+    field_help,
 };
 use super::theme::{self, Theme};
 use crate::report::{self, OverturningMap, Quantity, Spectrum};
@@ -170,12 +171,21 @@ fn draw_study(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
     let summary = study_summary(app, theme);
     let summary_height = (summary.len() as u16).min(area.height / 3).max(1);
     let edit_error = app.editor.edit_error.as_ref();
-    let [head, list, foot] = Layout::vertical([
+    let row_help = study_row_help(app);
+    let [head, list, help, foot] = Layout::vertical([
         Constraint::Length(summary_height),
         Constraint::Min(1),
+        Constraint::Length(if row_help.is_some() && area.height >= 16 {
+            1
+        } else {
+            0
+        }),
         Constraint::Length(if edit_error.is_some() { 2 } else { 0 }),
     ])
     .areas(area);
+    if let Some(text) = row_help {
+        frame.render_widget(Paragraph::new(Line::styled(text, theme.dim())), help);
+    }
     frame.render_widget(Paragraph::new(summary).wrap(Wrap { trim: false }), head);
     let block = Block::default().borders(Borders::TOP).title(" study ");
     let inner = block.inner(list);
@@ -243,6 +253,46 @@ fn draw_study(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
         ];
         popup(frame, theme, area, " unsaved changes ", text, 44, 5);
     }
+}
+
+/// Study parameters that take a value, a list or a range.
+const GRID_FIELDS: &[&str] = &[
+    "p",
+    "size",
+    "alpha",
+    "mass",
+    "r0",
+    "xi",
+    "omega_n",
+    "omega_ratio",
+    "sigma",
+    "k_theta",
+    "clutch_frequency_ratio",
+    "cbar",
+    "xi_theta",
+    "friction",
+    "eta",
+    "play",
+    "epsilon",
+    "rho",
+    "amplitude",
+    "frequency",
+    "scale",
+];
+
+/// One line about the selected field: what it means, and what a number can be.
+fn study_row_help(app: &App) -> Option<String> {
+    let row = app.editor.rows.get(app.editor.cursor)?;
+    let help = field_help(&row.label)?;
+    let mut text = format!("{}: {help}", row.label);
+    if matches!(row.label.as_str(), "excitation" | "names") && !app.record_names.is_empty() {
+        text.push_str(&format!("; records: {}", app.record_names.join(", ")));
+    } else if GRID_FIELDS.contains(&row.label.as_str()) {
+        text.push_str(
+            "; a value 0.5, a list [0.5, 1.0] or a range (from: 1.0, to: 12.0, steps: 12)",
+        );
+    }
+    Some(text)
 }
 
 fn study_summary(app: &App, theme: Theme) -> Vec<Line<'static>> {
