@@ -422,7 +422,14 @@ fn edit_run_and_read_results_by_keys() {
 fn cancel_keeps_what_finished() {
     let mut app = new_app();
     key(&mut app, KeyCode::Char('r'));
+    // Before the first tick nothing has been reported: a reproducible frame of a running sweep.
+    assert!(app.is_running());
+    snap_text(&app, "run_started");
     key(&mut app, KeyCode::Char('c'));
+    snap(
+        "run_cancelling_80x24",
+        text(&render(&app, Theme::COLOR, SMALL)),
+    );
     assert!(app.wait_idle(Duration::from_secs(120)));
     let run = app.run.as_ref().unwrap();
     assert_eq!(run.finished, Some(true));

@@ -79,3 +79,35 @@ impl LineEdit {
         (before, if at.is_empty() { " ".into() } else { at }, after)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn press(e: &mut LineEdit, code: KeyCode, mods: KeyModifiers) {
+        e.handle_key(KeyEvent::new(code, mods));
+    }
+
+    #[test]
+    fn editing_keys_work_on_characters_not_bytes() {
+        let mut e = LineEdit::new("ωg/p");
+        assert_eq!(e.cursor, 4);
+        press(&mut e, KeyCode::Home, KeyModifiers::NONE);
+        press(&mut e, KeyCode::Delete, KeyModifiers::NONE);
+        assert_eq!(e.text, "g/p");
+        press(&mut e, KeyCode::Char('θ'), KeyModifiers::NONE);
+        assert_eq!((e.text.as_str(), e.cursor), ("θg/p", 1));
+        press(&mut e, KeyCode::End, KeyModifiers::NONE);
+        press(&mut e, KeyCode::Backspace, KeyModifiers::NONE);
+        assert_eq!(e.text, "θg/");
+        press(&mut e, KeyCode::Left, KeyModifiers::NONE);
+        press(&mut e, KeyCode::Char('k'), KeyModifiers::CONTROL);
+        assert_eq!(e.text, "θg");
+        press(&mut e, KeyCode::Char('u'), KeyModifiers::CONTROL);
+        assert_eq!((e.text.as_str(), e.cursor), ("", 0));
+        // Alt+key is not text (it is Esc + key over a slow link).
+        press(&mut e, KeyCode::Char('q'), KeyModifiers::ALT);
+        assert_eq!(e.text, "");
+        assert_eq!(e.split(), (String::new(), " ".into(), String::new()));
+    }
+}
