@@ -22,3 +22,27 @@ fn workbench_draws_the_default_study_and_quits_cleanly_under_tmux() {
     );
     assert!(stdout.contains("PASS"), "{stdout}");
 }
+
+#[test]
+fn a_missing_or_bad_study_file_is_a_usage_error_before_the_terminal_is_touched() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.ron");
+    std::fs::write(
+        &bad,
+        "(version: 1, name: \"x\", structure: rigid(p: 2.0, alpha: -1.0))",
+    )
+    .unwrap();
+    for path in [dir.path().join("missing.ron"), bad.clone()] {
+        let out = Command::new(env!("CARGO_BIN_EXE_rocklab"))
+            .arg("tui")
+            .arg(&path)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        let name = path.file_name().unwrap().to_str().unwrap();
+        assert!(stderr.contains(name), "{stderr}");
+        // Nothing was drawn: no alternate-screen switch on stdout.
+        assert!(!String::from_utf8_lossy(&out.stdout).contains("\u{1b}[?1049h"));
+    }
+}

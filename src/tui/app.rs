@@ -553,9 +553,10 @@ impl App {
     }
 
     /// Time a few scenes of the study in the background for the run-time estimate.
+    /// One calibration at a time: while one runs, a newer study waits for it to finish
+    /// (its result is then stale and a new one starts), so fast edits do not pile up threads.
     fn start_calibration(&mut self) {
-        self.calibration = None;
-        if self.options.deterministic || self.is_running() {
+        if self.options.deterministic || self.is_running() || self.calibration.is_some() {
             return;
         }
         let Check::Ok(points) = &self.check else {
@@ -1163,11 +1164,14 @@ impl App {
         if let Some((generation, rx)) = &self.calibration {
             match rx.try_recv() {
                 Ok(per) => {
-                    if *generation == self.generation {
-                        self.seconds_per_scene = Some(per);
-                    }
+                    let current = *generation == self.generation;
                     self.calibration = None;
-                    changed = true;
+                    if current {
+                        self.seconds_per_scene = Some(per);
+                        changed = true;
+                    } else {
+                        self.start_calibration();
+                    }
                 }
                 Err(TryRecvError::Disconnected) => self.calibration = None,
                 Err(TryRecvError::Empty) => {}
