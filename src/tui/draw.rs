@@ -547,9 +547,13 @@ fn bar_rows(values: &[Option<f64>], style: Style, layout: &Bars) -> Vec<Vec<Span
     let mut rows = vec![Vec::new(); height];
     for i in st.first..st.first + st.count {
         let value = values.get(i).copied().flatten();
+        // A present value always shows at least ▁, so it never reads as a gap.
         let eighths = match value {
-            Some(v) if max > 0.0 => ((v.max(0.0) / max) * (8 * height) as f64).round() as usize,
-            _ => 0,
+            Some(v) if max > 0.0 => {
+                (((v.max(0.0) / max) * (8 * height) as f64).round() as usize).max(1)
+            }
+            Some(_) => 1,
+            None => 0,
         };
         for (r, row) in rows.iter_mut().enumerate() {
             // r = 0 is the top row.
