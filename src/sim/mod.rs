@@ -3,6 +3,7 @@
 
 use crate::excitation::{Motion, Pulse};
 use crate::model::device::DeviceModel;
+use crate::model::flexible::FlexibleModel;
 use crate::model::rigid::RigidModel;
 use crate::model::{Action, Counters, EndReason, Energy, Peaks, SimModel};
 use crate::scene::{Excitation, Scene, Structure};
@@ -103,7 +104,17 @@ pub fn run_with_history(
                 _ => drive::<10, _>(&mut model, &motion, scene, &scales, history.as_mut()),
             }?
         }
-        Structure::Flexible(_) => return Err(SimError::Unsupported("the flexible structure")),
+        Structure::Flexible(flex) => {
+            let p = scene.structure.p();
+            let device = DeviceModel::new(&scene.device, flex.mass, p);
+            let mut model = FlexibleModel::new(flex, device, &motion, scene.initial_rotation);
+            let scales = FlexibleModel::scales(flex, &motion, p);
+            match FlexibleModel::state_len(&device) {
+                8 => drive::<8, _>(&mut model, &motion, scene, &scales, history.as_mut()),
+                10 => drive::<10, _>(&mut model, &motion, scene, &scales, history.as_mut()),
+                _ => drive::<12, _>(&mut model, &motion, scene, &scales, history.as_mut()),
+            }?
+        }
     };
     result.peak_rotation_ratio = result.peaks.rotation / scene.structure.alpha();
     result.wall_seconds = started.elapsed().as_secs_f64();
@@ -174,7 +185,14 @@ fn drive<const N: usize, M: SimModel<N>>(
             let e = model.energy(&y);
             energy_scale = energy_scale.max(e.input.abs()).max(e.structure + e.inerter);
             match outcome {
-                StepOutcome::Stepped => {}
+                // A model may come to rest between breakpoints (a flexible column's free
+                // vibration decays with no event to mark it).
+                StepOutcome::Stepped => {
+                    if t >= motion.end() && model.at_rest(t, &y) {
+                        record(&mut history, model, t, &y);
+                        break 'run EndReason::Rest;
+                    }
+                }
                 StepOutcome::Reached => {
                     if t >= duration {
                         record(&mut history, model, t, &y);
