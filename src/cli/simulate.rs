@@ -69,13 +69,13 @@ pub struct SimulateArgs {
     #[arg(long, value_enum, default_value = "exact")]
     pub form: FormKind,
     /// Flexible: column damping ratio ξ.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub xi: Option<f64>,
     /// Flexible: column natural frequency ωn (rad/s).
-    #[arg(long, conflicts_with = "omega_ratio")]
+    #[arg(long, conflicts_with = "omega_ratio", allow_negative_numbers = true)]
     pub omega_n: Option<f64>,
     /// Flexible: ωn/p.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub omega_ratio: Option<f64>,
     #[arg(long, value_enum, default_value = "none")]
     pub device: DeviceKind,
@@ -223,7 +223,14 @@ impl SimulateArgs {
             let p = (crate::excitation::G / size).sqrt();
             let omega_n = match (self.omega_n, self.omega_ratio) {
                 (Some(w), None) => w,
-                (None, Some(r)) => r * p,
+                (None, Some(r)) if r.is_finite() && r > 0.0 => r * p,
+                (None, Some(r)) => {
+                    return Err(UsageError::invalid(
+                        "--omega-ratio",
+                        r,
+                        "ωn/p must be a finite number > 0",
+                    ));
+                }
                 _ => {
                     return Err(UsageError::new(
                         "one of --omega-n or --omega-ratio is required with --structure flexible",
