@@ -1,5 +1,6 @@
 //! Command-line interface: clap commands at the edge, library errors turned into messages.
 
+pub mod bench;
 pub mod simulate;
 
 use clap::{Parser, Subcommand};
@@ -20,6 +21,8 @@ pub struct Cli {
 pub enum Command {
     /// Run one scene and print its peaks.
     Simulate(simulate::SimulateArgs),
+    /// Work-precision tables: peak errors, steps, RHS evaluations and time per tolerance.
+    Bench(bench::BenchArgs),
 }
 
 /// Bad flags or values: reported in one line, exit code 2.
@@ -52,6 +55,7 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Some(Command::Simulate(args)) => simulate::run(&args),
+        Some(Command::Bench(args)) => bench::run(&args),
         None => {
             eprintln!("the workbench is not built yet; try `rocklab simulate --help`");
             return ExitCode::from(2);

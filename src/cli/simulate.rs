@@ -51,6 +51,7 @@ pub enum ResetKind {
 
 /// Run one scene and print its peaks.
 #[derive(Args, Debug, Clone)]
+#[command(allow_negative_numbers = true)]
 pub struct SimulateArgs {
     #[arg(long, value_enum, default_value = "rigid")]
     pub structure: StructureKind,

@@ -97,7 +97,20 @@ fn scan_peak(a: impl Fn(f64) -> f64, t0: f64, t1: f64, period: f64) -> f64 {
         return 0.0;
     }
     let n = ((t1 - t0) / period * 2000.0).ceil().max(1.0) as usize;
-    (0..=n)
-        .map(|k| a(t0 + (t1 - t0) * k as f64 / n as f64).abs())
-        .fold(0.0, f64::max)
+    let at = |k: usize| t0 + (t1 - t0) * k as f64 / n as f64;
+    let best = (0..=n)
+        .max_by(|&i, &j| a(at(i)).abs().total_cmp(&a(at(j)).abs()))
+        .unwrap_or(0);
+    // Golden-section refinement of the smooth maximum around the best sample.
+    let (mut lo, mut hi) = (at(best.saturating_sub(1)), at((best + 1).min(n)));
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..80 {
+        let (c, d) = (hi - r * (hi - lo), lo + r * (hi - lo));
+        if a(c).abs() > a(d).abs() {
+            hi = d
+        } else {
+            lo = c
+        }
+    }
+    a(0.5 * (lo + hi)).abs().max(a(at(best)).abs())
 }

@@ -111,6 +111,8 @@ pub trait SimModel<const N: usize>: OdeSystem<N> {
     fn energy(&self, y: &[f64; N]) -> Energy;
     fn peaks(&self) -> Peaks;
     fn counters(&self) -> Counters;
+    /// Name of event `index` (for event logs).
+    fn event_name(&self, index: usize) -> &'static str;
     fn history_columns(&self) -> Vec<&'static str>;
     fn history_row(&self, t: f64, y: &[f64; N]) -> Vec<f64>;
 }
@@ -153,4 +155,23 @@ pub fn extremum_on_step<const N: usize>(
         y_prev = y;
     }
     best
+}
+
+/// Largest f over the sample points t_k = t0 + (t1 − t0)k/n, refined by golden section around
+/// the best sample when that beats `floor` (so only steps that can raise a peak pay for it).
+pub fn refined_max(f: impl Fn(f64) -> f64, t0: f64, t1: f64, n: usize, floor: f64) -> f64 {
+    let at = |k: usize| t0 + (t1 - t0) * k as f64 / n as f64;
+    let (best_k, best) = (0..=n)
+        .map(|k| (k, f(at(k))))
+        .fold((0, f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a });
+    if best <= floor {
+        return best;
+    }
+    let (mut lo, mut hi) = (at(best_k.saturating_sub(1)), at((best_k + 1).min(n)));
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..50 {
+        let (c, d) = (hi - r * (hi - lo), lo + r * (hi - lo));
+        if f(c) > f(d) { hi = d } else { lo = c }
+    }
+    best.max(f(0.5 * (lo + hi)))
 }

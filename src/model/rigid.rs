@@ -4,7 +4,9 @@
 //! friction, Dirac impact work)]. Only the flywheels the device has are in the state.
 
 use super::device::DeviceModel;
-use super::{Action, Counters, EndReason, Energy, Ledger, Peaks, SimModel, extremum_on_step};
+use super::{
+    Action, Counters, EndReason, Energy, Ledger, Peaks, SimModel, extremum_on_step, refined_max,
+};
 use crate::excitation::{G, Motion};
 use crate::scene::{Form, Impact, RigidBlock};
 use crate::solver::{Dense, Direction, MAX_EVENTS, OdeSystem};
@@ -334,9 +336,7 @@ impl<'m> RigidModel<'m> {
             return;
         }
         let g = self.x_xdot(y).1 * self.bare_xddot(t, y);
-        if self.seq_engaged && g < 0.0 {
-            self.toggle_sequential(y);
-        } else if !self.seq_engaged && g > 0.0 {
+        if (self.seq_engaged && g < 0.0) || (!self.seq_engaged && g > 0.0) {
             self.toggle_sequential(y);
         }
     }
@@ -386,11 +386,13 @@ impl<'m> RigidModel<'m> {
         if self.dev.flywheels() > 0 {
             return Action::Continue;
         }
-        // Nothing moves until the ground acceleration exceeds g·tanα: do not integrate.
-        match self.motion.first_exceedance(t, G * self.uplift_ratio) {
-            Some(until) => Action::Idle { until },
-            None => Action::Stop(EndReason::Rest),
-        }
+        // Nothing moves until the ground acceleration exceeds g·tanα: do not integrate. Idle to
+        // the end of the motion if it never does (the block still rides the ground).
+        let until = self
+            .motion
+            .first_exceedance(t, G * self.uplift_ratio)
+            .unwrap_or_else(|| self.motion.end().max(t));
+        Action::Idle { until }
     }
 
     fn absolute_acceleration(&self, t: f64, y: &[f64], dy: &[f64]) -> f64 {
@@ -458,6 +460,16 @@ impl<const N: usize> OdeSystem<N> for RigidModel<'_> {
     fn events(&self, t: f64, y: &[f64; N], g: &mut [f64]) {
         for (i, gi) in g.iter_mut().enumerate() {
             *gi = self.event_value(self.events[i], t, y);
+        }
+    }
+
+    fn sign_after_zero(&self, index: usize, _t: f64, y: &[f64; N]) -> f64 {
+        match self.events[index] {
+            // Just after an impact, or at uplift from rest (θ̇ = 0, θ̈ toward the pivot side),
+            // the block moves onto its pivot's side.
+            Ev::Impact if y[1] == 0.0 => 1.0,
+            Ev::Impact => (self.pivot * y[1]).signum(),
+            _ => 0.0,
         }
     }
 }
@@ -538,6 +550,10 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
                 y[j] = x;
                 self.ledger.reset += before - after;
                 self.counters.resets += 1;
+                // Without play the reset lands on the clutch corner and engages at once.
+                if matches!(self.dev, DeviceModel::Clutch(c) if c.play == 0.0) {
+                    self.counters.engagements += 1;
+                }
                 Action::Continue
             }
             Ev::GuardA | Ev::GuardB => Action::Continue,
@@ -545,8 +561,11 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
     }
 
     fn wake(&mut self, t: f64, y: &mut [f64; N]) -> Action {
-        let side = -self.motion.accel(t).signum();
-        self.uplift(if side == 0.0 { 1.0 } else { side }, y)
+        let ag = self.motion.accel(t);
+        if ag.abs() <= G * self.uplift_ratio {
+            return Action::Stop(EndReason::Rest);
+        }
+        self.uplift(-ag.signum(), y)
     }
 
     fn at_rest(&self, _t: f64, _y: &[f64; N]) -> bool {
@@ -561,11 +580,13 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
             self.peaks.rotation = self.peaks.rotation.max(rot);
             self.peaks.drift = self.peaks.drift.max(self.drift_of(rot));
         }
-        for k in 1..=4 {
-            let t = dense.t0 + (t_end - dense.t0) * k as f64 / 4.0;
-            let a = self.absolute_acceleration(t, &dense.state(t), &dense.derivative(t));
-            self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a.abs() / G);
-        }
+        let accel_g = |t: f64| {
+            self.absolute_acceleration(t, &dense.state(t), &dense.derivative(t))
+                .abs()
+                / G
+        };
+        let peak = refined_max(accel_g, dense.t0, t_end, 4, self.peaks.abs_acceleration_g);
+        self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(peak);
     }
 
     fn observe_point(&mut self, t: f64, y: &[f64; N]) {
@@ -614,6 +635,22 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
 
     fn counters(&self) -> Counters {
         self.counters
+    }
+
+    fn event_name(&self, index: usize) -> &'static str {
+        match self.events[index] {
+            Ev::Impact => "impact",
+            Ev::Overturn => "overturn",
+            Ev::Uplift(_) => "uplift",
+            Ev::Sequential => "sequential_switch",
+            Ev::DiracZone => "dirac_zone",
+            Ev::ContactA => "contact_a",
+            Ev::ContactB => "contact_b",
+            Ev::ResetA => "reset_a",
+            Ev::ResetB => "reset_b",
+            Ev::GuardA => "guard_a",
+            Ev::GuardB => "guard_b",
+        }
     }
 
     fn history_columns(&self) -> Vec<&'static str> {

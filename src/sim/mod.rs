@@ -48,6 +48,8 @@ pub struct SceneResult {
 pub struct History {
     pub columns: Vec<&'static str>,
     pub rows: Vec<Vec<f64>>,
+    /// Located events in order: (time, name).
+    pub events: Vec<(f64, &'static str)>,
 }
 
 impl History {
@@ -208,6 +210,9 @@ fn drive<const N: usize, M: SimModel<N>>(
                 }
                 StepOutcome::Event(index) => {
                     record(&mut history, model, t, &y);
+                    if let Some(h) = history.as_deref_mut() {
+                        h.events.push((t, model.event_name(index)));
+                    }
                     let next = model.on_event(index, t, &mut y);
                     model.observe_point(t, &y);
                     record(&mut history, model, t, &y);

@@ -49,6 +49,11 @@ pub trait OdeSystem<const N: usize> {
         Direction::Either
     }
     fn events(&self, _t: f64, _y: &[f64; N], _g: &mut [f64]) {}
+    /// The sign event function `index` takes just after (t, y), where it is exactly zero
+    /// because a jump put the state on its surface; 0 if the system cannot tell.
+    fn sign_after_zero(&self, _index: usize, _t: f64, _y: &[f64; N]) -> f64 {
+        0.0
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -254,24 +259,18 @@ impl<const N: usize> Integrator<N> {
         self.stats.rhs_evals += 1;
     }
 
-    /// Event signs at the start. A function that is exactly zero (the state was put on its
-    /// surface by a jump) takes the sign it has a moment later, along y + δ·f; if that is zero
-    /// too it stays undetermined (0) and adopts its sign at the end of the next step.
+    /// Event signs at the start. A function that is exactly zero (a jump put the state on its
+    /// surface: θ = 0 after an impact, δ = 0 after a clutch reset) takes the sign the system
+    /// says it will have ([`OdeSystem::sign_after_zero`]); if the system cannot tell, it stays
+    /// undetermined and adopts the sign of its first sub-sample, so no crossing is reported at
+    /// the restart point itself. (A generic probe along y + δ·f is not used: where the rate is
+    /// also ~0, e.g. a reset at a velocity crossing, its sign is decided by roundoff.)
     fn reset_event_signs<S: OdeSystem<N>>(&mut self, sys: &S) {
         let m = sys.event_count();
-        if m == 0 {
-            return;
-        }
         sys.events(self.t, &self.y, &mut self.g[..m]);
-        if self.g[..m].contains(&0.0) {
-            let delta = 1e-9 * self.h.abs().max(1e-12);
-            let probe: [f64; N] = std::array::from_fn(|i| self.y[i] + delta * self.f[i]);
-            let mut g2 = [0.0; MAX_EVENTS];
-            sys.events(self.t + delta, &probe, &mut g2[..m]);
-            for i in 0..m {
-                if self.g[i] == 0.0 {
-                    self.g[i] = g2[i];
-                }
+        for i in 0..m {
+            if self.g[i] == 0.0 {
+                self.g[i] = sys.sign_after_zero(i, self.t, &self.y);
             }
         }
     }

@@ -1,0 +1,175 @@
+//! `rocklab bench`: work-precision tables. For each representative scene and tolerance, the
+//! relative error of every peak against a tight reference, with wall time, steps and RHS
+//! evaluations. Times are medians over repeats, measured in one run so ratios are meaningful.
+
+use crate::excitation::{G, PulseShape};
+use crate::scene::*;
+use crate::sim::{self, SceneResult};
+use clap::Args;
+use std::time::Instant;
+
+#[derive(Args, Debug, Clone)]
+pub struct BenchArgs {
+    /// Tolerances to tabulate.
+    #[arg(long, value_delimiter = ',', default_values_t = vec![1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10])]
+    pub rtol: Vec<f64>,
+    /// Tolerance of the reference solution.
+    #[arg(long, default_value_t = 1e-12)]
+    pub reference: f64,
+    /// Timing repeats per cell (the median is reported).
+    #[arg(long, default_value_t = 5)]
+    pub repeats: usize,
+    /// Only scenes whose name contains this.
+    #[arg(long)]
+    pub only: Option<String>,
+}
+
+/// A named scene for benchmarks.
+pub struct BenchScene {
+    pub name: &'static str,
+    pub scene: Scene,
+}
+
+/// The rigid block of the paper's Fig. 8: α = 10°, p = 2 rad/s, one-sine A/(gα) = 1.5,
+/// ωg/p = 4, 10 s.
+pub fn rigid_fig8(device: Device) -> Scene {
+    Scene {
+        structure: Structure::Rigid(RigidBlock {
+            size: 3.0 * G / (4.0 * 4.0),
+            alpha: 10f64.to_radians(),
+            mass: 1.0,
+            form: Form::Exact,
+        }),
+        device,
+        impact: Impact::default(),
+        excitation: Excitation::Pulse {
+            shape: PulseShape::Sine,
+            amplitude: Amplitude::AlphaRatio(1.5),
+            frequency: Frequency::Ratio(4.0),
+        },
+        duration: 10.0,
+        rtol: default_rtol(),
+        initial_rotation: 0.0,
+    }
+}
+
+pub fn scenes() -> Vec<BenchScene> {
+    vec![
+        BenchScene {
+            name: "rigid bare, sine pulse",
+            scene: rigid_fig8(Device::None),
+        },
+        BenchScene {
+            name: "rigid sequential, sine pulse",
+            scene: rigid_fig8(Device::Sequential { sigma: 0.5 }),
+        },
+        BenchScene {
+            name: "rigid mechanistic, sine pulse",
+            scene: rigid_fig8(Device::Mechanistic(Clutch::paper_default(0.5))),
+        },
+    ]
+}
+
+/// One cell of the table.
+pub struct Cell {
+    pub rtol: f64,
+    pub result: SceneResult,
+    pub median_seconds: f64,
+    /// Relative peak errors: rotation, deformation, drift, acceleration.
+    pub errors: [f64; 4],
+}
+
+fn peaks(r: &SceneResult) -> [f64; 4] {
+    [
+        r.peaks.rotation,
+        r.peaks.deformation,
+        r.peaks.drift,
+        r.peaks.abs_acceleration_g,
+    ]
+}
+
+fn relative_error(a: f64, reference: f64) -> f64 {
+    if reference == 0.0 {
+        a.abs()
+    } else {
+        (a - reference).abs() / reference.abs()
+    }
+}
+
+/// Run `scene` at `rtol` `repeats` times; the result of the last run and the median time.
+pub fn timed(
+    scene: &Scene,
+    rtol: f64,
+    repeats: usize,
+) -> Result<(SceneResult, f64), sim::SimError> {
+    let mut s = scene.clone();
+    s.rtol = rtol;
+    let mut times = Vec::with_capacity(repeats);
+    let mut last = None;
+    for _ in 0..repeats.max(1) {
+        let start = Instant::now();
+        let r = sim::run(&s)?;
+        times.push(start.elapsed().as_secs_f64());
+        last = Some(r);
+    }
+    times.sort_by(f64::total_cmp);
+    Ok((last.expect("ran once"), times[times.len() / 2]))
+}
+
+pub fn table(
+    scene: &Scene,
+    rtols: &[f64],
+    reference: f64,
+    repeats: usize,
+) -> Result<Vec<Cell>, sim::SimError> {
+    let (reference, _) = timed(scene, reference, 1)?;
+    let want = peaks(&reference);
+    rtols
+        .iter()
+        .map(|&rtol| {
+            let (result, median_seconds) = timed(scene, rtol, repeats)?;
+            let got = peaks(&result);
+            let errors = std::array::from_fn(|i| relative_error(got[i], want[i]));
+            Ok(Cell {
+                rtol,
+                result,
+                median_seconds,
+                errors,
+            })
+        })
+        .collect()
+}
+
+pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    println!(
+        "rocklab bench: relative peak errors against rtol = {:e}; time = median of {} runs",
+        args.reference, args.repeats
+    );
+    for bench in scenes() {
+        if let Some(only) = &args.only {
+            if !bench.name.contains(only.as_str()) {
+                continue;
+            }
+        }
+        println!("\n## {}\n", bench.name);
+        println!(
+            "| rtol | err θmax | err umax | err drift | err accel | steps | rejected | RHS evals | time (ms) |"
+        );
+        println!("|---|---|---|---|---|---|---|---|---|");
+        for c in table(&bench.scene, &args.rtol, args.reference, args.repeats)? {
+            println!(
+                "| {:.0e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {} | {} | {} | {:.3} |",
+                c.rtol,
+                c.errors[0],
+                c.errors[1],
+                c.errors[2],
+                c.errors[3],
+                c.result.stats.steps,
+                c.result.stats.rejected,
+                c.result.stats.rhs_evals,
+                c.median_seconds * 1e3
+            );
+        }
+    }
+    Ok(())
+}
