@@ -373,17 +373,7 @@ fn mirrored_excitation_gives_the_same_peaks() {
         ] {
             assert!((x - y).abs() <= tol * x.abs(), "{name} {what}: {x} vs {y}");
         }
-        let (c, d) = (forward.counters, flipped.counters);
-        assert_eq!(
-            (c.impacts, c.uplifts, c.resets),
-            (d.impacts, d.uplifts, d.resets),
-            "{name}"
-        );
-        // Without play a reset puts the clutch exactly at its engagement corner (δ = 0), so
-        // whether the following contact is counted as an engagement depends on rounding.
-        if !name.starts_with("mechanistic") {
-            assert_eq!(c.engagements, d.engagements, "{name}");
-        }
+        assert_eq!(forward.counters, flipped.counters, "{name}");
     }
 }
 

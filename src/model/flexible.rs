@@ -13,13 +13,12 @@
 //! friction, column damping ∫ c u̇² dt)]. In full contact θ ≡ θ̇ ≡ 0.
 
 use super::device::DeviceModel;
-use super::{Action, Counters, EndReason, Energy, Ledger, Peaks, SimModel, extremum_on_step};
+use super::{
+    Action, Counters, EndReason, Energy, Ledger, Peaks, SimModel, extremum_on_step, refined_max,
+};
 use crate::excitation::{G, Motion};
 use crate::scene::{FlexibleStructure, ResetRule};
 use crate::solver::{Dense, Direction, MAX_EVENTS, OdeSystem};
-
-/// Initial |θ| at uplift (rad): far below any tolerance, but of a definite sign.
-const LIFT_OFF: f64 = 1e-15;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Ev {
@@ -71,6 +70,8 @@ pub struct FlexibleModel<'m> {
     phase: Phase,
     pivot: f64,
     seq_engaged: bool,
+    /// Time of the last uplift, to recognise a grazing lift-off that lands at once.
+    last_uplift: f64,
     ledger: Ledger,
     counters: Counters,
     peaks: Peaks,
@@ -126,6 +127,7 @@ impl<'m> FlexibleModel<'m> {
             phase: Phase::Contact,
             pivot: 1.0,
             seq_engaged: false,
+            last_uplift: f64::NEG_INFINITY,
             ledger: Ledger::default(),
             counters: Counters::default(),
             peaks: Peaks::default(),
@@ -324,12 +326,9 @@ impl<'m> FlexibleModel<'m> {
     fn uplift(&mut self, side: f64, t: f64, y: &mut [f64]) -> Action {
         self.phase = Phase::Rocking;
         self.pivot = side;
-        // Start a hair off the ground on the lifting side. At θ = θ̇ = 0 the impact function sθ
-        // would start at exactly zero and take its sign from the first sample; after an
-        // impact the uplift margin can already be falling, so the base lands again within
-        // that first step and an undetermined start would miss the landing.
-        y[2] = side * LIFT_OFF;
+        y[2] = 0.0;
         y[3] = 0.0;
+        self.last_uplift = t;
         self.counters.uplifts += 1;
         self.resync_sequential(t, y);
         Action::Continue
@@ -347,8 +346,12 @@ impl<'m> FlexibleModel<'m> {
         y[2] = 0.0;
         y[3] = 0.0;
         self.phase = Phase::Contact;
+        // A lift-off that landed within roundoff of its start (the margin was positive but
+        // already falling) would lift and land again forever at the same instant: stay down,
+        // the margin is on its way below zero.
+        let grazing = t - self.last_uplift <= 1e-12 * t.abs().max(1.0);
         for side in [1.0, -1.0] {
-            if self.uplift_margin(side, y) > 0.0 {
+            if !grazing && self.uplift_margin(side, y) > 0.0 {
                 return self.uplift(side, t, y);
             }
         }
@@ -468,6 +471,19 @@ impl<const N: usize> OdeSystem<N> for FlexibleModel<'_> {
             *gi = self.event_value(self.events[i], t, y);
         }
     }
+
+    fn sign_after_zero(&self, index: usize, _t: f64, y: &[f64; N]) -> f64 {
+        match self.events[index] {
+            // At uplift (θ = θ̇ = 0, sθ̈ > 0) the base moves onto its pivot's side. Knowing
+            // this matters: after an impact the uplift margin can already be falling, so the
+            // base lands again within the first step, a crossing an undetermined start misses.
+            Ev::Impact if y[3] == 0.0 => 1.0,
+            Ev::Impact => (self.pivot * y[3]).signum(),
+            // From rest (Ẋ = 0) |Ẋ| grows.
+            Ev::Sequential if self.x_xdot(y).1 == 0.0 => 1.0,
+            _ => 0.0,
+        }
+    }
 }
 
 impl<const N: usize> SimModel<N> for FlexibleModel<'_> {
@@ -523,6 +539,10 @@ impl<const N: usize> SimModel<N> for FlexibleModel<'_> {
                 y[j] = x;
                 self.ledger.reset += before - after;
                 self.counters.resets += 1;
+                // Without play the reset lands on the clutch corner and engages at once.
+                if matches!(self.dev, DeviceModel::Clutch(c) if c.play == 0.0) {
+                    self.counters.engagements += 1;
+                }
                 Action::Continue
             }
             Ev::GuardA | Ev::GuardB => Action::Continue,
@@ -564,11 +584,13 @@ impl<const N: usize> SimModel<N> for FlexibleModel<'_> {
         }
         let drift = extremum_of(dense, t_end, |y| self.x_xdot(y).0, |y| self.x_xdot(y).1);
         self.peaks.drift = self.peaks.drift.max(drift / self.h);
-        for k in 1..=4 {
-            let t = dense.t0 + (t_end - dense.t0) * k as f64 / 4.0;
-            let a = self.absolute_acceleration(t, &dense.state(t), &dense.derivative(t));
-            self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a.abs() / G);
-        }
+        let accel_g = |t: f64| {
+            self.absolute_acceleration(t, &dense.state(t), &dense.derivative(t))
+                .abs()
+                / G
+        };
+        let peak = refined_max(accel_g, dense.t0, t_end, 4, self.peaks.abs_acceleration_g);
+        self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(peak);
     }
 
     fn observe_point(&mut self, t: f64, y: &[f64; N]) {
@@ -596,6 +618,21 @@ impl<const N: usize> SimModel<N> for FlexibleModel<'_> {
 
     fn counters(&self) -> Counters {
         self.counters
+    }
+
+    fn event_name(&self, index: usize) -> &'static str {
+        match self.events[index] {
+            Ev::Impact => "impact",
+            Ev::Overturn => "overturn",
+            Ev::Uplift(_) => "uplift",
+            Ev::Sequential => "sequential_switch",
+            Ev::ContactA => "contact_a",
+            Ev::ContactB => "contact_b",
+            Ev::ResetA => "reset_a",
+            Ev::ResetB => "reset_b",
+            Ev::GuardA => "guard_a",
+            Ev::GuardB => "guard_b",
+        }
     }
 
     fn history_columns(&self) -> Vec<&'static str> {
