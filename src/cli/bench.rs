@@ -53,6 +53,31 @@ pub fn rigid_fig8(device: Device) -> Scene {
     }
 }
 
+/// The flexible structure of the paper's Fig. 14 (MODEL.md case 6): R0 = 10 m, α = 0.2,
+/// ξ = 0.02, ωn/p = 8, one-sine A/(g tan α) = 1.5, ωg/p = 8, 30 s.
+pub fn flexible_fig14(device: Device) -> Scene {
+    let r0 = 10.0;
+    Scene {
+        structure: Structure::Flexible(FlexibleStructure {
+            r0,
+            alpha: 0.2,
+            mass: 1.0,
+            xi: 0.02,
+            omega_n: 8.0 * (G / r0).sqrt(),
+        }),
+        device,
+        impact: Impact::default(),
+        excitation: Excitation::Pulse {
+            shape: PulseShape::Sine,
+            amplitude: Amplitude::TanAlphaRatio(1.5),
+            frequency: Frequency::Ratio(8.0),
+        },
+        duration: 30.0,
+        rtol: default_rtol(),
+        initial_rotation: 0.0,
+    }
+}
+
 pub fn scenes() -> Vec<BenchScene> {
     vec![
         BenchScene {
@@ -66,6 +91,14 @@ pub fn scenes() -> Vec<BenchScene> {
         BenchScene {
             name: "rigid mechanistic, sine pulse",
             scene: rigid_fig8(Device::Mechanistic(Clutch::paper_default(0.5))),
+        },
+        BenchScene {
+            name: "flexible sequential, Fig. 14",
+            scene: flexible_fig14(Device::Sequential { sigma: 0.5 }),
+        },
+        BenchScene {
+            name: "flexible mechanistic, Fig. 14",
+            scene: flexible_fig14(Device::Mechanistic(Clutch::paper_default(0.5))),
         },
     ]
 }
