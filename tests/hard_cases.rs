@@ -97,14 +97,31 @@ fn large_gear_play_with_both_reset_rules() {
 
 #[test]
 fn strong_friction_with_a_sharp_transition() {
-    for eta in [1e3, 1e5] {
-        let scene = rigid_fig8(clutch(|c| {
+    let scene = |eta: f64| {
+        rigid_fig8(clutch(|c| {
             c.friction = 0.2;
             c.eta = eta;
-        }));
-        let r = assert_stable(&format!("friction 0.2 mr g, eta {eta:e}"), &scene, 1e-3);
-        assert!(r.energy.friction > 0.0);
-    }
+        }))
+    };
+    let r = assert_stable("friction 0.2 mr g, eta 1e3", &scene(1e3), 1e-3);
+    assert!(r.energy.friction > 0.0);
+    // η = 1e5 makes the friction law stiff (slope ~2.5e6 1/s on the flywheel): the explicit
+    // integrator is stability limited, the peak is still right at 1e-6, but the friction work
+    // converges only below ~1e-8 (measured residuals 5.6e-3, 9.5e-7, 7.9e-11 at 1e-6/8/10).
+    let sharp = scene(1e5);
+    let (coarse, fine) = (run_at(&sharp, 1e-6), run_at(&sharp, 1e-10));
+    let change = (coarse.peaks.rotation - fine.peaks.rotation).abs() / fine.peaks.rotation;
+    assert!(change < 2e-3, "peak moved by {change:e}");
+    assert!(
+        coarse.energy_residual < 2e-2,
+        "residual {}",
+        coarse.energy_residual
+    );
+    assert!(
+        fine.energy_residual < 1e-8,
+        "residual {}",
+        fine.energy_residual
+    );
 }
 
 #[test]

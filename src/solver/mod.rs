@@ -63,6 +63,9 @@ pub struct Options<const N: usize> {
     /// (quadratures such as energy accumulators).
     pub atol: [f64; N],
     pub h_max: f64,
+    /// The first `controlled` components form the state group of the error norm, the rest the
+    /// quadrature group (use N when there are no quadratures).
+    pub controlled: usize,
     /// Accepted plus rejected steps allowed over the integrator's lifetime.
     pub max_steps: u64,
 }
@@ -279,17 +282,24 @@ impl<const N: usize> Integrator<N> {
         self.opts.atol[i] + self.opts.rtol * a.abs().max(b.abs())
     }
 
+    /// Error norm: the larger of the RMS norms over the two groups of components (the leading
+    /// `opts.controlled` state components, and the trailing quadratures), so adding well-behaved
+    /// quadratures never dilutes the state's error.
     fn norm(&self, v: &[f64; N], y0: &[f64; N], y1: &[f64; N]) -> f64 {
-        let mut sum = 0.0;
-        let mut n = 0;
-        for i in 0..N {
-            if self.opts.atol[i].is_finite() {
-                let s = v[i] / self.error_scale(i, y0[i], y1[i]);
-                sum += s * s;
-                n += 1;
+        let rms = |range: std::ops::Range<usize>| {
+            let mut sum = 0.0;
+            let mut n = 0;
+            for i in range {
+                if self.opts.atol[i].is_finite() {
+                    let s = v[i] / self.error_scale(i, y0[i], y1[i]);
+                    sum += s * s;
+                    n += 1;
+                }
             }
-        }
-        if n == 0 { 0.0 } else { (sum / n as f64).sqrt() }
+            if n == 0 { 0.0 } else { (sum / n as f64).sqrt() }
+        };
+        let split = self.opts.controlled.min(N);
+        rms(0..split).max(rms(split..N))
     }
 
     /// Hairer's starting step guess (Solving ODEs I, §II.4).
@@ -572,6 +582,7 @@ mod tests {
             rtol,
             atol: [rtol; 2],
             h_max: f64::INFINITY,
+            controlled: 2,
             max_steps: 1_000_000,
         }
     }
