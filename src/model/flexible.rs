@@ -139,10 +139,11 @@ impl<'m> FlexibleModel<'m> {
         4 + 2 * device.flywheels() + 4
     }
 
-    /// Characteristic magnitudes of [u, u̇, θ, θ̇, y, ẏ, …] for the error control: the column
+    /// Characteristic magnitudes for the error control: of [u, u̇, θ, θ̇, y, ẏ, …], the column
     /// deformation the ground can impose before uplift (min(g tan α, peak |a_g|)/ωn²),
-    /// rotations ~α, flywheel travel ~R0 α.
-    pub fn scales(structure: &FlexibleStructure, motion: &Motion, p: f64) -> [f64; 8] {
+    /// rotations ~α, flywheel travel ~R0 α; and of the energies, the column's strain energy
+    /// at that deformation (the energy stored before anything rocks).
+    pub fn scales(structure: &FlexibleStructure, motion: &Motion, p: f64) -> ([f64; 8], f64) {
         let wn = structure.omega_n;
         let reach = (G * structure.alpha.tan()).min(motion.peak_abs(0.0, motion.end()));
         let u = if reach > 0.0 {
@@ -152,7 +153,8 @@ impl<'m> FlexibleModel<'m> {
         };
         let a = structure.alpha;
         let x = structure.r0 * a;
-        [u, wn * u, a, p * a, x, p * x, x, p * x]
+        let energy = 0.5 * structure.mass * (wn * u).powi(2);
+        ([u, wn * u, a, p * a, x, p * x, x, p * x], energy)
     }
 
     #[inline]

@@ -116,11 +116,15 @@ pub fn run_with_history(
             let p = scene.structure.p();
             let device = DeviceModel::new(&scene.device, flex.mass, p);
             let mut model = FlexibleModel::new(flex, device, &motion, scene.initial_rotation);
-            let scales = FlexibleModel::scales(flex, &motion, p);
+            let (state, energy) = FlexibleModel::scales(flex, &motion, p);
+            let s = Scales {
+                state: &state,
+                energy,
+            };
             match FlexibleModel::state_len(&device) {
-                8 => drive::<8, _>(&mut model, &motion, scene, &scales, history.as_mut()),
-                10 => drive::<10, _>(&mut model, &motion, scene, &scales, history.as_mut()),
-                _ => drive::<12, _>(&mut model, &motion, scene, &scales, history.as_mut()),
+                8 => drive::<8, _>(&mut model, &motion, scene, s, history.as_mut()),
+                10 => drive::<10, _>(&mut model, &motion, scene, s, history.as_mut()),
+                _ => drive::<12, _>(&mut model, &motion, scene, s, history.as_mut()),
             }?
         }
     };
