@@ -547,7 +547,7 @@ fn cli_runs_case6_with_the_rigid_json_keys_and_history() {
 
 #[test]
 fn cli_rejects_bad_flexible_input_with_exit_code_2() {
-    let cases: [(&[&str], &str); 7] = [
+    let cases: [(&[&str], &str); 9] = [
         (&["--omega-ratio", "8", "--xi", "-0.1"], "--xi"),
         (&["--omega-n", "0"], "--omega-n"),
         (&["--omega-ratio", "-2"], "--omega-ratio"),
@@ -556,6 +556,11 @@ fn cli_rejects_bad_flexible_input_with_exit_code_2() {
         (&["--omega-ratio", "8", "--alpha", "1.6"], "--alpha"),
         (&[], "--omega-n or --omega-ratio"),
         (&["--omega-ratio", "8", "--form", "slender"], "--form"),
+        (&["--omega-ratio", "8", "--impact", "dirac"], "--impact"),
+        (
+            &["--omega-ratio", "8", "--restitution", "0.5"],
+            "--restitution",
+        ),
     ];
     for (extra, flag) in cases {
         let mut args: Vec<&str> = CASE6_FLAGS.to_vec();
@@ -574,6 +579,13 @@ fn cli_rejects_bad_flexible_input_with_exit_code_2() {
         assert!(err.contains(flag), "{extra:?}: {err}");
         assert!(out.stdout.is_empty());
     }
+    // A study file asking for a Housner restitution on a flexible structure is refused too.
+    let mut sc = case6(Device::None, 1.0);
+    sc.impact = Impact::Housner {
+        restitution: Some(0.5),
+    };
+    let err = sim::run(&sc).unwrap_err().to_string();
+    assert!(err.contains("impact") && err.contains("VVEL"), "{err}");
     // xi is required for a flexible structure.
     let args: Vec<&str> = CASE6_FLAGS
         .iter()

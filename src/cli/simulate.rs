@@ -221,6 +221,13 @@ impl SimulateArgs {
                     "--form slender only applies to --structure rigid",
                 ));
             }
+            // The flexible structure lands by the VVEL rule (MODEL.md): no restitution to choose.
+            if self.impact != ImpactKind::Housner || self.restitution.is_some() {
+                return Err(UsageError::new(
+                    "--impact and --restitution only apply to --structure rigid \
+                     (the flexible structure uses the VVEL impact of Chopra and Yim)",
+                ));
+            }
             let p = (crate::excitation::G / size).sqrt();
             let omega_n = match (self.omega_n, self.omega_ratio) {
                 (Some(w), None) => w,

@@ -6,7 +6,7 @@ use crate::model::device::DeviceModel;
 use crate::model::flexible::FlexibleModel;
 use crate::model::rigid::RigidModel;
 use crate::model::{Action, Counters, EndReason, Energy, Peaks, SimModel};
-use crate::scene::{Excitation, Scene, Structure};
+use crate::scene::{Excitation, Impact, Scene, Structure};
 use crate::solver::{Integrator, Options, SolverError, Stats, StepOutcome};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -113,6 +113,13 @@ pub fn run_with_history(
             }?
         }
         Structure::Flexible(flex) => {
+            if scene.impact != Impact::default() {
+                return Err(SimError::Invalid(
+                    "impact: the flexible structure uses the VVEL impact (MODEL.md); \
+                     Housner restitution and Dirac impacts apply to rigid blocks only"
+                        .into(),
+                ));
+            }
             let p = scene.structure.p();
             let device = DeviceModel::new(&scene.device, flex.mass, p);
             let mut model = FlexibleModel::new(flex, device, &motion, scene.initial_rotation);
