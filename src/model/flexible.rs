@@ -220,7 +220,8 @@ impl<'m> FlexibleModel<'m> {
         ((r1 * m22 - r2 * m12) / det, (m11 * r2 - m12 * r1) / det)
     }
 
-    /// (ü, θ̈) of the structure without a coupled mass: the sequential law decides on it.
+    /// Ẍ of the structure without a coupled mass: the sequential law decides on it (the
+    /// coupled Ẍ is Ẍ_bare / (1 + mc J M⁻¹ Jᵀ) by Sherman–Morrison, so it has the same sign).
     fn bare_xddot(&self, t: f64, y: &[f64]) -> f64 {
         let (fa, fb) = self.dev.spring_forces(self.x_xdot(y).0, &y[4..self.acc]);
         let (udd, thdd) = self.accelerations(self.motion.accel(t), y, -(fa + fb), 0.0);
