@@ -756,6 +756,65 @@ mod tests {
         }
     }
 
+    /// A coupled mass scales Ẍ by a factor in (0, 1]: the sequential law may decide on the
+    /// bare Ẍ whether or not mr is engaged.
+    #[test]
+    fn coupled_mass_keeps_the_sign_of_the_horizontal_acceleration() {
+        let s = structure();
+        let mo = motion();
+        let mut model = FlexibleModel::new(&s, DeviceModel::Coupled { mr: 1.0 }, &mo, 0.0);
+        model.phase = Phase::Rocking;
+        for (pivot, y) in [
+            (1.0, [0.03, -0.4, 0.05, 0.3]),
+            (-1.0, [-0.02, 0.5, -0.08, 0.2]),
+        ] {
+            model.pivot = pivot;
+            for ag in [-3.0, -0.5, 0.0, 0.5, 3.0] {
+                let xdd = |mc: f64| {
+                    let (udd, thdd) = model.accelerations(ag, &y, 0.0, mc);
+                    model.xddot(&y, &[y[1], udd, y[3], thdd])
+                };
+                let ratio = xdd(1.0) / xdd(0.0);
+                assert!(ratio > 0.0 && ratio <= 1.0, "{ratio}");
+            }
+        }
+    }
+
+    /// VVEL (Eqs. 39–40): at θ = 0 the horizontal velocity of the mass survives the impact,
+    /// so a coupled inerter keeps its energy, and the structure loses exactly what the ledger
+    /// books.
+    #[test]
+    fn vvel_impact_keeps_the_horizontal_velocity_and_books_the_loss() {
+        let s = structure();
+        let mo = motion();
+        let dev = DeviceModel::new(&Device::Sequential { sigma: 0.5 }, s.mass, 1.0);
+        for pivot in [1.0, -1.0] {
+            let mut model = FlexibleModel::new(&s, dev, &mo, 0.0);
+            model.phase = Phase::Rocking;
+            model.pivot = pivot;
+            model.seq_engaged = true;
+            let mut y = [0.0; 8];
+            y[0] = 0.01 * pivot;
+            y[1] = -0.2 * pivot;
+            y[3] = -0.05 * pivot;
+            let before = SimModel::<8>::energy(&model, &y);
+            let xdot = model.x_xdot(&y).1;
+            model.impact(10.0, &mut y);
+            let after = SimModel::<8>::energy(&model, &y);
+            assert_eq!(model.phase, Phase::Contact);
+            assert!((model.x_xdot(&y).1 - xdot).abs() < 1e-15);
+            assert_eq!((y[2], y[3]), (0.0, 0.0));
+            let lost = before.structure + before.inerter - after.structure - after.inerter;
+            assert!(after.impact > 0.0);
+            assert!(
+                (lost - after.impact).abs() < 1e-15,
+                "{lost} vs {}",
+                after.impact
+            );
+            assert!((before.inerter - after.inerter).abs() < 1e-15);
+        }
+    }
+
     /// The uplift test is the sign of θ̈ at θ = θ̇ = 0 (Eqs. 37–38 follow from the rocking
     /// equations), whatever the device load.
     #[test]
