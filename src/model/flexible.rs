@@ -140,21 +140,25 @@ impl<'m> FlexibleModel<'m> {
     }
 
     /// Characteristic magnitudes for the error control: of [u, u̇, θ, θ̇, y, ẏ, …], the column
-    /// deformation the ground can impose before uplift (min(g tan α, peak |a_g|)/ωn²),
-    /// rotations ~α, flywheel travel ~R0 α; and of the energies, the column's strain energy
-    /// at that deformation (the energy stored before anything rocks).
+    /// deformation the ground can impose before uplift, reach/ω² with reach =
+    /// min(g tan α, peak |a_g|) and ω the faster of ωn and the ground's characteristic
+    /// frequency |a_g|max/|v_g|max (a fast pulse barely moves a soft column); rotations ~α;
+    /// flywheels like the column (they follow X, which is u until the base lifts, and the
+    /// relative part of the tolerance takes over once X grows); and of the energies,
+    /// ½ m (ω u)², the energy the column takes on at that deformation.
     pub fn scales(structure: &FlexibleStructure, motion: &Motion, p: f64) -> ([f64; 8], f64) {
         let wn = structure.omega_n;
-        let reach = (G * structure.alpha.tan()).min(motion.peak_abs(0.0, motion.end()));
-        let u = if reach > 0.0 {
-            reach / (wn * wn)
+        let peak = motion.peak_abs(0.0, motion.end());
+        let (reach, w) = if peak > 0.0 {
+            let w_ground = peak / peak_ground_velocity(motion).max(f64::MIN_POSITIVE);
+            ((G * structure.alpha.tan()).min(peak), wn.max(w_ground))
         } else {
-            G * structure.alpha.tan() / (wn * wn)
+            (G * structure.alpha.tan(), wn)
         };
+        let u = reach / (w * w);
         let a = structure.alpha;
-        let x = structure.r0 * a;
-        let energy = 0.5 * structure.mass * (wn * u).powi(2);
-        ([u, wn * u, a, p * a, x, p * x, x, p * x], energy)
+        let energy = 0.5 * structure.mass * (w * u).powi(2);
+        ([u, w * u, a, p * a, u, w * u, u, w * u], energy)
     }
 
     #[inline]
@@ -362,6 +366,73 @@ impl<'m> FlexibleModel<'m> {
         Action::Continue
     }
 
+    /// The jump of event `index` at t.
+    fn apply_event(&mut self, index: usize, t: f64, y: &mut [f64]) -> Action {
+        match self.events[index] {
+            Ev::Impact => self.impact(t, y),
+            Ev::Overturn => Action::Stop(EndReason::Overturned),
+            Ev::Uplift(side) => self.uplift(side, t, y),
+            Ev::Sequential => {
+                self.toggle_sequential(y);
+                Action::Continue
+            }
+            Ev::ContactA | Ev::ContactB => {
+                let sign = if self.events[index] == Ev::ContactA {
+                    1.0
+                } else {
+                    -1.0
+                };
+                if self.event_value(self.events[index], t, y) * sign > 0.0 {
+                    self.counters.engagements += 1;
+                }
+                Action::Continue
+            }
+            Ev::ResetA | Ev::ResetB => {
+                let (x, _) = self.x_xdot(y);
+                let (j, before, after) = if self.events[index] == Ev::ResetA {
+                    (
+                        4,
+                        self.dev.clutch_potential_a(x - y[4]),
+                        self.dev.clutch_potential_a(0.0),
+                    )
+                } else {
+                    (
+                        6,
+                        self.dev.clutch_potential_b(x - y[6]),
+                        self.dev.clutch_potential_b(0.0),
+                    )
+                };
+                y[j] = x;
+                self.ledger.reset += before - after;
+                self.counters.resets += 1;
+                // Without play the reset lands on the clutch corner and engages at once.
+                if matches!(self.dev, DeviceModel::Clutch(c) if c.play == 0.0) {
+                    self.counters.engagements += 1;
+                }
+                Action::Continue
+            }
+            Ev::GuardA | Ev::GuardB => Action::Continue,
+        }
+    }
+
+    /// Two events can fall within the location tolerance of each other (the sequential clutch
+    /// switches where Ẍ = 0, which is exactly where the mass passes over the pivot). The
+    /// located one is returned on its post-crossing side, possibly past the other's root, and
+    /// a function already past its root at a restart never reports the crossing: catch up
+    /// with overturning and landing here.
+    fn settle(&mut self, action: Action, t: f64, y: &mut [f64]) -> Action {
+        if action != Action::Continue || self.phase != Phase::Rocking {
+            return action;
+        }
+        if self.event_value(Ev::Overturn, t, y) >= 0.0 {
+            return Action::Stop(EndReason::Overturned);
+        }
+        if self.pivot * y[2] < 0.0 {
+            return self.impact(t, y);
+        }
+        action
+    }
+
     fn absolute_acceleration(&self, t: f64, y: &[f64], dy: &[f64]) -> f64 {
         self.xddot(y, dy) + self.motion.accel(t)
     }
@@ -408,6 +479,20 @@ impl<'m> FlexibleModel<'m> {
             reset: self.ledger.reset,
         }
     }
+}
+
+/// |v_g|max over the motion, by the trapezoidal rule on 4000 intervals (a scale, not a result).
+fn peak_ground_velocity(motion: &Motion) -> f64 {
+    const INTERVALS: usize = 4000;
+    let dt = motion.end() / INTERVALS as f64;
+    let (mut v, mut peak, mut a_prev) = (0.0f64, 0.0f64, motion.accel(0.0));
+    for k in 1..=INTERVALS {
+        let a = motion.accel(k as f64 * dt);
+        v += 0.5 * (a_prev + a) * dt;
+        peak = peak.max(v.abs());
+        a_prev = a;
+    }
+    peak
 }
 
 /// Largest |f(y)| over a step whose rate is g(y): samples plus interior zeros of the rate.
@@ -505,51 +590,8 @@ impl<const N: usize> SimModel<N> for FlexibleModel<'_> {
     }
 
     fn on_event(&mut self, index: usize, t: f64, y: &mut [f64; N]) -> Action {
-        match self.events[index] {
-            Ev::Impact => self.impact(t, y),
-            Ev::Overturn => Action::Stop(EndReason::Overturned),
-            Ev::Uplift(side) => self.uplift(side, t, y),
-            Ev::Sequential => {
-                self.toggle_sequential(y);
-                Action::Continue
-            }
-            Ev::ContactA | Ev::ContactB => {
-                let sign = if self.events[index] == Ev::ContactA {
-                    1.0
-                } else {
-                    -1.0
-                };
-                if self.event_value(self.events[index], t, y) * sign > 0.0 {
-                    self.counters.engagements += 1;
-                }
-                Action::Continue
-            }
-            Ev::ResetA | Ev::ResetB => {
-                let (x, _) = self.x_xdot(y);
-                let (j, before, after) = if self.events[index] == Ev::ResetA {
-                    (
-                        4,
-                        self.dev.clutch_potential_a(x - y[4]),
-                        self.dev.clutch_potential_a(0.0),
-                    )
-                } else {
-                    (
-                        6,
-                        self.dev.clutch_potential_b(x - y[6]),
-                        self.dev.clutch_potential_b(0.0),
-                    )
-                };
-                y[j] = x;
-                self.ledger.reset += before - after;
-                self.counters.resets += 1;
-                // Without play the reset lands on the clutch corner and engages at once.
-                if matches!(self.dev, DeviceModel::Clutch(c) if c.play == 0.0) {
-                    self.counters.engagements += 1;
-                }
-                Action::Continue
-            }
-            Ev::GuardA | Ev::GuardB => Action::Continue,
-        }
+        let action = self.apply_event(index, t, y);
+        self.settle(action, t, y)
     }
 
     fn wake(&mut self, _t: f64, _y: &mut [f64; N]) -> Action {
