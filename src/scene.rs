@@ -21,6 +21,10 @@ pub struct Scene {
     /// Initial uplift rotation (rad), for free-rocking studies; 0 starts at rest on the ground.
     #[serde(default)]
     pub initial_rotation: f64,
+    /// End the run once the ground has stopped and the energy left provably cannot raise any
+    /// peak (the free-vibration tail). Peaks are unchanged; end time and final energies differ.
+    #[serde(default)]
+    pub stop_when_settled: bool,
 }
 
 pub fn default_rtol() -> f64 {

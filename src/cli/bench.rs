@@ -50,6 +50,7 @@ pub fn rigid_fig8(device: Device) -> Scene {
         duration: 10.0,
         rtol: default_rtol(),
         initial_rotation: 0.0,
+        stop_when_settled: false,
     }
 }
 
@@ -173,16 +174,67 @@ pub fn table(
         .collect()
 }
 
+/// Modelling only what the scene needs: the same scene with and without an optimisation, at
+/// the default tolerance. Returns (without, with) results and median times.
+pub fn compare_option(
+    scene: &Scene,
+    enable: impl Fn(&mut Scene),
+    repeats: usize,
+) -> Result<[(SceneResult, f64); 2], sim::SimError> {
+    let mut on = scene.clone();
+    enable(&mut on);
+    Ok([
+        timed(scene, scene.rtol, repeats)?,
+        timed(&on, on.rtol, repeats)?,
+    ])
+}
+
+fn print_option_table(
+    title: &str,
+    enable: impl Fn(&mut Scene) + Copy,
+    args: &BenchArgs,
+) -> anyhow::Result<()> {
+    println!("\n## {title} (rtol {:e})\n", default_rtol());
+    println!(
+        "| scene | RHS evals off → on | time (ms) off → on | speed-up | θmax change | accel change |"
+    );
+    println!("|---|---|---|---|---|---|");
+    for bench in scenes() {
+        if args
+            .only
+            .as_ref()
+            .is_some_and(|o| !bench.name.contains(o.as_str()))
+        {
+            continue;
+        }
+        let [(off, t_off), (on, t_on)] = compare_option(&bench.scene, enable, args.repeats)?;
+        println!(
+            "| {} | {} → {} | {:.3} → {:.3} | {:.2}× | {:.1e} | {:.1e} |",
+            bench.name,
+            off.stats.rhs_evals,
+            on.stats.rhs_evals,
+            t_off * 1e3,
+            t_on * 1e3,
+            t_off / t_on,
+            relative_error(on.peaks.rotation, off.peaks.rotation),
+            relative_error(on.peaks.abs_acceleration_g, off.peaks.abs_acceleration_g),
+        );
+    }
+    Ok(())
+}
+
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     println!(
         "rocklab bench: relative peak errors against rtol = {:e}; time = median of {} runs",
         args.reference, args.repeats
     );
     for bench in scenes() {
-        if let Some(only) = &args.only {
-            if !bench.name.contains(only.as_str()) {
-                continue;
-            }
+        if args
+            .only
+            .as_ref()
+            .is_some_and(|o| !bench.name.contains(o.as_str()))
+        {
+            continue;
         }
         println!("\n## {}\n", bench.name);
         println!(
@@ -204,5 +256,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             );
         }
     }
+    print_option_table(
+        "Free-vibration tail cut once no peak can change",
+        |s| s.stop_when_settled = true,
+        args,
+    )?;
     Ok(())
 }

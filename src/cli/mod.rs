@@ -20,7 +20,7 @@ pub struct Cli {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Run one scene and print its peaks.
-    Simulate(simulate::SimulateArgs),
+    Simulate(Box<simulate::SimulateArgs>),
     /// Work-precision tables: peak errors, steps, RHS evaluations and time per tolerance.
     Bench(bench::BenchArgs),
 }

@@ -150,6 +150,9 @@ pub struct SimulateArgs {
     /// Initial rotation θ0 (rad) for free rocking.
     #[arg(long, default_value_t = 0.0)]
     pub theta0: f64,
+    /// Stop once the ground has stopped and the energy left cannot raise any peak.
+    #[arg(long)]
+    pub stop_when_settled: bool,
     /// Write the time history to this CSV file.
     #[arg(long)]
     pub history: Option<PathBuf>,
@@ -311,6 +314,7 @@ impl SimulateArgs {
             duration: self.duration,
             rtol: self.rtol,
             initial_rotation: self.theta0,
+            stop_when_settled: self.stop_when_settled,
         };
         scene.validate().map_err(UsageError::from_invalid)?;
         Ok(scene)

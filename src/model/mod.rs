@@ -16,6 +16,9 @@ pub enum EndReason {
     Duration,
     Overturned,
     Rest,
+    /// The ground had stopped and no reachable motion could raise any peak
+    /// (`Scene::stop_when_settled`).
+    Settled,
 }
 
 /// What the driver does after the model handled an event.
@@ -102,6 +105,10 @@ pub trait SimModel<const N: usize>: OdeSystem<N> {
     fn wake(&mut self, t: f64, y: &mut [f64; N]) -> Action;
     /// The excitation has ended at t and the model is at rest: may the run stop?
     fn at_rest(&self, t: f64, y: &[f64; N]) -> bool;
+    /// The excitation has ended and the energy left can no longer raise any peak.
+    fn settled(&self, _y: &[f64; N]) -> bool {
+        false
+    }
     /// Update peaks over an accepted step (dense output over [t0, t1]).
     fn observe_step(&mut self, dense: &Dense<N>, t_end: f64);
     /// Update peaks at a single point (start, events, idle periods).

@@ -574,6 +574,66 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
         self.phase == Phase::Contact
     }
 
+    /// After the ground stops, the block can only draw on its own energy plus what the device
+    /// can give back: a coupled or spring-mounted inerter returns its kinetic energy, a
+    /// one-way clutch only its spring energy (its flywheel can only brake the block), and the
+    /// sequential law none (its mass's energy is lost at every disengagement). From that energy
+    /// E: reachable |θ| from PE(θ) ≤ E, and |ẍ| ≤ R(p² s_max + |Fd|max R/I0 + (1 + ¾σ) s_max θ̇²max)
+    /// with θ̇²max = 2E/I0 and |Fd|max = 2√(2kE). The Dirac model is excluded (its impact moment
+    /// is the acceleration being studied).
+    fn settled(&self, y: &[f64; N]) -> bool {
+        if self.dirac.is_some() || self.phase != Phase::Rocking {
+            return false;
+        }
+        let (s, c) = self.sc(y[0]);
+        let pe = match self.form {
+            Form::Exact => self.m * G * self.r * (c - self.cos_a),
+            Form::Slender => 0.5 * self.m * G * self.r * (self.alpha.powi(2) - s * s),
+        };
+        let block = 0.5 * self.i0 * y[1] * y[1] + pe;
+        let (x, _) = self.x_xdot(y);
+        let fly = &y[2..self.acc];
+        let (returnable, k) = match self.dev {
+            DeviceModel::None | DeviceModel::Sequential { .. } => (0.0, 0.0),
+            DeviceModel::Coupled { .. } => (self.coupled_kinetic(y), 0.0),
+            DeviceModel::Spring { k, .. } => (self.dev.stored_energy(x, fly), k),
+            DeviceModel::Clutch(c) => (
+                self.dev.clutch_potential_a(x - fly[0]).max(0.0)
+                    + self.dev.clutch_potential_b(x - fly[2]).max(0.0),
+                c.k,
+            ),
+        };
+        let e = block + returnable;
+        let mgr = self.m * G * self.r;
+        let reach = match self.form {
+            Form::Exact => {
+                let c_min = self.cos_a + e / mgr;
+                if c_min >= 1.0 {
+                    return false;
+                }
+                self.alpha - c_min.acos()
+            }
+            Form::Slender => {
+                let d = self.alpha.powi(2) - 2.0 * e / mgr;
+                if d <= 0.0 {
+                    return false;
+                }
+                self.alpha - d.sqrt()
+            }
+        };
+        let s_max = match self.form {
+            Form::Exact => self.sin_a,
+            Form::Slender => self.alpha,
+        };
+        let sigma = self.dev.mr() / self.m;
+        let rate2 = 2.0 * e / self.i0;
+        let force = 2.0 * (2.0 * k * e).sqrt();
+        let accel = self.r
+            * (self.p2 * s_max + force * self.r / self.i0 + (1.0 + 0.75 * sigma) * s_max * rate2)
+            / G;
+        reach < self.peaks.rotation && accel < self.peaks.abs_acceleration_g
+    }
+
     fn observe_step(&mut self, dense: &Dense<N>, t_end: f64) {
         if self.phase == Phase::Rocking {
             let rot = extremum_on_step(dense, t_end, 0, 1);

@@ -242,8 +242,13 @@ fn drive<const N: usize, M: SimModel<N>>(
                     let next = model.on_event(index, t, &mut y);
                     model.observe_point(t, &y);
                     record(&mut history, model, t, &y);
-                    if next == Action::Continue && t >= motion.end() && model.at_rest(t, &y) {
-                        break 'run EndReason::Rest;
+                    if next == Action::Continue && t >= motion.end() {
+                        if model.at_rest(t, &y) {
+                            break 'run EndReason::Rest;
+                        }
+                        if scene.stop_when_settled && model.settled(&y) {
+                            break 'run EndReason::Settled;
+                        }
                     }
                     break next;
                 }
