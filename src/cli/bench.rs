@@ -76,6 +76,7 @@ pub fn flexible_fig14(device: Device) -> Scene {
         duration: 30.0,
         rtol: default_rtol(),
         initial_rotation: 0.0,
+        stop_when_settled: false,
     }
 }
 

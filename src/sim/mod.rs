@@ -213,14 +213,19 @@ fn drive<const N: usize, M: SimModel<N>>(
             let e = model.energy(&y);
             energy_scale = energy_scale.max(e.input.abs()).max(e.structure + e.inerter);
             match outcome {
-                // A model may come to rest between breakpoints (a flexible column's free
-                // vibration decays with no event to mark it).
-                StepOutcome::Stepped => {
-                    if t >= motion.end() && model.at_rest(t, &y) {
+                // A model may settle between breakpoints (a flexible column's free vibration
+                // decays with no event to mark it).
+                StepOutcome::Stepped if t >= motion.end() => {
+                    if model.at_rest(t, &y) {
                         record(&mut history, model, t, &y);
                         break 'run EndReason::Rest;
                     }
+                    if scene.stop_when_settled && model.settled(&y) {
+                        record(&mut history, model, t, &y);
+                        break 'run EndReason::Settled;
+                    }
                 }
+                StepOutcome::Stepped => {}
                 StepOutcome::Reached => {
                     if t >= duration {
                         record(&mut history, model, t, &y);
