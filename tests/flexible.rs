@@ -501,6 +501,37 @@ fn coincident_engagement_and_overturning_stop_at_the_pivot() {
     }
 }
 
+/// Free rocking from θ0 with no ground motion and no damping: mirror symmetric, energy closes,
+/// and the device starts relaxed (flywheels where the mass is; a clutch stretched by the
+/// initial X ≈ H θ0 = 1 m threw the structure over with the mechanistic device).
+#[test]
+fn free_rocking_from_an_initial_rotation() {
+    for (name, device) in all_devices(0.0) {
+        let mut peaks = Vec::new();
+        for theta0 in [0.1, -0.1] {
+            let mut sc = scene(
+                flexible(10.0, 0.2, 0.0, 8.0),
+                device.clone(),
+                sine(Amplitude::G(0.0), Frequency::RadPerSec(1.0)),
+                10.0,
+            );
+            sc.initial_rotation = theta0;
+            let r = run(&sc);
+            assert!(!r.overturned, "{name}: θmax = {}", r.peaks.rotation);
+            assert!(r.energy_residual < 1e-6, "{name}: {}", r.energy_residual);
+            assert_eq!(r.energy.input, 0.0);
+            assert!(r.counters.impacts > 0 && r.energy.impact > 0.0, "{name}");
+            peaks.push(r.peaks);
+        }
+        let (a, b) = (peaks[0], peaks[1]);
+        assert!(
+            (a.deformation - b.deformation).abs() <= 1e-7 * a.deformation,
+            "{name}"
+        );
+        assert!((a.drift - b.drift).abs() <= 1e-7 * a.drift, "{name}");
+    }
+}
+
 /// Running the stiff pulse past the overturning point stops there.
 #[test]
 fn strong_pulse_overturns_and_stops_at_the_pivot() {

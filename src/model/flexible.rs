@@ -600,6 +600,11 @@ impl<const N: usize> SimModel<N> for FlexibleModel<'_> {
             self.phase = Phase::Rocking;
             self.pivot = self.initial_rotation.signum();
             y[2] = self.initial_rotation;
+            // Released from rest with the device relaxed: flywheels sit where the mass is.
+            let (x, _) = self.x_xdot(y);
+            for i in 0..self.dev.flywheels() {
+                y[4 + 2 * i] = x;
+            }
         }
         if matches!(self.dev, DeviceModel::Sequential { .. }) {
             // From rest |Ẋ| can only grow: engaged from the start (at Ẋ = 0, no energy).
