@@ -1,6 +1,7 @@
 //! Command-line interface: clap commands at the edge, library errors turned into messages.
 
 pub mod bench;
+pub mod records;
 pub mod simulate;
 
 use clap::{Parser, Subcommand};
@@ -21,6 +22,8 @@ pub struct Cli {
 pub enum Command {
     /// Run one scene and print its peaks.
     Simulate(Box<simulate::SimulateArgs>),
+    /// List the ground-motion records (npts, dt, PGA, PGV, source).
+    Records(records::RecordsArgs),
     /// Work-precision tables: peak errors, steps, RHS evaluations and time per tolerance.
     Bench(bench::BenchArgs),
 }
@@ -55,6 +58,7 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Some(Command::Simulate(args)) => simulate::run(&args),
+        Some(Command::Records(args)) => records::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
         None => {
             eprintln!("the workbench is not built yet; try `rocklab simulate --help`");

@@ -790,11 +790,7 @@ mod tests {
     }
 
     fn motion() -> Motion {
-        Motion::Pulse(Pulse {
-            shape: PulseShape::Sine,
-            amplitude: 3.0,
-            omega: 6.0,
-        })
+        Motion::Pulse(Pulse::new(PulseShape::Sine, 3.0, 6.0))
     }
 
     /// The closed-form 2×2 solve satisfies the two rocking equations as written in MODEL.md,
