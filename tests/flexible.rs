@@ -673,8 +673,7 @@ fn cli_rejects_bad_flexible_input_with_exit_code_2() {
     ];
     for (extra, flag) in cases {
         let mut args: Vec<&str> = CASE6_FLAGS.to_vec();
-        // Later flags override earlier ones only for repeated options clap rejects, so
-        // replace values in place instead.
+        // clap rejects a repeated option: replace the value in place.
         for pair in extra.chunks(2) {
             if let Some(i) = args.iter().position(|a| *a == pair[0]) {
                 args[i + 1] = pair[1];
