@@ -80,6 +80,23 @@ pub fn flexible_fig14(device: Device) -> Scene {
     }
 }
 
+/// The Fig. 24 structure (R0 = 10 m, α = 0.2, ξ = ξθ = 0.02, ωn = 12 rad/s) under the
+/// Landers–Lucerne fault-normal record (48 s record + 10 s).
+pub fn flexible_landers(device: Device) -> Scene {
+    let mut s = flexible_fig14(device);
+    if let Structure::Flexible(f) = &mut s.structure {
+        f.omega_n = 12.0;
+    }
+    s.excitation = Excitation::Record {
+        name: "landers".into(),
+        scale: RecordScale::Factor(1.0),
+        baseline: false,
+        kinks: Default::default(),
+    };
+    s.duration = 58.0;
+    s
+}
+
 /// A rigid block R = 5 m, α = 0.2 under the Northridge–Rinaldi fault-normal record (30 s).
 pub fn rigid_northridge(device: Device) -> Scene {
     Scene {
@@ -129,6 +146,17 @@ pub fn scenes() -> Vec<BenchScene> {
         BenchScene {
             name: "flexible mechanistic, Fig. 14",
             scene: flexible_fig14(Device::Mechanistic(Clutch::paper_default(0.5))),
+        },
+        BenchScene {
+            name: "flexible sequential, Landers record",
+            scene: flexible_landers(Device::Sequential { sigma: 0.5 }),
+        },
+        BenchScene {
+            name: "flexible mechanistic, Landers record",
+            scene: flexible_landers(Device::Mechanistic(Clutch {
+                damping: Damping::XiTheta(0.02),
+                ..Clutch::paper_default(0.5)
+            })),
         },
     ]
 }
