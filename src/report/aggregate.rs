@@ -227,12 +227,12 @@ pub fn compare(a: &Spectrum, b: &Spectrum) -> Vec<Option<f64>> {
         .collect()
 }
 
-/// Unicode sparkline scaled to the largest value; gaps (None) are spaces.
+/// Unicode sparkline from the smallest (▁) to the largest (█) value; gaps (None) are spaces.
 pub fn sparkline(values: &[Option<f64>]) -> String {
     const BARS: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
     let finite = values.iter().flatten().filter(|v| v.is_finite());
     let max = finite.clone().fold(f64::NEG_INFINITY, |m, v| m.max(*v));
-    let min = finite.fold(f64::INFINITY, |m, v| m.min(*v)).min(0.0);
+    let min = finite.fold(f64::INFINITY, |m, v| m.min(*v));
     values
         .iter()
         .map(|v| match v {
@@ -254,6 +254,8 @@ mod tests {
     fn sparkline_scales_to_the_maximum_and_leaves_gaps() {
         assert_eq!(sparkline(&[Some(0.0), Some(0.5), None, Some(1.0)]), "▁▅ █");
         assert_eq!(sparkline(&[]), "");
+        // Scaled between the extremes, so small variations show.
+        assert_eq!(sparkline(&[Some(0.20), Some(0.21), Some(0.22)]), "▁▅█");
     }
 
     #[test]
