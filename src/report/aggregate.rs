@@ -255,7 +255,7 @@ mod tests {
         assert_eq!(sparkline(&[Some(0.0), Some(0.5), None, Some(1.0)]), "▁▅ █");
         assert_eq!(sparkline(&[]), "");
         // Scaled between the extremes, so small variations show.
-        assert_eq!(sparkline(&[Some(0.20), Some(0.21), Some(0.22)]), "▁▅█");
+        assert_eq!(sparkline(&[Some(20.0), Some(21.0), Some(22.0)]), "▁▅█");
     }
 
     #[test]
