@@ -2,7 +2,7 @@
 //! into scenes; `rocklab simulate` builds one from flags. Names follow the paper (σ, kθ, ρ, ε,
 //! c̄, ξθ, fμ, η, up) so study files read like its figure captions.
 
-use crate::excitation::{G, PulseShape};
+use crate::excitation::{G, KinkPolicy, PulseShape};
 use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -270,13 +270,64 @@ impl Default for Impact {
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum Excitation {
+    /// An analytic pulse: `amplitude` is its peak acceleration, `frequency` its ωg.
     Pulse {
         shape: PulseShape,
         amplitude: Amplitude,
         frequency: Frequency,
     },
+    /// A Mavroeidis–Papageorgiou pulse given by its period Tp (s) and peak ground velocity
+    /// (m/s) instead of peak acceleration and ωg.
+    MpPulse {
+        tp: f64,
+        pgv: f64,
+        gamma: f64,
+        #[serde(default)]
+        nu: f64,
+    },
+    /// A ground-motion record from the library (name, Table 1 number, or file path).
+    Record {
+        name: String,
+        #[serde(default)]
+        scale: RecordScale,
+        /// Apply the baseline correction of `Series::baseline_corrected` (off by default).
+        #[serde(default)]
+        baseline: bool,
+        /// How the integrator treats the kinks between samples (a numerical choice).
+        #[serde(default)]
+        kinks: KinkPolicy,
+    },
+}
+
+/// How a record is scaled.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RecordScale {
+    /// a_g = factor · record (negative flips the polarity).
+    Factor(f64),
+    /// Scaled to this PGA (g).
+    Pga(f64),
+    /// Scaled to this PGV (m/s).
+    Pgv(f64),
+}
+
+impl Default for RecordScale {
+    fn default() -> Self {
+        RecordScale::Factor(1.0)
+    }
+}
+
+impl RecordScale {
+    /// The factor that applies this scaling to a record with the given PGA (m/s²) and PGV.
+    pub fn factor(&self, pga: f64, pgv: f64) -> f64 {
+        match *self {
+            RecordScale::Factor(k) => k,
+            RecordScale::Pga(target) => target * G / pga,
+            RecordScale::Pgv(target) => target / pgv,
+        }
+    }
 }
 
 /// Pulse amplitude: absolute (A/g) or relative to the uplift threshold.
@@ -410,9 +461,9 @@ impl Scene {
         }
         match &self.excitation {
             Excitation::Pulse {
+                shape,
                 amplitude,
                 frequency,
-                ..
             } => {
                 let a = match *amplitude {
                     Amplitude::G(a) | Amplitude::TanAlphaRatio(a) | Amplitude::AlphaRatio(a) => a,
@@ -422,6 +473,28 @@ impl Scene {
                     Frequency::RadPerSec(w) | Frequency::Ratio(w) => w,
                 };
                 positive("frequency", w)?;
+                if let PulseShape::MavroeidisPapageorgiou { gamma, nu } = shape {
+                    check_mp(*gamma, *nu)?;
+                }
+            }
+            Excitation::MpPulse { tp, pgv, gamma, nu } => {
+                positive("tp", *tp)?;
+                check("pgv", *pgv, true, "must be a finite number")?;
+                check_mp(*gamma, *nu)?;
+            }
+            Excitation::Record { name, scale, .. } => {
+                if name.trim().is_empty() {
+                    return Err(Invalid {
+                        field: "record",
+                        value: f64::NAN,
+                        expected: "a record name or path is required",
+                    });
+                }
+                match *scale {
+                    RecordScale::Factor(k) => check("scale", k, true, "must be a finite number")?,
+                    RecordScale::Pga(a) => positive("scale_pga", a)?,
+                    RecordScale::Pgv(v) => positive("scale_pgv", v)?,
+                }
             }
         }
         positive("duration", self.duration)?;
@@ -438,6 +511,16 @@ impl Scene {
             "initial rotation must be smaller than α in magnitude",
         )
     }
+}
+
+fn check_mp(gamma: f64, nu: f64) -> Result<(), Invalid> {
+    check(
+        "gamma",
+        gamma,
+        gamma > 1.0,
+        "Mavroeidis–Papageorgiou γ must be > 1",
+    )?;
+    check("nu", nu, true, "must be a finite phase (rad)")
 }
 
 fn check_stiffness(s: ClutchStiffness) -> Result<(), Invalid> {

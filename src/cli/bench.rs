@@ -54,6 +54,26 @@ pub fn rigid_fig8(device: Device) -> Scene {
     }
 }
 
+/// A rigid block R = 5 m, α = 0.2 under the Northridge–Rinaldi fault-normal record (30 s).
+pub fn rigid_northridge(device: Device) -> Scene {
+    Scene {
+        structure: Structure::Rigid(RigidBlock {
+            size: 5.0,
+            alpha: 0.2,
+            mass: 1.0,
+            form: Form::Exact,
+        }),
+        excitation: Excitation::Record {
+            name: "northridge".into(),
+            scale: RecordScale::Factor(1.0),
+            baseline: false,
+            kinks: Default::default(),
+        },
+        duration: 30.0,
+        ..rigid_fig8(device)
+    }
+}
+
 pub fn scenes() -> Vec<BenchScene> {
     vec![
         BenchScene {
@@ -67,6 +87,14 @@ pub fn scenes() -> Vec<BenchScene> {
         BenchScene {
             name: "rigid mechanistic, sine pulse",
             scene: rigid_fig8(Device::Mechanistic(Clutch::paper_default(0.5))),
+        },
+        BenchScene {
+            name: "rigid bare, Northridge record",
+            scene: rigid_northridge(Device::None),
+        },
+        BenchScene {
+            name: "rigid mechanistic, Northridge record",
+            scene: rigid_northridge(Device::Mechanistic(Clutch::paper_default(0.5))),
         },
     ]
 }

@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod compare;
 pub mod plot;
+pub mod records;
 pub mod run;
 pub mod simulate;
 
@@ -20,12 +21,12 @@ pub struct Cli {
     pub command: Option<Command>,
 }
 
-// Parsed once per process: the size difference between the commands' arguments does not matter.
-#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Run one scene and print its peaks.
     Simulate(Box<simulate::SimulateArgs>),
+    /// List the ground-motion records (npts, dt, PGA, PGV, source).
+    Records(records::RecordsArgs),
     /// Work-precision tables: peak errors, steps, RHS evaluations and time per tolerance.
     Bench(bench::BenchArgs),
     /// Run a study (RON file or `default`): parallel sweep, spectra, maps, CSV/JSON results.
@@ -68,6 +69,7 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Some(Command::Simulate(args)) => simulate::run(&args),
+        Some(Command::Records(args)) => records::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Run(args)) => run::run(&args),
         Some(Command::Merge(args)) => run::merge(&args),

@@ -1,11 +1,11 @@
 //! `rocklab simulate`: one scene from flags, a summary or one JSON object on stdout.
 
 use super::UsageError;
-use crate::excitation::PulseShape;
+use crate::excitation::{KinkPolicy, PulseShape, library};
 use crate::scene::{
     Amplitude, Clutch, ClutchStiffness, Coupling, Damping, Device, Excitation, FlexibleStructure,
-    Form, Frequency, Impact, ResetRule, RigidBlock, Scene, Structure, default_epsilon, default_eta,
-    default_rho,
+    Form, Frequency, Impact, RecordScale, ResetRule, RigidBlock, Scene, Structure, default_epsilon,
+    default_eta, default_rho,
 };
 use crate::sim::{self, SceneResult};
 use clap::{Args, ValueEnum};
@@ -124,8 +124,45 @@ pub struct SimulateArgs {
     /// Override the coefficient of restitution r (Housner impact).
     #[arg(long)]
     pub restitution: Option<f64>,
-    #[arg(long, value_enum, default_value = "sine")]
-    pub pulse: PulseKind,
+    /// Pulse family (default sine).
+    #[arg(long, value_enum)]
+    pub pulse: Option<PulseKind>,
+    /// Mavroeidis–Papageorgiou γ (> 1, number of cycles).
+    #[arg(long)]
+    pub gamma: Option<f64>,
+    /// Mavroeidis–Papageorgiou phase ν (rad), default 0.
+    #[arg(long)]
+    pub nu: Option<f64>,
+    /// Mavroeidis–Papageorgiou pulse period Tp (s), with --pgv, instead of amplitude and
+    /// frequency flags.
+    #[arg(long, requires = "pgv")]
+    pub tp: Option<f64>,
+    /// Mavroeidis–Papageorgiou peak ground velocity (m/s), with --tp.
+    #[arg(long, requires = "tp")]
+    pub pgv: Option<f64>,
+    /// Run under a ground-motion record: a name from `rocklab records`, its Table 1 number,
+    /// or a path to an AT2, one-column (with '# dt:') or two-column (t, a) file.
+    #[arg(long)]
+    pub record: Option<String>,
+    /// Scale the record by this factor (default 1).
+    #[arg(long, group = "record_scale")]
+    pub scale: Option<f64>,
+    /// Scale the record to this PGA (g).
+    #[arg(long, group = "record_scale")]
+    pub scale_pga: Option<f64>,
+    /// Scale the record to this PGV (m/s).
+    #[arg(long, group = "record_scale")]
+    pub scale_pgv: Option<f64>,
+    /// Baseline-correct the record (remove the least-squares velocity drift).
+    #[arg(long)]
+    pub baseline: bool,
+    /// How the integrator treats the kinks between record samples.
+    #[arg(long, value_enum)]
+    pub kinks: Option<KinksKind>,
+    /// Records directory (default: $ROCKLAB_RECORDS, else ./records if it holds an index.ron, else the
+    /// records embedded in the binary).
+    #[arg(long)]
+    pub records_dir: Option<PathBuf>,
     /// Pulse amplitude A/g.
     #[arg(long, group = "amp")]
     pub amplitude_g: Option<f64>,
@@ -141,9 +178,10 @@ pub struct SimulateArgs {
     /// ωg/p.
     #[arg(long)]
     pub frequency_ratio: Option<f64>,
-    /// Total simulated time (s); stops earlier only at overturning or rest.
-    #[arg(long, default_value_t = 10.0)]
-    pub duration: f64,
+    /// Total simulated time (s); stops earlier only at overturning or rest. Default: 10 s for
+    /// pulses, the record's length + 10 s for records.
+    #[arg(long)]
+    pub duration: Option<f64>,
     /// Relative tolerance of the integrator.
     #[arg(long, default_value_t = crate::scene::default_rtol())]
     pub rtol: f64,
@@ -165,6 +203,20 @@ pub struct SimulateArgs {
 pub enum PulseKind {
     Sine,
     Cosine,
+    /// Symmetric Ricker wavelet.
+    Ricker,
+    /// Antisymmetric Ricker wavelet.
+    AntisymmetricRicker,
+    /// Mavroeidis–Papageorgiou (needs --gamma).
+    Mp,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum KinksKind {
+    /// Stop the integrator at every sample (default).
+    StopAtSamples,
+    /// Step across samples; the error controller handles the kinks.
+    StepOver,
 }
 
 fn need(value: Option<f64>, flag: &'static str, why: &'static str) -> Result<f64, UsageError> {
@@ -266,13 +318,134 @@ impl SimulateArgs {
                 }
             }
         };
+        let (excitation, default_duration) = self.excitation()?;
+        let scene = Scene {
+            structure,
+            device,
+            impact,
+            excitation,
+            duration: self.duration.unwrap_or(default_duration),
+            rtol: self.rtol,
+            initial_rotation: self.theta0,
+            stop_when_settled: self.stop_when_settled,
+        };
+        scene.validate().map_err(UsageError::from_invalid)?;
+        Ok(scene)
+    }
+
+    /// The excitation the flags describe, and the default duration that goes with it.
+    fn excitation(&self) -> Result<(Excitation, f64), UsageError> {
+        let record_only = "with --record";
+        only_with(self.scale, "--scale", self.record.is_some(), record_only)?;
+        only_with(
+            self.scale_pga,
+            "--scale-pga",
+            self.record.is_some(),
+            record_only,
+        )?;
+        only_with(
+            self.scale_pgv,
+            "--scale-pgv",
+            self.record.is_some(),
+            record_only,
+        )?;
+        if self.record.is_none() && (self.baseline || self.kinks.is_some()) {
+            return Err(UsageError::new(
+                "--baseline and --kinks only apply with --record",
+            ));
+        }
+        if let Some(name) = &self.record {
+            let pulse_flags = [
+                (self.amplitude_g, "--amplitude-g"),
+                (self.amplitude_ratio, "--amplitude-ratio"),
+                (self.amplitude_alpha, "--amplitude-alpha"),
+                (self.frequency, "--frequency"),
+                (self.frequency_ratio, "--frequency-ratio"),
+                (self.gamma, "--gamma"),
+                (self.nu, "--nu"),
+                (self.tp, "--tp"),
+                (self.pgv, "--pgv"),
+            ];
+            for (v, f) in pulse_flags {
+                only_with(v, f, false, "to pulses, not with --record")?;
+            }
+            if self.pulse.is_some() {
+                return Err(UsageError::new("--pulse and --record exclude each other"));
+            }
+            if let Some(dir) = &self.records_dir
+                && !library::set_records_dir(dir.clone())
+            {
+                return Err(UsageError::new(
+                    "--records-dir was set after records were loaded",
+                ));
+            }
+            let scale = match (self.scale, self.scale_pga, self.scale_pgv) {
+                (_, Some(a), _) => RecordScale::Pga(a),
+                (_, _, Some(v)) => RecordScale::Pgv(v),
+                (k, _, _) => RecordScale::Factor(k.unwrap_or(1.0)),
+            };
+            // Load now, so an unknown name or a bad file is a usage error with its message.
+            let record = library::global()
+                .and_then(|lib| lib.load(name, self.baseline))
+                .map_err(|e| UsageError::new(format!("--record {name}: {e}")))?;
+            let excitation = Excitation::Record {
+                // Store the canonical name ("3" → "imperial_valley") so the scene reads plainly.
+                name: if record.meta.is_some() {
+                    record.name.clone()
+                } else {
+                    name.clone()
+                },
+                scale,
+                baseline: self.baseline,
+                kinks: match self.kinks {
+                    Some(KinksKind::StepOver) => KinkPolicy::StepOver,
+                    _ => KinkPolicy::StopAtSamples,
+                },
+            };
+            return Ok((excitation, record.series.end() + 10.0));
+        }
+        only_with(
+            self.records_dir.as_ref().map(|_| 0.0),
+            "--records-dir",
+            false,
+            record_only,
+        )?;
+        let pulse = self.pulse.unwrap_or(PulseKind::Sine);
+        let mp = pulse == PulseKind::Mp;
+        only_with(self.gamma, "--gamma", mp, "to --pulse mp")?;
+        only_with(self.nu, "--nu", mp, "to --pulse mp")?;
+        only_with(self.tp, "--tp", mp, "to --pulse mp")?;
+        let shape = match pulse {
+            PulseKind::Sine => PulseShape::Sine,
+            PulseKind::Cosine => PulseShape::Cosine,
+            PulseKind::Ricker => PulseShape::Ricker,
+            PulseKind::AntisymmetricRicker => PulseShape::AntisymmetricRicker,
+            PulseKind::Mp => PulseShape::MavroeidisPapageorgiou {
+                gamma: need(self.gamma, "--gamma", "with --pulse mp (γ > 1)")?,
+                nu: self.nu.unwrap_or(0.0),
+            },
+        };
+        if let (PulseShape::MavroeidisPapageorgiou { gamma, nu }, Some(tp), Some(pgv)) =
+            (shape, self.tp, self.pgv)
+        {
+            for (v, f) in [
+                (self.amplitude_g, "--amplitude-g"),
+                (self.amplitude_ratio, "--amplitude-ratio"),
+                (self.amplitude_alpha, "--amplitude-alpha"),
+                (self.frequency, "--frequency"),
+                (self.frequency_ratio, "--frequency-ratio"),
+            ] {
+                only_with(v, f, false, "without --tp/--pgv")?;
+            }
+            return Ok((Excitation::MpPulse { tp, pgv, gamma, nu }, 10.0));
+        }
         let amplitude = match (self.amplitude_g, self.amplitude_ratio, self.amplitude_alpha) {
             (Some(a), None, None) => Amplitude::G(a),
             (None, Some(r), None) => Amplitude::TanAlphaRatio(r),
             (None, None, Some(r)) => Amplitude::AlphaRatio(r),
             _ => {
                 return Err(UsageError::new(
-                    "one of --amplitude-g, --amplitude-ratio or --amplitude-alpha is required",
+                    "one of --amplitude-g, --amplitude-ratio or --amplitude-alpha is required (or --record)",
                 ));
             }
         };
@@ -285,25 +458,12 @@ impl SimulateArgs {
                 ));
             }
         };
-        let scene = Scene {
-            structure,
-            device,
-            impact,
-            excitation: Excitation::Pulse {
-                shape: match self.pulse {
-                    PulseKind::Sine => PulseShape::Sine,
-                    PulseKind::Cosine => PulseShape::Cosine,
-                },
-                amplitude,
-                frequency,
-            },
-            duration: self.duration,
-            rtol: self.rtol,
-            initial_rotation: self.theta0,
-            stop_when_settled: self.stop_when_settled,
+        let excitation = Excitation::Pulse {
+            shape,
+            amplitude,
+            frequency,
         };
-        scene.validate().map_err(UsageError::from_invalid)?;
-        Ok(scene)
+        Ok((excitation, 10.0))
     }
 
     fn device(&self) -> Result<Device, UsageError> {
@@ -429,6 +589,18 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     if args.json {
         println!("{}", result_json(&scene, &result));
     } else {
+        if let Excitation::Record { name, baseline, .. } = &scene.excitation {
+            let record = library::global()?.load(name, *baseline)?;
+            let factor = match sim::motion_for(&scene)? {
+                crate::excitation::Motion::Record(m) => m.factor,
+                crate::excitation::Motion::Pulse(_) => 1.0,
+            };
+            println!(
+                "record {} × {factor:.6}: {}",
+                record.name,
+                record.source.label()
+            );
+        }
         print!("{}", summary(&scene, &result));
     }
     Ok(())

@@ -1,10 +1,22 @@
 //! Ground motions: what the structure's base does. A [`Motion`] is compiled once per scene (or
 //! shared across scenes) and evaluated in the right-hand side, so evaluation must be cheap and
 //! allocation free.
+//!
+//! - [`pulse`]: analytic pulses (sine, cosine, Ricker, antisymmetric Ricker,
+//!   Mavroeidis–Papageorgiou), all scaled by peak acceleration and ω.
+//! - [`record`]: sampled records, linear between samples, O(1) lookup, shared via `Arc`.
+//! - [`reader`]: PEER AT2, one- and two-column files.
+//! - [`library`]: record names → parsed records (directory, embedded copies, stand-ins), cached.
 
+pub mod library;
 pub mod pulse;
+pub mod reader;
+pub mod record;
 
+pub use library::{Library, Record, RecordError, RecordMeta, Source, StandIn};
 pub use pulse::{Pulse, PulseShape};
+pub use reader::ParseError;
+pub use record::{KinkPolicy, RecordMotion, Series};
 
 /// Standard gravity used throughout rocklab (MODEL.md: g = 9.81 m/s²).
 pub const G: f64 = 9.81;
@@ -13,6 +25,8 @@ pub const G: f64 = 9.81;
 #[derive(Clone, Debug)]
 pub enum Motion {
     Pulse(Pulse),
+    /// A sampled record, linear between samples.
+    Record(RecordMotion),
 }
 
 impl Motion {
@@ -21,6 +35,7 @@ impl Motion {
     pub fn accel(&self, t: f64) -> f64 {
         match self {
             Motion::Pulse(p) => p.accel(t),
+            Motion::Record(r) => r.accel(t),
         }
     }
 
@@ -28,6 +43,7 @@ impl Motion {
     pub fn end(&self) -> f64 {
         match self {
             Motion::Pulse(p) => p.end(),
+            Motion::Record(r) => r.end(),
         }
     }
 
@@ -36,6 +52,7 @@ impl Motion {
     pub fn next_breakpoint(&self, t: f64) -> Option<f64> {
         match self {
             Motion::Pulse(p) => p.next_breakpoint(t),
+            Motion::Record(r) => r.next_breakpoint(t),
         }
     }
 
@@ -43,6 +60,7 @@ impl Motion {
     pub fn jumps_at(&self, t: f64) -> bool {
         match self {
             Motion::Pulse(p) => p.jumps_at(t),
+            Motion::Record(r) => r.jumps_at(t),
         }
     }
 
@@ -50,6 +68,7 @@ impl Motion {
     pub fn first_exceedance(&self, t0: f64, level: f64) -> Option<f64> {
         match self {
             Motion::Pulse(p) => scan_exceedance(|t| p.accel(t), t0, p.end(), level, p.period()),
+            Motion::Record(r) => r.first_exceedance(t0, level),
         }
     }
 
@@ -57,6 +76,7 @@ impl Motion {
     pub fn peak_abs(&self, t0: f64, t1: f64) -> f64 {
         match self {
             Motion::Pulse(p) => scan_peak(|t| p.accel(t), t0, t1.min(p.end()), p.period()),
+            Motion::Record(r) => r.peak_abs(t0, t1),
         }
     }
 }

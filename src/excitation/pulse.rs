@@ -1,4 +1,6 @@
-//! Analytic acceleration pulses.
+//! Analytic acceleration pulses. Each family is a unit-peak shape f(s) of the phase s = ω t,
+//! scaled to a_g = A f(ω t): `amplitude` A is the peak |a_g| and `omega` ω the pulse's
+//! circular frequency, so A/(g tan α) and ω/p mean the same thing for every family.
 
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -10,36 +12,105 @@ pub enum PulseShape {
     Sine,
     /// a_g = A cos(ω t) for 0 ≤ t ≤ 2π/ω (jumps at both ends).
     Cosine,
+    /// Symmetric Ricker wavelet (Mexican hat, second derivative of a Gaussian):
+    /// a_g = A (1 − x²) e^{−x²/2}, x = (t − tc)/σ, σ = √2/ω, so that ω is where its Fourier
+    /// amplitude peaks (Tp = 2π/ω is the Mexican hat's (1 − 2π²t²/Tp²) e^{−π²t²/Tp²}).
+    /// Truncated at |x| = 8 (tail below 1e-12 A), centre tc = 8σ.
+    Ricker,
+    /// Antisymmetric Ricker wavelet (third derivative of a Gaussian):
+    /// a_g ∝ (x³ − 3x) e^{−x²/2}, x = (t − tc)/σ, σ = √3/ω (Fourier peak at ω), scaled to
+    /// peak |a_g| = A (reached at x = ±√(3 − √6)). Truncated at |x| = 8, tc = 8σ.
+    AntisymmetricRicker,
+    /// Mavroeidis & Papageorgiou (2003) velocity pulse, fp = ω/2π = 1/Tp:
+    /// v ∝ ½ [1 + cos(2π fp τ/γ)] cos(2π fp τ + ν) for |τ| ≤ γ/(2 fp), τ = t − γ/(2 fp);
+    /// a_g = dv/dt scaled to peak |a_g| = A. γ > 1 sets the number of cycles, ν the phase.
+    MavroeidisPapageorgiou { gamma: f64, nu: f64 },
 }
 
-/// A pulse with absolute amplitude A (m/s², signed) and circular frequency ω (rad/s).
+/// Truncation of the Ricker wavelets, in Gaussian standard deviations.
+const RICKER_HALF_WIDTH: f64 = 8.0;
+
+/// A pulse with peak acceleration A (m/s², signed) and circular frequency ω (rad/s).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pulse {
     pub shape: PulseShape,
     pub amplitude: f64,
     pub omega: f64,
+    /// max |unit shape| before normalisation (1 for sine, cosine and the symmetric Ricker).
+    norm: f64,
 }
 
 impl Pulse {
+    pub fn new(shape: PulseShape, amplitude: f64, omega: f64) -> Self {
+        let norm = match shape {
+            PulseShape::Sine | PulseShape::Cosine | PulseShape::Ricker => 1.0,
+            PulseShape::AntisymmetricRicker => {
+                let x = (3.0 - 6f64.sqrt()).sqrt();
+                (x * (x * x - 3.0)).abs() * (-0.5 * x * x).exp()
+            }
+            PulseShape::MavroeidisPapageorgiou { gamma, nu } => {
+                max_abs(|s| mp_accel_shape(s, gamma, nu), -gamma * PI, gamma * PI)
+            }
+        };
+        Pulse {
+            shape,
+            amplitude,
+            omega,
+            norm,
+        }
+    }
+
+    /// Mavroeidis–Papageorgiou pulse with prevailing period Tp (s) and peak ground velocity
+    /// PGV (m/s, signed: the sign of the velocity peak).
+    pub fn mavroeidis_papageorgiou(tp: f64, pgv: f64, gamma: f64, nu: f64) -> Self {
+        let omega = 2.0 * PI / tp;
+        let shape = PulseShape::MavroeidisPapageorgiou { gamma, nu };
+        let unit = Pulse::new(shape, 1.0, omega);
+        // With a_g = A g(s)/gmax, s = ω τ: v = A/(ω gmax) · v(s), so PGV = A vmax/(ω gmax).
+        let vmax = max_abs(|s| mp_velocity_shape(s, gamma, nu), -gamma * PI, gamma * PI);
+        Pulse::new(shape, pgv * omega * unit.norm / vmax, omega)
+    }
+
     pub fn period(&self) -> f64 {
         2.0 * PI / self.omega
     }
 
+    /// Duration of the pulse in units of phase (rad).
+    fn phase_span(&self) -> f64 {
+        match self.shape {
+            PulseShape::Sine | PulseShape::Cosine => 2.0 * PI,
+            PulseShape::Ricker => 2.0 * RICKER_HALF_WIDTH * 2f64.sqrt(),
+            PulseShape::AntisymmetricRicker => 2.0 * RICKER_HALF_WIDTH * 3f64.sqrt(),
+            PulseShape::MavroeidisPapageorgiou { gamma, .. } => 2.0 * gamma * PI,
+        }
+    }
+
     pub fn end(&self) -> f64 {
-        self.period()
+        self.phase_span() / self.omega
     }
 
     #[inline]
     pub fn accel(&self, t: f64) -> f64 {
-        if !(0.0..=self.end()).contains(&t) {
+        let span = self.phase_span();
+        let phase = self.omega * t;
+        if !(0.0..=span).contains(&phase) {
             return 0.0;
         }
-        let phase = self.omega * t;
-        self.amplitude
-            * match self.shape {
-                PulseShape::Sine => phase.sin(),
-                PulseShape::Cosine => phase.cos(),
+        let centred = phase - 0.5 * span;
+        let unit = match self.shape {
+            PulseShape::Sine => phase.sin(),
+            PulseShape::Cosine => phase.cos(),
+            PulseShape::Ricker => {
+                let x2 = centred * centred / 2.0;
+                (1.0 - x2) * (-0.5 * x2).exp()
             }
+            PulseShape::AntisymmetricRicker => {
+                let x = centred / 3f64.sqrt();
+                (x * x * x - 3.0 * x) * (-0.5 * x * x).exp()
+            }
+            PulseShape::MavroeidisPapageorgiou { gamma, nu } => mp_accel_shape(centred, gamma, nu),
+        };
+        self.amplitude * unit / self.norm
     }
 
     pub fn next_breakpoint(&self, t: f64) -> Option<f64> {
@@ -49,4 +120,35 @@ impl Pulse {
     pub fn jumps_at(&self, t: f64) -> bool {
         self.shape == PulseShape::Cosine && (t == self.end() || t == 0.0)
     }
+}
+
+/// MP velocity shape v(s) = ½ (1 + cos(s/γ)) cos(s + ν), |s| ≤ γπ.
+fn mp_velocity_shape(s: f64, gamma: f64, nu: f64) -> f64 {
+    0.5 * (1.0 + (s / gamma).cos()) * (s + nu).cos()
+}
+
+/// dv/ds of [`mp_velocity_shape`].
+fn mp_accel_shape(s: f64, gamma: f64, nu: f64) -> f64 {
+    -0.5 * ((s / gamma).sin() / gamma * (s + nu).cos() + (1.0 + (s / gamma).cos()) * (s + nu).sin())
+}
+
+/// max |f| on [a, b]: a fine scan, then golden-section refinement around the best sample.
+fn max_abs(f: impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
+    let n = 4000;
+    let h = (b - a) / n as f64;
+    let best = (0..=n)
+        .map(|k| a + k as f64 * h)
+        .max_by(|x, y| f(*x).abs().total_cmp(&f(*y).abs()))
+        .expect("non-empty scan");
+    let (mut lo, mut hi) = ((best - h).max(a), (best + h).min(b));
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..80 {
+        let (m1, m2) = (hi - r * (hi - lo), lo + r * (hi - lo));
+        if f(m1).abs() < f(m2).abs() {
+            lo = m1;
+        } else {
+            hi = m2;
+        }
+    }
+    f(best).abs().max(f(0.5 * (lo + hi)).abs())
 }

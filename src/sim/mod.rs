@@ -1,13 +1,14 @@
 //! One scene, start to finish: build the model the scene needs, run the event loop (step,
 //! locate event, apply jump, restart), track peaks and the energy balance.
 
-use crate::excitation::{Motion, Pulse};
+use crate::excitation::{Motion, Pulse, RecordMotion, library};
 use crate::model::device::DeviceModel;
 use crate::model::rigid::RigidModel;
 use crate::model::{Action, Counters, EndReason, Energy, Peaks, SimModel};
 use crate::scene::{Excitation, Scene, Structure};
 use crate::solver::{Integrator, Options, SolverError, Stats, StepOutcome};
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 use std::time::Instant;
 use thiserror::Error;
 
@@ -67,11 +68,37 @@ pub fn motion_for(scene: &Scene) -> Result<Motion, SimError> {
             shape,
             amplitude,
             frequency,
-        } => Ok(Motion::Pulse(Pulse {
-            shape: *shape,
-            amplitude: amplitude.absolute(alpha),
-            omega: frequency.absolute(p),
-        })),
+        } => Ok(Motion::Pulse(Pulse::new(
+            *shape,
+            amplitude.absolute(alpha),
+            frequency.absolute(p),
+        ))),
+        Excitation::MpPulse { tp, pgv, gamma, nu } => Ok(Motion::Pulse(
+            Pulse::mavroeidis_papageorgiou(*tp, *pgv, *gamma, *nu),
+        )),
+        Excitation::Record {
+            name,
+            scale,
+            baseline,
+            kinks,
+        } => {
+            // Parsed once per process and shared by every scene that names it.
+            let record = library::global()
+                .and_then(|lib| lib.load(name, *baseline))
+                .map_err(|e| SimError::Invalid(e.to_string()))?;
+            let series = Arc::clone(&record.series);
+            let factor = scale.factor(series.pga(), series.pgv());
+            if !factor.is_finite() {
+                return Err(SimError::Invalid(format!(
+                    "record '{name}' is all zeros and cannot be scaled to a target PGA or PGV"
+                )));
+            }
+            Ok(Motion::Record(RecordMotion {
+                factor,
+                series,
+                kinks: *kinks,
+            }))
+        }
     }
 }
 

@@ -1,0 +1,160 @@
+//! `rocklab records`: the ground-motion records this binary can run, with PGA and PGV computed
+//! from the data, the paper's Table 1 PGV beside them, and where each record came from.
+
+use crate::excitation::{G, Library, Record};
+use clap::Args;
+use std::path::PathBuf;
+
+/// List the ground-motion records (npts, dt, duration, PGA, PGV, source, sparkline).
+#[derive(Args, Debug, Clone)]
+pub struct RecordsArgs {
+    /// Records directory (default: $ROCKLAB_RECORDS, else ./records if it holds an index.ron; the shipped
+    /// records are also embedded in the binary).
+    #[arg(long)]
+    pub records_dir: Option<PathBuf>,
+    /// Apply the baseline correction before computing PGA/PGV.
+    #[arg(long)]
+    pub baseline: bool,
+    /// Print one JSON array on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+const SPARK: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
+
+/// The |a| envelope in `width` bins, each the bin's peak relative to the record's PGA.
+pub fn sparkline(samples: &[f64], width: usize) -> String {
+    let peak = samples.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
+    if samples.is_empty() || peak == 0.0 {
+        return SPARK[0].to_string().repeat(width);
+    }
+    (0..width)
+        .map(|b| {
+            let lo = b * samples.len() / width;
+            let hi = ((b + 1) * samples.len() / width)
+                .max(lo + 1)
+                .min(samples.len());
+            let m = samples[lo..hi].iter().fold(0.0_f64, |m, a| m.max(a.abs()));
+            SPARK[((m / peak) * 7.0).round() as usize]
+        })
+        .collect()
+}
+
+fn row_json(r: &Record) -> serde_json::Value {
+    let s = &r.series;
+    let meta = r.meta.as_ref();
+    serde_json::json!({
+        "name": r.name,
+        "table1": meta.and_then(|m| m.table1),
+        "event": meta.map(|m| &m.event),
+        "year": meta.map(|m| m.year),
+        "station": meta.map(|m| &m.station),
+        "component": meta.map(|m| &m.component),
+        "nga": meta.and_then(|m| m.nga),
+        "mw": meta.map(|m| m.mw),
+        "tp": meta.and_then(|m| m.tp),
+        "source": r.source.kind(),
+        "source_detail": r.source.label(),
+        "npts": s.npts(),
+        "dt": s.dt(),
+        "duration": s.end(),
+        "pga_g": s.pga() / G,
+        "pgv": s.pgv(),
+        "pgv_table1": meta.and_then(|m| m.pgv_table1),
+    })
+}
+
+pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
+    let dir = args.records_dir.clone().or_else(Library::default_dir);
+    let library = Library::open(dir)?;
+    let mut rows = Vec::new();
+    let mut failures = Vec::new();
+    for name in library.names() {
+        match library.load(&name, args.baseline) {
+            Ok(r) => rows.push(r),
+            Err(e) => failures.push(format!("{name}: {e}")),
+        }
+    }
+    if args.json {
+        let list: Vec<_> = rows.iter().map(|r| row_json(r)).collect();
+        println!("{}", serde_json::Value::Array(list));
+    } else {
+        print!("{}", table(&library, &rows));
+    }
+    if failures.is_empty() {
+        Ok(())
+    } else {
+        anyhow::bail!(
+            "records that could not be read:\n  {}",
+            failures.join("\n  ")
+        )
+    }
+}
+
+fn table(library: &Library, rows: &[std::sync::Arc<Record>]) -> String {
+    let mut out = format!(
+        "records directory: {}\n",
+        library
+            .dir()
+            .map_or("(none; embedded records only)".to_string(), |d| d
+                .display()
+                .to_string())
+    );
+    out.push_str(
+        "PGA (g) and PGV (m/s) are computed from the data; Tab1 PGV and Tp are the paper's Table 1.\n",
+    );
+    out.push_str(&format!(
+        "{:<2} {:<19} {:<44} {:>6} {:>6} {:>7} {:>6} {:>6} {:>8} {:>5} {:<9} {}\n",
+        "#",
+        "name",
+        "event, station",
+        "npts",
+        "dt s",
+        "dur s",
+        "PGA",
+        "PGV",
+        "Tab1 PGV",
+        "Tp s",
+        "source",
+        "|a| envelope"
+    ));
+    for r in rows {
+        let s = &r.series;
+        let meta = r.meta.as_ref();
+        let place = meta.map_or(String::new(), |m| {
+            format!("{} {}, {}", m.event, m.year, m.station)
+        });
+        out.push_str(&format!(
+            "{:<2} {:<19} {:<44} {:>6} {:>6} {:>7.2} {:>6.3} {:>6.3} {:>8} {:>5} {:<9} {}\n",
+            meta.and_then(|m| m.table1)
+                .map_or("-".into(), |n| n.to_string()),
+            r.name,
+            truncate(&place, 44),
+            s.npts(),
+            s.dt(),
+            s.end(),
+            s.pga() / G,
+            s.pgv(),
+            meta.and_then(|m| m.pgv_table1)
+                .map_or("-".into(), |v| format!("{v:.2}")),
+            meta.and_then(|m| m.tp)
+                .map_or("-".into(), |v| format!("{v:.1}")),
+            r.source.kind(),
+            sparkline(s.samples(), 32),
+        ));
+    }
+    for r in rows {
+        out.push_str(&format!("{}: {}\n", r.name, r.source.label()));
+    }
+    out
+}
+
+fn truncate(s: &str, width: usize) -> String {
+    if s.chars().count() <= width {
+        s.to_string()
+    } else {
+        let mut t: String = s.chars().take(width - 1).collect();
+        t.push('…');
+        t
+    }
+}

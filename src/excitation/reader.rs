@@ -1,0 +1,344 @@
+//! Readers for ground-acceleration files: PEER NGA AT2 (both header styles), plain two-column
+//! (t, a) and one-column files with a known dt. Every error names the file and the line.
+
+use super::G;
+use super::record::Series;
+use std::fmt;
+
+/// A file that cannot be read as an acceleration history.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub struct ParseError {
+    /// File path or name of the embedded file.
+    pub origin: String,
+    /// 1-based line number; 0 when the problem concerns the file as a whole.
+    pub line: usize,
+    pub message: String,
+}
+
+impl fmt::Display for ParseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.line == 0 {
+            write!(f, "{}: {}", self.origin, self.message)
+        } else {
+            write!(f, "{}:{}: {}", self.origin, self.line, self.message)
+        }
+    }
+}
+
+/// Units of the acceleration values in a file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Units {
+    G,
+    CmPerS2,
+    MPerS2,
+}
+
+impl Units {
+    fn to_mps2(self) -> f64 {
+        match self {
+            Units::G => G,
+            Units::CmPerS2 => 0.01,
+            Units::MPerS2 => 1.0,
+        }
+    }
+
+    /// Units named in free header text ("IN UNITS OF G", "# units: cm/s2 ..."), if any.
+    fn named_in(text: &str) -> Option<Units> {
+        let t = text.to_ascii_lowercase();
+        let tail = t
+            .split_once("units of")
+            .or_else(|| t.split_once("units:"))
+            .map(|(_, rest)| rest.trim())?;
+        let word = tail.split_whitespace().next().unwrap_or("");
+        if word.starts_with("cm/s") || word.starts_with("cm/sec") || word == "gal" {
+            Some(Units::CmPerS2)
+        } else if word.starts_with("m/s") {
+            Some(Units::MPerS2)
+        } else if word == "g" || word.starts_with("g,") || word.starts_with("g(") {
+            Some(Units::G)
+        } else {
+            None
+        }
+    }
+}
+
+fn err(origin: &str, line: usize, message: impl Into<String>) -> ParseError {
+    ParseError {
+        origin: origin.to_string(),
+        line,
+        message: message.into(),
+    }
+}
+
+/// Split one line into numbers. Handles separators (spaces, tabs, commas), Fortran `D`
+/// exponents and values printed with no space between them (`1.234E-01-5.678E-02`), which
+/// fixed-width AT2 writers produce when a value fills its field.
+pub fn numbers_in(line: &str, origin: &str, line_no: usize) -> Result<Vec<f64>, ParseError> {
+    let mut out = Vec::new();
+    for token in line.split(|c: char| c.is_whitespace() || c == ',') {
+        if token.is_empty() {
+            continue;
+        }
+        let bytes = token.as_bytes();
+        let mut start = 0;
+        for i in 1..=bytes.len() {
+            let boundary = i == bytes.len()
+                || (matches!(bytes[i], b'+' | b'-')
+                    && !matches!(bytes[i - 1], b'e' | b'E' | b'd' | b'D'));
+            if boundary {
+                let piece = &token[start..i];
+                let value = piece
+                    .replace(['d', 'D'], "E")
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| {
+                        err(
+                            origin,
+                            line_no,
+                            format!("'{piece}' is not a number (in '{}')", line.trim()),
+                        )
+                    })?;
+                out.push(value);
+                start = i;
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Read an acceleration history. The format is detected from the content: a line mentioning
+/// NPTS among the first six makes it an AT2 file; otherwise `#` comment lines may give
+/// `dt:` and `units:`, and the data are one column (a, needs a dt from the header or from
+/// `dt`) or two columns (t, a; uniform spacing required). Units default to g.
+pub fn parse(text: &str, origin: &str, dt: Option<f64>) -> Result<Series, ParseError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    if text.trim().is_empty() {
+        return Err(err(origin, 0, "the file is empty"));
+    }
+    let is_at2 = text
+        .lines()
+        .take(6)
+        .any(|l| !l.trim_start().starts_with('#') && l.to_ascii_uppercase().contains("NPTS"));
+    if is_at2 {
+        parse_at2(text, origin)
+    } else {
+        parse_columns(text, origin, dt)
+    }
+}
+
+/// PEER NGA AT2: free header lines, then a line with NPTS and DT in either the NGA-West1
+/// style (`1991    0.0100    NPTS, DT`) or the NGA-West2 style (`NPTS=  1991, DT=   .0100 SEC`),
+/// then the values in g (or in the units the header names), any number per line. Values past
+/// NPTS (padding some writers add) are ignored.
+fn parse_at2(text: &str, origin: &str) -> Result<Series, ParseError> {
+    let lines: Vec<&str> = text.lines().collect();
+    let header_idx = lines
+        .iter()
+        .take(6)
+        .position(|l| l.to_ascii_uppercase().contains("NPTS"))
+        .expect("checked by the caller");
+    let header_line = header_idx + 1;
+    let (npts, dt) = at2_npts_dt(lines[header_idx], origin, header_line)?;
+    let units = lines[..header_idx]
+        .iter()
+        .find_map(|l| Units::named_in(l))
+        .unwrap_or(Units::G);
+    let mut values = Vec::with_capacity(npts);
+    let mut last_data_line = header_line;
+    for (i, line) in lines.iter().enumerate().skip(header_idx + 1) {
+        if values.len() >= npts {
+            break;
+        }
+        let nums = numbers_in(line, origin, i + 1)?;
+        if !nums.is_empty() {
+            last_data_line = i + 1;
+        }
+        values.extend(nums);
+    }
+    if values.len() < npts {
+        return Err(err(
+            origin,
+            header_line,
+            format!(
+                "the header says NPTS = {npts} but the data hold only {} values (last data on line {last_data_line}); the file may be truncated",
+                values.len()
+            ),
+        ));
+    }
+    values.truncate(npts);
+    let scale = units.to_mps2();
+    Ok(Series::new(
+        0.0,
+        dt,
+        values.iter().map(|v| v * scale).collect(),
+    ))
+}
+
+fn at2_npts_dt(line: &str, origin: &str, line_no: usize) -> Result<(usize, f64), ParseError> {
+    let bad = |why: &str| {
+        err(
+            origin,
+            line_no,
+            format!(
+                "bad AT2 header '{}': {why}; expected 'NPTS= 1991, DT= .0100 SEC' or '1991 0.0100 NPTS, DT'",
+                line.trim()
+            ),
+        )
+    };
+    let upper = line.to_ascii_uppercase();
+    let keyed = upper.contains("NPTS=") || upper.contains("NPTS =");
+    let (npts, dt) = if keyed {
+        let value_after = |key: &str| -> Option<f64> {
+            let rest = &upper[upper.find(key)? + key.len()..];
+            let rest = rest.trim_start().strip_prefix('=')?.trim_start();
+            let end = rest
+                .find(|c: char| !(c.is_ascii_digit() || matches!(c, '.' | '+' | '-' | 'E')))
+                .unwrap_or(rest.len());
+            rest[..end].parse().ok()
+        };
+        (
+            value_after("NPTS").ok_or_else(|| bad("no number after NPTS="))?,
+            value_after("DT").ok_or_else(|| bad("no number after DT="))?,
+        )
+    } else {
+        let before = &upper[..upper.find("NPTS").unwrap_or(upper.len())];
+        let nums = numbers_in(before, origin, line_no).map_err(|_| bad("non-numeric value"))?;
+        match nums[..] {
+            [n, d, ..] => (n, d),
+            _ => return Err(bad("NPTS and DT must precede 'NPTS, DT'")),
+        }
+    };
+    if !(npts >= 1.0 && npts.fract() == 0.0) {
+        return Err(bad(&format!("NPTS = {npts} is not a positive integer")));
+    }
+    if !(dt > 0.0 && dt.is_finite()) {
+        return Err(bad(&format!("DT = {dt} must be > 0")));
+    }
+    Ok((npts as usize, dt))
+}
+
+fn parse_columns(text: &str, origin: &str, dt_given: Option<f64>) -> Result<Series, ParseError> {
+    let mut dt_header = None;
+    let mut units = Units::G;
+    let mut rows: Vec<(usize, Vec<f64>)> = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let trimmed = line.trim();
+        if let Some(comment) = trimmed.strip_prefix('#') {
+            let c = comment.trim().to_ascii_lowercase();
+            if let Some(v) = c.strip_prefix("dt:").or_else(|| c.strip_prefix("dt =")) {
+                let v = v.split_whitespace().next().unwrap_or("");
+                dt_header = Some(
+                    v.parse::<f64>()
+                        .ok()
+                        .filter(|d| *d > 0.0 && d.is_finite())
+                        .ok_or_else(|| err(origin, i + 1, format!("bad '# dt:' value '{v}'")))?,
+                );
+            } else if let Some(u) = Units::named_in(&c) {
+                units = u;
+            }
+            continue;
+        }
+        if trimmed.is_empty() {
+            continue;
+        }
+        let nums = numbers_in(trimmed, origin, i + 1)?;
+        rows.push((i + 1, nums));
+    }
+    let Some((first_line, first)) = rows.first() else {
+        return Err(err(
+            origin,
+            0,
+            "no data lines (only comments or blank lines)",
+        ));
+    };
+    let columns = first.len();
+    if let Some((line, r)) = rows.iter().find(|(_, r)| r.len() != columns) {
+        return Err(err(
+            origin,
+            *line,
+            format!(
+                "{} values on this line but {columns} on line {first_line}; expected one column (a) or two (t, a)",
+                r.len()
+            ),
+        ));
+    }
+    let scale = units.to_mps2();
+    match columns {
+        1 => {
+            if let (Some(given), Some(header)) = (dt_given, dt_header)
+                && given != header
+            {
+                return Err(err(
+                    origin,
+                    0,
+                    format!(
+                        "dt {given} given for this file differs from its '# dt: {header}' header"
+                    ),
+                ));
+            }
+            let dt = dt_given
+                .or(dt_header)
+                .filter(|d| *d > 0.0 && d.is_finite())
+                .ok_or_else(|| {
+                    err(
+                        origin,
+                        0,
+                        "a one-column file needs a time step > 0: add a '# dt: 0.01' header line",
+                    )
+                })?;
+            Ok(Series::new(
+                0.0,
+                dt,
+                rows.iter().map(|(_, r)| r[0] * scale).collect(),
+            ))
+        }
+        2 => {
+            let n = rows.len();
+            if n < 2 {
+                return Err(err(
+                    origin,
+                    *first_line,
+                    "a two-column file needs at least two rows",
+                ));
+            }
+            let t0 = rows[0].1[0];
+            let dt = (rows[n - 1].1[0] - t0) / (n - 1) as f64;
+            if dt.is_nan() || dt <= 0.0 {
+                return Err(err(origin, rows[n - 1].0, "times must increase"));
+            }
+            if t0 < 0.0 {
+                return Err(err(
+                    origin,
+                    *first_line,
+                    format!("negative start time {t0}"),
+                ));
+            }
+            // Printed times carry rounding; a step more than 1% off the first is a real gap.
+            let step = rows[1].1[0] - t0;
+            for pair in rows.windows(2) {
+                let (line, r) = (&pair[1].0, &pair[1].1);
+                if (r[0] - pair[0].1[0] - step).abs() > 0.01 * step {
+                    return Err(err(
+                        origin,
+                        *line,
+                        format!(
+                            "time {} breaks the uniform step {step} of the first rows; resample to a uniform step",
+                            r[0]
+                        ),
+                    ));
+                }
+            }
+            Ok(Series::new(
+                t0,
+                dt,
+                rows.iter().map(|(_, r)| r[1] * scale).collect(),
+            ))
+        }
+        _ => Err(err(
+            origin,
+            *first_line,
+            format!("{columns} values per line; expected one column (a) or two (t, a)"),
+        )),
+    }
+}
