@@ -181,6 +181,8 @@ fn reruns_reuse_finished_scenes_by_key_and_fresh_runs_do_not() {
     let r = tampered.outcomes[5].result.as_mut().unwrap();
     r.peak_rotation_ratio = 123.0;
     r.overturned = false;
+    // A recorded failure is not reused: the scene runs again.
+    tampered.outcomes[6].result = Err("record file missing".into());
     report::save_results(&cache, &tampered).unwrap();
     let reused = run_with(
         &study,

@@ -105,15 +105,13 @@ pub fn quantities(results: &SweepResults) -> Vec<Quantity> {
 /// One spectrum per group (plus the map's y value when the study has a map) and quantity,
 /// over the first coordinate of the points (the study's spectrum axis), sorted by x.
 pub fn spectra(results: &SweepResults) -> Vec<Spectrum> {
-    let map_y = results
+    // Map axes other than the spectrum axis separate spectra (one per amplitude, say).
+    let map_labels: Vec<String> = results
         .study
         .as_ref()
-        .and_then(|s| s.map.map(|m| (m, s.spectrum, s)))
-        .map(|(m, spectrum, s)| {
-            // The map axis that is not the spectrum axis separates spectra.
-            let other = if m.x == spectrum { m.y } else { m.x };
-            s.axis_label(other)
-        });
+        .and_then(|s| s.map.map(|m| [s.axis_label(m.x), s.axis_label(m.y)]))
+        .map(Vec::from)
+        .unwrap_or_default();
     // (group, axis, points (x, outcome)) in order of first appearance.
     type Series<'a> = (String, String, Vec<(f64, &'a crate::sweep::SceneOutcome)>);
     let mut series: Vec<Series> = Vec::new();
@@ -122,10 +120,10 @@ pub fn spectra(results: &SweepResults) -> Vec<Spectrum> {
             continue;
         };
         let mut group = o.point.group.clone();
-        if let Some(label) = &map_y
-            && let Some(v) = o.point.coord(label)
-        {
-            group = format!("{group} {label}={}", crate::study::fmt_num(v));
+        for (label, v) in &o.point.coords[1..] {
+            if map_labels.contains(label) {
+                group = format!("{group} {label}={}", crate::study::fmt_num(*v));
+            }
         }
         match series.iter_mut().find(|(g, _, _)| *g == group) {
             Some((_, _, pts)) => pts.push((*x, o)),

@@ -620,9 +620,7 @@ fn label(
     for (p, &i) in params.iter().zip(odometer) {
         let v = p.values[i];
         if let Some(names) = &p.names {
-            if names.len() > 1 || study.devices.len() == 1 {
-                record = Some(names[i].clone());
-            }
+            record = Some(names[i].clone());
             continue;
         }
         let is_spectrum = p.axis == Some(study.spectrum);
