@@ -463,3 +463,22 @@ fn settled_tail_cut_leaves_peaks_unchanged() {
         "the cut applied in only {cut_some} of 20 scenes"
     );
 }
+
+/// Free rocking from θ0 with flywheel devices: the flywheels start where the block is
+/// (unloaded springs), so the peak is θ0 and nothing is thrown over.
+#[test]
+fn free_rocking_with_flywheels_starts_with_unloaded_springs() {
+    for (name, device) in all_devices() {
+        let mut s = fig8(device);
+        s.excitation = pulse(Amplitude::G(0.0), 1.0);
+        s.initial_rotation = 0.5 * ALPHA_10;
+        let r = run(&s);
+        assert!(!r.overturned, "{name}");
+        assert!(
+            rel(r.peaks.rotation, 0.5 * ALPHA_10) < 1e-12,
+            "{name}: {}",
+            r.peaks.rotation
+        );
+        assert!(r.energy_residual < 1e-6, "{name}: {}", r.energy_residual);
+    }
+}

@@ -54,6 +54,49 @@ pub fn rigid_fig8(device: Device) -> Scene {
     }
 }
 
+/// The flexible structure of the paper's Fig. 14 (MODEL.md case 6): R0 = 10 m, α = 0.2,
+/// ξ = 0.02, ωn/p = 8, one-sine A/(g tan α) = 1.5, ωg/p = 8, 30 s.
+pub fn flexible_fig14(device: Device) -> Scene {
+    let r0 = 10.0;
+    Scene {
+        structure: Structure::Flexible(FlexibleStructure {
+            r0,
+            alpha: 0.2,
+            mass: 1.0,
+            xi: 0.02,
+            omega_n: 8.0 * (G / r0).sqrt(),
+        }),
+        device,
+        impact: Impact::default(),
+        excitation: Excitation::Pulse {
+            shape: PulseShape::Sine,
+            amplitude: Amplitude::TanAlphaRatio(1.5),
+            frequency: Frequency::Ratio(8.0),
+        },
+        duration: 30.0,
+        rtol: default_rtol(),
+        initial_rotation: 0.0,
+        stop_when_settled: false,
+    }
+}
+
+/// The Fig. 24 structure (R0 = 10 m, α = 0.2, ξ = ξθ = 0.02, ωn = 12 rad/s) under the
+/// Landers–Lucerne fault-normal record (48 s record + 10 s).
+pub fn flexible_landers(device: Device) -> Scene {
+    let mut s = flexible_fig14(device);
+    if let Structure::Flexible(f) = &mut s.structure {
+        f.omega_n = 12.0;
+    }
+    s.excitation = Excitation::Record {
+        name: "landers".into(),
+        scale: RecordScale::Factor(1.0),
+        baseline: false,
+        kinks: Default::default(),
+    };
+    s.duration = 58.0;
+    s
+}
+
 /// A rigid block R = 5 m, α = 0.2 under the Northridge–Rinaldi fault-normal record (30 s).
 pub fn rigid_northridge(device: Device) -> Scene {
     Scene {
@@ -95,6 +138,25 @@ pub fn scenes() -> Vec<BenchScene> {
         BenchScene {
             name: "rigid mechanistic, Northridge record",
             scene: rigid_northridge(Device::Mechanistic(Clutch::paper_default(0.5))),
+        },
+        BenchScene {
+            name: "flexible sequential, Fig. 14",
+            scene: flexible_fig14(Device::Sequential { sigma: 0.5 }),
+        },
+        BenchScene {
+            name: "flexible mechanistic, Fig. 14",
+            scene: flexible_fig14(Device::Mechanistic(Clutch::paper_default(0.5))),
+        },
+        BenchScene {
+            name: "flexible sequential, Landers record",
+            scene: flexible_landers(Device::Sequential { sigma: 0.5 }),
+        },
+        BenchScene {
+            name: "flexible mechanistic, Landers record",
+            scene: flexible_landers(Device::Mechanistic(Clutch {
+                damping: Damping::XiTheta(0.02),
+                ..Clutch::paper_default(0.5)
+            })),
         },
     ]
 }

@@ -70,13 +70,13 @@ pub struct SimulateArgs {
     #[arg(long, value_enum, default_value = "exact")]
     pub form: FormKind,
     /// Flexible: column damping ratio ξ.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub xi: Option<f64>,
     /// Flexible: column natural frequency ωn (rad/s).
-    #[arg(long, conflicts_with = "omega_ratio")]
+    #[arg(long, conflicts_with = "omega_ratio", allow_negative_numbers = true)]
     pub omega_n: Option<f64>,
     /// Flexible: ωn/p.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub omega_ratio: Option<f64>,
     #[arg(long, value_enum, default_value = "none")]
     pub device: DeviceKind,
@@ -276,10 +276,24 @@ impl SimulateArgs {
                     "--form slender only applies to --structure rigid",
                 ));
             }
+            // The flexible structure lands by the VVEL rule (MODEL.md): no restitution to choose.
+            if self.impact != ImpactKind::Housner || self.restitution.is_some() {
+                return Err(UsageError::new(
+                    "--impact and --restitution only apply to --structure rigid \
+                     (the flexible structure uses the VVEL impact of Chopra and Yim)",
+                ));
+            }
             let p = (crate::excitation::G / size).sqrt();
             let omega_n = match (self.omega_n, self.omega_ratio) {
                 (Some(w), None) => w,
-                (None, Some(r)) => r * p,
+                (None, Some(r)) if r.is_finite() && r > 0.0 => r * p,
+                (None, Some(r)) => {
+                    return Err(UsageError::invalid(
+                        "--omega-ratio",
+                        r,
+                        "ωn/p must be a finite number > 0",
+                    ));
+                }
                 _ => {
                     return Err(UsageError::new(
                         "one of --omega-n or --omega-ratio is required with --structure flexible",

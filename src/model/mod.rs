@@ -3,6 +3,7 @@
 
 pub mod clutch;
 pub mod device;
+pub mod flexible;
 pub mod rigid;
 
 use crate::solver::{Dense, OdeSystem};

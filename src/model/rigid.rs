@@ -395,6 +395,82 @@ impl<'m> RigidModel<'m> {
         Action::Idle { until }
     }
 
+    /// Apply the jump of one event.
+    fn apply_event(&mut self, index: usize, t: f64, y: &mut [f64]) -> Action {
+        match self.events[index] {
+            Ev::Impact => {
+                self.counters.impacts += 1;
+                if self.dirac.is_some() {
+                    // The Gaussian moment already took the energy: switch pivots only.
+                    self.dirac_energy = None;
+                } else {
+                    let r = self.restitution();
+                    let ke = 0.5 * self.i0 * y[1] * y[1] + self.coupled_kinetic(y);
+                    self.ledger.impact += (1.0 - r) * ke;
+                    y[1] *= r.sqrt();
+                }
+                y[0] = 0.0;
+                self.pivot = -self.pivot;
+                if y[1].abs() < self.rest_rate {
+                    return self.enter_contact(t, y);
+                }
+                self.resync_sequential(t, y);
+                Action::Continue
+            }
+            Ev::Overturn => Action::Stop(EndReason::Overturned),
+            Ev::Uplift(side) => self.uplift(side, y),
+            Ev::Sequential => {
+                self.toggle_sequential(y);
+                Action::Continue
+            }
+            Ev::DiracZone => {
+                self.dirac_energy = match self.dirac_energy {
+                    Some(_) => None,
+                    None => Some(0.5 * self.i0 * y[1] * y[1]),
+                };
+                Action::Continue
+            }
+            Ev::ContactA | Ev::ContactB => {
+                let engaging = self.event_value(self.events[index], t, y)
+                    * if self.events[index] == Ev::ContactA {
+                        1.0
+                    } else {
+                        -1.0
+                    }
+                    > 0.0;
+                if engaging {
+                    self.counters.engagements += 1;
+                }
+                Action::Continue
+            }
+            Ev::ResetA | Ev::ResetB => {
+                let (x, _) = self.x_xdot(y);
+                let (j, before, after) = if self.events[index] == Ev::ResetA {
+                    (
+                        2,
+                        self.dev.clutch_potential_a(x - y[2]),
+                        self.dev.clutch_potential_a(0.0),
+                    )
+                } else {
+                    (
+                        4,
+                        self.dev.clutch_potential_b(x - y[4]),
+                        self.dev.clutch_potential_b(0.0),
+                    )
+                };
+                y[j] = x;
+                self.ledger.reset += before - after;
+                self.counters.resets += 1;
+                // Without play the reset lands on the clutch corner and engages at once.
+                if matches!(self.dev, DeviceModel::Clutch(c) if c.play == 0.0) {
+                    self.counters.engagements += 1;
+                }
+                Action::Continue
+            }
+            Ev::GuardA | Ev::GuardB => Action::Continue,
+        }
+    }
+
     fn absolute_acceleration(&self, t: f64, y: &[f64], dy: &[f64]) -> f64 {
         let ag = self.motion.accel(t);
         if self.phase == Phase::Contact {
@@ -480,84 +556,32 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
             self.phase = Phase::Rocking;
             self.pivot = self.initial_rotation.signum();
             y[0] = self.initial_rotation;
+            // Flywheels start at rest where the block is: unloaded springs.
+            let (x, _) = self.x_xdot(y);
+            for j in (2..self.acc).step_by(2) {
+                y[j] = x;
+            }
             return Action::Continue;
         }
         self.enter_contact(0.0, y)
     }
 
     fn on_event(&mut self, index: usize, t: f64, y: &mut [f64; N]) -> Action {
-        match self.events[index] {
-            Ev::Impact => {
-                self.counters.impacts += 1;
-                if self.dirac.is_some() {
-                    // The Gaussian moment already took the energy: switch pivots only.
-                    self.dirac_energy = None;
-                } else {
-                    let r = self.restitution();
-                    let ke = 0.5 * self.i0 * y[1] * y[1] + self.coupled_kinetic(y);
-                    self.ledger.impact += (1.0 - r) * ke;
-                    y[1] *= r.sqrt();
-                }
-                y[0] = 0.0;
-                self.pivot = -self.pivot;
-                if y[1].abs() < self.rest_rate {
-                    return self.enter_contact(t, y);
-                }
-                self.resync_sequential(t, y);
-                Action::Continue
+        let action = self.apply_event(index, t, y);
+        // Two events can fall within the root finder's last bracket (~1e-15 s); the one not
+        // reported then already sits on its post-crossing side. Catch overturning and landing.
+        if action == Action::Continue && self.phase == Phase::Rocking {
+            if self.pivot * y[0] >= self.alpha {
+                return Action::Stop(EndReason::Overturned);
             }
-            Ev::Overturn => Action::Stop(EndReason::Overturned),
-            Ev::Uplift(side) => self.uplift(side, y),
-            Ev::Sequential => {
-                self.toggle_sequential(y);
-                Action::Continue
+            if self.pivot * y[0] < 0.0 {
+                let impact = self.events[..self.n_events]
+                    .iter()
+                    .position(|e| *e == Ev::Impact);
+                return self.apply_event(impact.expect("impact is always an event"), t, y);
             }
-            Ev::DiracZone => {
-                self.dirac_energy = match self.dirac_energy {
-                    Some(_) => None,
-                    None => Some(0.5 * self.i0 * y[1] * y[1]),
-                };
-                Action::Continue
-            }
-            Ev::ContactA | Ev::ContactB => {
-                let engaging = self.event_value(self.events[index], t, y)
-                    * if self.events[index] == Ev::ContactA {
-                        1.0
-                    } else {
-                        -1.0
-                    }
-                    > 0.0;
-                if engaging {
-                    self.counters.engagements += 1;
-                }
-                Action::Continue
-            }
-            Ev::ResetA | Ev::ResetB => {
-                let (x, _) = self.x_xdot(y);
-                let (j, before, after) = if self.events[index] == Ev::ResetA {
-                    (
-                        2,
-                        self.dev.clutch_potential_a(x - y[2]),
-                        self.dev.clutch_potential_a(0.0),
-                    )
-                } else {
-                    (
-                        4,
-                        self.dev.clutch_potential_b(x - y[4]),
-                        self.dev.clutch_potential_b(0.0),
-                    )
-                };
-                y[j] = x;
-                self.ledger.reset += before - after;
-                self.counters.resets += 1;
-                // Without play the reset lands on the clutch corner and engages at once.
-                if matches!(self.dev, DeviceModel::Clutch(c) if c.play == 0.0) {
-                    self.counters.engagements += 1;
-                }
-                Action::Continue
-            }
-            Ev::GuardA | Ev::GuardB => Action::Continue,
         }
+        action
     }
 
     fn wake(&mut self, t: f64, y: &mut [f64; N]) -> Action {

@@ -3,9 +3,10 @@
 
 use crate::excitation::{Motion, Pulse, RecordMotion, library};
 use crate::model::device::DeviceModel;
+use crate::model::flexible::FlexibleModel;
 use crate::model::rigid::RigidModel;
 use crate::model::{Action, Counters, EndReason, Energy, Peaks, SimModel};
-use crate::scene::{Excitation, Scene, Structure};
+use crate::scene::{Excitation, Impact, Scene, Structure};
 use crate::solver::{Integrator, Options, SolverError, Stats, StepOutcome};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -138,7 +139,28 @@ pub fn run_with_history(
                 _ => drive::<10, _>(&mut model, &motion, scene, s, history.as_mut()),
             }?
         }
-        Structure::Flexible(_) => return Err(SimError::Unsupported("the flexible structure")),
+        Structure::Flexible(flex) => {
+            if scene.impact != Impact::default() {
+                return Err(SimError::Invalid(
+                    "impact: the flexible structure uses the VVEL impact (MODEL.md); \
+                     Housner restitution and Dirac impacts apply to rigid blocks only"
+                        .into(),
+                ));
+            }
+            let p = scene.structure.p();
+            let device = DeviceModel::new(&scene.device, flex.mass, p);
+            let mut model = FlexibleModel::new(flex, device, &motion, scene.initial_rotation);
+            let (state, energy) = FlexibleModel::scales(flex, &motion, p);
+            let s = Scales {
+                state: &state,
+                energy,
+            };
+            match FlexibleModel::state_len(&device) {
+                8 => drive::<8, _>(&mut model, &motion, scene, s, history.as_mut()),
+                10 => drive::<10, _>(&mut model, &motion, scene, s, history.as_mut()),
+                _ => drive::<12, _>(&mut model, &motion, scene, s, history.as_mut()),
+            }?
+        }
     };
     result.peak_rotation_ratio = result.peaks.rotation / scene.structure.alpha();
     result.wall_seconds = started.elapsed().as_secs_f64();
@@ -218,6 +240,18 @@ fn drive<const N: usize, M: SimModel<N>>(
             let e = model.energy(&y);
             energy_scale = energy_scale.max(e.input.abs()).max(e.structure + e.inerter);
             match outcome {
+                // A model may settle between breakpoints (a flexible column's free vibration
+                // decays with no event to mark it).
+                StepOutcome::Stepped if t >= motion.end() => {
+                    if model.at_rest(t, &y) {
+                        record(&mut history, model, t, &y);
+                        break 'run EndReason::Rest;
+                    }
+                    if scene.stop_when_settled && model.settled(&y) {
+                        record(&mut history, model, t, &y);
+                        break 'run EndReason::Settled;
+                    }
+                }
                 StepOutcome::Stepped => {}
                 StepOutcome::Reached => {
                     if t >= duration {
