@@ -181,6 +181,8 @@ fn reruns_reuse_finished_scenes_by_key_and_fresh_runs_do_not() {
     let r = tampered.outcomes[5].result.as_mut().unwrap();
     r.peak_rotation_ratio = 123.0;
     r.overturned = false;
+    // A recorded failure is not reused: the scene runs again.
+    tampered.outcomes[6].result = Err("record file missing".into());
     report::save_results(&cache, &tampered).unwrap();
     let reused = run_with(
         &study,
@@ -491,4 +493,52 @@ fn a_bad_study_file_exits_2_naming_the_place() {
     assert!(!dir.path().join("results.json").exists());
     let out = rocklab(&["run", "default", "--shard", "3/3"]);
     assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn record_studies_run_each_record_at_each_scale() {
+    let text = r#"(
+        version: 1,
+        name: "records",
+        structure: rigid(p: [1.5, 3.0], alpha: 0.2),
+        devices: [none, mechanistic(sigma: 0.5, xi_theta: 0.02)],
+        excitation: record(names: ["northridge", "palm_springs"], scale: [0.0, 1.0]),
+        spectrum: p,
+        duration: 30.0,
+    )"#;
+    let study = Study::from_ron_str(text, "records.ron").unwrap();
+    let results = run_with(&study, SweepOptions::default());
+    assert_eq!(results.outcomes.len(), 2 * 2 * 2 * 2);
+    for o in &results.outcomes {
+        let r = o.result.as_ref().unwrap();
+        let scale = o.point.coord("scale").unwrap();
+        assert!(
+            o.point.group.starts_with("northridge · ")
+                || o.point.group.starts_with("palm_springs · ")
+        );
+        if scale == 0.0 {
+            // No ground motion: the structure never leaves the ground.
+            assert_eq!(
+                (r.peaks.rotation, r.overturned),
+                (0.0, false),
+                "{}",
+                o.point.group
+            );
+        }
+    }
+    // At full scale, Northridge (PGA 0.87 g) lifts the bare block with p = 1.5 (uplift at
+    // g·tan α = 0.2 g).
+    let full = results
+        .outcomes
+        .iter()
+        .find(|o| {
+            o.point.group == "northridge · bare scale=1" && o.point.coords[0] == ("p".into(), 1.5)
+        })
+        .unwrap();
+    let r = full.result.as_ref().unwrap();
+    assert!(r.overturned || r.peaks.rotation > 0.0, "{r:?}");
+    let bad = Study::from_ron_str(&text.replace("palm_springs", "kobe"), "bad.ron").unwrap_err();
+    assert_eq!(bad.field.as_deref(), Some("excitation.names[1]"));
+    assert!(bad.to_string().contains("rocklab records"), "{bad}");
+    assert!(bad.line.is_some(), "{bad}");
 }

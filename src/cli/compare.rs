@@ -60,8 +60,21 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
-    for (a, b) in pairs {
+    for (a, b) in &pairs {
         print!("{}", side_by_side(a, b));
+    }
+    let peak_ratios: Vec<f64> = pairs
+        .iter()
+        .filter_map(|(a, b)| Some(peak(&b.ys)? / peak(&a.ys)?))
+        .filter(|r| r.is_finite())
+        .collect();
+    if pairs.len() > 1 && !peak_ratios.is_empty() {
+        let mean = peak_ratios.iter().sum::<f64>() / peak_ratios.len() as f64;
+        println!(
+            "\nover {} pairs: mean ratio of spectrum peaks b/a = {mean:.3} ({:+.1}%)",
+            peak_ratios.len(),
+            100.0 * (mean - 1.0)
+        );
     }
     Ok(())
 }
@@ -120,12 +133,6 @@ pub fn side_by_side(a: &Spectrum, b: &Spectrum) -> String {
             ratio[i].map_or("—".to_string(), |r| format!("{r:.3}"))
         );
     }
-    let peak = |ys: &[Option<f64>]| {
-        ys.iter()
-            .flatten()
-            .copied()
-            .fold(None, |m: Option<f64>, v| Some(m.map_or(v, |m| m.max(v))))
-    };
     if let (Some(pa), Some(pb)) = (peak(&a.ys), peak(&ys_b)) {
         let finite: Vec<f64> = ratio.iter().flatten().copied().collect();
         let mean = finite.iter().sum::<f64>() / finite.len().max(1) as f64;
@@ -139,4 +146,9 @@ pub fn side_by_side(a: &Spectrum, b: &Spectrum) -> String {
         );
     }
     s
+}
+
+/// Largest value of a spectrum, ignoring gaps.
+fn peak(ys: &[Option<f64>]) -> Option<f64> {
+    ys.iter().flatten().copied().reduce(f64::max)
 }

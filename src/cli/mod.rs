@@ -24,8 +24,6 @@ pub struct Cli {
     pub mono: bool,
 }
 
-// Parsed once per process: the size difference between the commands' arguments does not matter.
-#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Run one scene and print its peaks.

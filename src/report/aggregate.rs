@@ -105,15 +105,13 @@ pub fn quantities(results: &SweepResults) -> Vec<Quantity> {
 /// One spectrum per group (plus the map's y value when the study has a map) and quantity,
 /// over the first coordinate of the points (the study's spectrum axis), sorted by x.
 pub fn spectra(results: &SweepResults) -> Vec<Spectrum> {
-    let map_y = results
+    // Map axes other than the spectrum axis separate spectra (one per amplitude, say).
+    let map_labels: Vec<String> = results
         .study
         .as_ref()
-        .and_then(|s| s.map.map(|m| (m, s.spectrum, s)))
-        .map(|(m, spectrum, s)| {
-            // The map axis that is not the spectrum axis separates spectra.
-            let other = if m.x == spectrum { m.y } else { m.x };
-            s.axis_label(other)
-        });
+        .and_then(|s| s.map.map(|m| [s.axis_label(m.x), s.axis_label(m.y)]))
+        .map(Vec::from)
+        .unwrap_or_default();
     // (group, axis, points (x, outcome)) in order of first appearance.
     type Series<'a> = (String, String, Vec<(f64, &'a crate::sweep::SceneOutcome)>);
     let mut series: Vec<Series> = Vec::new();
@@ -122,10 +120,10 @@ pub fn spectra(results: &SweepResults) -> Vec<Spectrum> {
             continue;
         };
         let mut group = o.point.group.clone();
-        if let Some(label) = &map_y
-            && let Some(v) = o.point.coord(label)
-        {
-            group = format!("{group} {label}={}", crate::study::fmt_num(v));
+        for (label, v) in &o.point.coords[1..] {
+            if map_labels.contains(label) {
+                group = format!("{group} {label}={}", crate::study::fmt_num(*v));
+            }
         }
         match series.iter_mut().find(|(g, _, _)| *g == group) {
             Some((_, _, pts)) => pts.push((*x, o)),
@@ -227,12 +225,12 @@ pub fn compare(a: &Spectrum, b: &Spectrum) -> Vec<Option<f64>> {
         .collect()
 }
 
-/// Unicode sparkline scaled to the largest value; gaps (None) are spaces.
+/// Unicode sparkline from the smallest (▁) to the largest (█) value; gaps (None) are spaces.
 pub fn sparkline(values: &[Option<f64>]) -> String {
     const BARS: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
     let finite = values.iter().flatten().filter(|v| v.is_finite());
     let max = finite.clone().fold(f64::NEG_INFINITY, |m, v| m.max(*v));
-    let min = finite.fold(f64::INFINITY, |m, v| m.min(*v)).min(0.0);
+    let min = finite.fold(f64::INFINITY, |m, v| m.min(*v));
     values
         .iter()
         .map(|v| match v {
@@ -254,6 +252,8 @@ mod tests {
     fn sparkline_scales_to_the_maximum_and_leaves_gaps() {
         assert_eq!(sparkline(&[Some(0.0), Some(0.5), None, Some(1.0)]), "▁▅ █");
         assert_eq!(sparkline(&[]), "");
+        // Scaled between the extremes, so small variations show.
+        assert_eq!(sparkline(&[Some(20.0), Some(21.0), Some(22.0)]), "▁▅█");
     }
 
     #[test]

@@ -150,7 +150,27 @@ pub fn summary(results: &SweepResults) -> String {
             o.result.as_ref().err().map_or("", |e| e.as_str())
         );
     }
-    let spectra = spectra(results);
+    let mut spectra = spectra(results);
+    // Maps over a fine amplitude grid make hundreds of spectra: show the first few per quantity.
+    const SHOWN: usize = 24;
+    let mut hidden = 0;
+    let mut seen: Vec<(crate::report::Quantity, usize)> = Vec::new();
+    spectra.retain(|sp| {
+        let count = match seen.iter_mut().find(|(q, _)| *q == sp.quantity) {
+            Some((_, n)) => {
+                *n += 1;
+                *n
+            }
+            None => {
+                seen.push((sp.quantity, 1));
+                1
+            }
+        };
+        if count > SHOWN {
+            hidden += 1;
+        }
+        count <= SHOWN
+    });
     let width = spectra
         .iter()
         .map(|sp| sp.group.chars().count())
@@ -185,6 +205,12 @@ pub fn summary(results: &SweepResults) -> String {
             sp.group,
             sparkline(&sp.ys),
             width = width
+        );
+    }
+    if hidden > 0 {
+        let _ = writeln!(
+            s,
+            "  … {hidden} more spectra in results.csv / results.json (`rocklab plot` draws them all)"
         );
     }
     for m in maps(results) {

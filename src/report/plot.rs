@@ -27,6 +27,8 @@ impl ImageFormat {
 
 const FONT: &str = "sans-serif";
 const SIZE: (u32, u32) = (900, 600);
+/// Most series drawn in one spectra figure.
+const MAX_SERIES: usize = 16;
 
 fn register_font() {
     static ONCE: Once = Once::new();
@@ -312,6 +314,15 @@ pub fn plot_spectra(
     }
     for q in quantities {
         let of_q: Vec<&Spectrum> = spectra.iter().filter(|s| s.quantity == q).collect();
+        if of_q.len() > MAX_SERIES {
+            // A fine map grid: one spectrum per amplitude would be unreadable; the map says it.
+            eprintln!(
+                "{} spectra of {}: too many for one figure, skipped (see results.csv)",
+                of_q.len(),
+                q.name()
+            );
+            continue;
+        }
         let path = dir.join(format!("spectrum-{}.{}", q.name(), format.extension()));
         let title = format!("{study_name}: {} (gaps: overturned or failed)", q.label());
         render(

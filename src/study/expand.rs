@@ -3,12 +3,12 @@
 //! record scale) varies fastest.
 
 use super::{
-    AmplitudeAxis, Axis, DeviceVariant, ExcitationFamily, FrequencyAxis, ScenePoint,
+    AmplitudeAxis, Axis, DeviceVariant, ExcitationFamily, FrequencyAxis, RecordScaling, ScenePoint,
     StructureFamily, Study, StudyError, VERSION, Values, scene_key,
 };
 use crate::scene::{
     Amplitude, Clutch, ClutchStiffness, Damping, Device, Excitation, FlexibleStructure, Frequency,
-    RigidBlock, Scene, Structure,
+    RecordScale, RigidBlock, Scene, Structure,
 };
 
 /// Studies larger than this are almost certainly a typo in a range.
@@ -50,6 +50,7 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
 
 pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
     check_top_level(study)?;
+    check_records(study)?;
     let mut points = Vec::new();
     for (d, device) in study.devices.iter().enumerate() {
         let mut params = structure_params(&study.structure);
@@ -357,7 +358,7 @@ fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Param>, StudyError> {
                 ),
             ]
         }
-        ExcitationFamily::Record { names, scale } => {
+        ExcitationFamily::Record { names, scale, .. } => {
             let mut record = Param::new(
                 "record",
                 "excitation.names".into(),
@@ -522,12 +523,54 @@ fn build_excitation(
                 },
             })
         }
-        ExcitationFamily::Record { .. } => Err(StudyError::field(
-            "excitation",
-            "ground-motion records are not available in this build yet",
-            "records arrive with the record library (issue 4); use a pulse excitation for now",
-        )),
+        ExcitationFamily::Record {
+            names,
+            scale_to,
+            baseline,
+            kinks,
+            ..
+        } => {
+            let index = value("record") as usize;
+            let scale = value("scale");
+            Ok(Excitation::Record {
+                name: names[index].clone(),
+                scale: match scale_to {
+                    RecordScaling::Factor => RecordScale::Factor(scale),
+                    RecordScaling::Pga => RecordScale::Pga(scale),
+                    RecordScaling::Pgv => RecordScale::Pgv(scale),
+                },
+                baseline: *baseline,
+                kinks: *kinks,
+            })
+        }
     }
+}
+
+/// Every record the study names must be in the library (loading it also parses it once for
+/// the whole sweep).
+fn check_records(study: &Study) -> Result<(), StudyError> {
+    if let ExcitationFamily::Record {
+        names, baseline, ..
+    } = &study.excitation
+    {
+        let library = crate::excitation::library::global().map_err(|e| {
+            StudyError::field(
+                "excitation.names",
+                format!("the record library cannot be opened: {e}"),
+                "set ROCKLAB_RECORDS to the records directory, or run from the repository",
+            )
+        })?;
+        for (i, name) in names.iter().enumerate() {
+            library.load(name, *baseline).map_err(|e| {
+                StudyError::field(
+                    format!("excitation.names[{i}]"),
+                    e.to_string(),
+                    "`rocklab records` lists the library's record names",
+                )
+            })?;
+        }
+    }
+    Ok(())
 }
 
 /// A scene-level validation failure, pointed at the study field that produced it.
@@ -577,9 +620,7 @@ fn label(
     for (p, &i) in params.iter().zip(odometer) {
         let v = p.values[i];
         if let Some(names) = &p.names {
-            if names.len() > 1 || study.devices.len() == 1 {
-                record = Some(names[i].clone());
-            }
+            record = Some(names[i].clone());
             continue;
         }
         let is_spectrum = p.axis == Some(study.spectrum);

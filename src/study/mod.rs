@@ -15,7 +15,7 @@ pub use error::StudyError;
 pub use expand::{device_label, fmt_num};
 pub use values::Values;
 
-use crate::excitation::PulseShape;
+use crate::excitation::{KinkPolicy, PulseShape};
 use crate::report::Quantity;
 use crate::scene::{Coupling, Form, Impact, ResetRule, Scene};
 use serde::{Deserialize, Serialize};
@@ -185,12 +185,34 @@ pub enum ExcitationFamily {
         amplitude: AmplitudeAxis,
         frequency: FrequencyAxis,
     },
-    /// Recorded ground motions from the record library, each scaled by `scale`.
+    /// Recorded ground motions from the record library (`rocklab records` lists them), each
+    /// scaled by `scale`: a factor (default), or a target PGA (g) or PGV (m/s) per `scale_to`.
     Record {
         names: Vec<String>,
         #[serde(default = "unit_values")]
         scale: Values,
+        #[serde(default)]
+        scale_to: RecordScaling,
+        /// Baseline-correct the records first.
+        #[serde(default)]
+        baseline: bool,
+        /// Whether the integrator stops at every sample (default) or steps over the kinks.
+        #[serde(default)]
+        kinks: KinkPolicy,
     },
+}
+
+/// What a record's `scale` value means.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RecordScaling {
+    /// a_g = scale · record.
+    #[default]
+    Factor,
+    /// Scaled to a peak ground acceleration of `scale` g.
+    Pga,
+    /// Scaled to a peak ground velocity of `scale` m/s.
+    Pgv,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -180,10 +180,13 @@ fn all_finite(r: &SceneResult) -> bool {
     .all(|v| v.is_finite())
 }
 
+/// Finished scenes of a previous run by key. Failures are not reused: they may come from the
+/// environment (a missing record file) and rerunning them is cheap.
 fn cache_by_key(results: SweepResults) -> HashMap<String, Result<SceneResult, String>> {
     results
         .outcomes
         .into_iter()
+        .filter(|o| o.result.is_ok())
         .map(|o| (o.point.key, o.result))
         .collect()
 }
