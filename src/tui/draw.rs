@@ -905,29 +905,44 @@ fn draw_scene(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
     }
 }
 
-/// Series of one chart: (legend name, history column, scale).
-type Panel = (&'static str, &'static [(&'static str, &'static str)]);
+/// One chart: title and (legend name, history column) of each series.
+struct Panel {
+    title: String,
+    series: Vec<(String, &'static str)>,
+}
 
-const PANELS: [Panel; 4] = [
-    ("rotation θ (rad)", &[("θ", "theta")]),
-    (
-        "flywheel velocities",
-        &[("a", "flywheel_a_vel"), ("b", "flywheel_b_vel")],
-    ),
-    (
-        "clutch force (N)",
-        &[("a", "clutch_force_a"), ("b", "clutch_force_b")],
-    ),
-    (
-        "energy (J)",
-        &[
-            ("input", "e_input"),
-            ("structure", "e_structure"),
-            ("inerter", "e_inerter"),
-            ("dissipated", "e_dissipated"),
-        ],
-    ),
-];
+/// The charts of a scene, from the columns its model records: rotation (and the column
+/// deformation of a flexible structure), flywheel velocities, clutch forces, and every
+/// energy term.
+fn panels(history: &History) -> [Panel; 4] {
+    let has = |c: &str| history.columns.contains(&c);
+    let mut rotation = Panel {
+        title: "rotation θ (rad)".into(),
+        series: vec![("θ".into(), "theta")],
+    };
+    if has("u") {
+        rotation.title = "rotation θ (rad), deformation u (m)".into();
+        rotation.series.push(("u".into(), "u"));
+    }
+    let pair = |title: &str, a: &'static str, b: &'static str| Panel {
+        title: title.into(),
+        series: vec![("a".into(), a), ("b".into(), b)],
+    };
+    let energy = Panel {
+        title: "energy (J)".into(),
+        series: history
+            .columns
+            .iter()
+            .filter_map(|c| Some((c.strip_prefix("e_")?.replace('_', " "), *c)))
+            .collect(),
+    };
+    [
+        rotation,
+        pair("flywheel velocities", "flywheel_a_vel", "flywheel_b_vel"),
+        pair("clutch force (N)", "clutch_force_a", "clutch_force_b"),
+        energy,
+    ]
+}
 
 fn draw_histories(
     view: &SceneView,
@@ -944,7 +959,7 @@ fn draw_histories(
     let [c, d] =
         Layout::horizontal([Constraint::Percentage(50), Constraint::Percentage(50)]).areas(bottom);
     let t = history.column("t").unwrap_or_default();
-    for (panel, rect) in PANELS.iter().zip([a, b, c, d]) {
+    for (panel, rect) in panels(history).iter().zip([a, b, c, d]) {
         draw_chart(panel, &t, history, theme, frame, rect);
     }
 }
@@ -957,11 +972,14 @@ fn draw_chart(
     frame: &mut Frame,
     area: Rect,
 ) {
-    let (title, columns) = panel;
+    let title = &panel.title;
     let points = (area.width as usize * 2).max(2);
-    let series: Vec<(&str, Vec<(f64, f64)>)> = columns
+    let series: Vec<(&str, Vec<(f64, f64)>)> = panel
+        .series
         .iter()
-        .filter_map(|(name, col)| Some((*name, downsample(t, &history.column(col)?, points))))
+        .filter_map(|(name, col)| {
+            Some((name.as_str(), downsample(t, &history.column(col)?, points)))
+        })
         .collect();
     let block = Block::default()
         .borders(Borders::ALL)
