@@ -2,8 +2,7 @@
 //! fewer details, and below 40×10 a notice.
 
 use super::app::{
-    App, Check, Prompt, ResultsTab, ResultsView, RunState, SceneState, SceneView, Screen,
-    field_help,
+    App, Check, Prompt, ResultsTab, ResultsView, RunState, SceneState, Screen, field_help,
 };
 use super::theme::{self, Theme};
 use crate::report::{self, OverturningMap, Quantity, Spectrum};
@@ -47,7 +46,7 @@ pub fn draw(app: &App, theme: Theme, frame: &mut Frame) {
     }
     draw_status(app, theme, frame, status);
     if app.help {
-        draw_help(app, theme, frame, area);
+        draw_help(theme, frame, area);
     }
 }
 
@@ -128,10 +127,11 @@ fn draw_status(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
         Line::styled(msg.clone(), style)
     } else if let Some(prompt) = &app.prompt {
         match prompt {
-            Prompt::Discard(_) => Line::from(vec![
-                Span::styled("Unsaved changes. ", theme.warn()),
-                hint_spans(theme, &hints(app)),
-            ]),
+            Prompt::Discard(_) => {
+                let mut spans = vec![Span::styled("Unsaved changes. ", theme.warn())];
+                spans.extend(hint_spans(theme, &hints(app)));
+                Line::from(spans)
+            }
             Prompt::SaveAs(line) | Prompt::Open(line) | Prompt::Search(line) => {
                 let label = match prompt {
                     Prompt::SaveAs(_) => "save as: ",
@@ -149,11 +149,16 @@ fn draw_status(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
     frame.render_widget(Paragraph::new(line), area);
 }
 
-fn hint_spans(theme: Theme, keys: &[(&str, &str)]) -> Span<'static> {
-    // One span per hint would be nicer to style, but a single span keeps the cut tidy.
-    let _ = theme;
-    let text: Vec<String> = keys.iter().map(|(k, v)| format!("{k} {v}")).collect();
-    Span::styled(text.join("  "), theme.dim())
+fn hint_spans(theme: Theme, keys: &[(&str, &str)]) -> Vec<Span<'static>> {
+    let mut spans = Vec::new();
+    for (i, (key, what)) in keys.iter().enumerate() {
+        if i > 0 {
+            spans.push(Span::raw("  "));
+        }
+        spans.push(Span::styled(key.to_string(), theme.key()));
+        spans.push(Span::styled(format!(" {what}"), theme.dim()));
+    }
+    spans
 }
 
 fn edit_spans(theme: Theme, line: &super::edit::LineEdit) -> Vec<Span<'static>> {
@@ -901,7 +906,7 @@ fn draw_scene(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
     }
     frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), head);
     if let SceneState::Done(_, history) = &view.state {
-        draw_histories(view, history, theme, frame, body);
+        draw_histories(history, theme, frame, body);
     }
 }
 
@@ -944,14 +949,7 @@ fn panels(history: &History) -> [Panel; 4] {
     ]
 }
 
-fn draw_histories(
-    view: &SceneView,
-    history: &History,
-    theme: Theme,
-    frame: &mut Frame,
-    area: Rect,
-) {
-    let _ = view;
+fn draw_histories(history: &History, theme: Theme, frame: &mut Frame, area: Rect) {
     let [top, bottom] =
         Layout::vertical([Constraint::Percentage(50), Constraint::Percentage(50)]).areas(area);
     let [a, b] =
@@ -1069,7 +1067,7 @@ fn downsample(t: &[f64], v: &[f64], n: usize) -> Vec<(f64, f64)> {
 
 // ----- help -----
 
-fn draw_help(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
+fn draw_help(theme: Theme, frame: &mut Frame, area: Rect) {
     let k = |key: &'static str, what: &'static str| {
         Line::from(vec![
             Span::styled(format!("{key:>10}  "), theme.key()),
@@ -1106,7 +1104,6 @@ fn draw_help(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
         h("Scene"),
         k("Esc", "back to results"),
     ];
-    let _ = app;
     popup(frame, theme, area, " help (any key closes) ", lines, 66, 21);
 }
 
