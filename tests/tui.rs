@@ -390,6 +390,20 @@ fn edit_run_and_read_results_by_keys() {
     key(&mut app, KeyCode::Char('2'));
     snap_text(&app, "run_finished");
 
+    // Write the results file and read it back: the same outcomes.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("sub").join("results.json");
+    keys(&mut app, &[KeyCode::Char('3'), KeyCode::Char('w')]);
+    ctrl(&mut app, 'u');
+    ctrl(&mut app, 'k');
+    typed(&mut app, path.to_str().unwrap());
+    key(&mut app, Enter);
+    let back = rocklab::report::load_results(&path).unwrap();
+    assert_eq!(
+        back.outcomes,
+        app.results.as_ref().unwrap().results.outcomes
+    );
+
     // Open the scene under the comparison cursor (variant B, the mechanistic model): its rerun
     // with histories must reproduce the spectrum value at that point.
     keys(&mut app, &[KeyCode::Char('3'), KeyCode::Char('c'), Left]);

@@ -211,6 +211,8 @@ pub enum Prompt {
     Open(LineEdit),
     /// Jump to the next row whose name contains the text.
     Search(LineEdit),
+    /// Write the results on screen as a results file (JSON, as `rocklab run` writes).
+    SaveResults(LineEdit),
     /// Unsaved changes would be lost by `then`: y to go on, s to save first, n/Esc to stay.
     Discard(Pending),
 }
@@ -740,6 +742,11 @@ impl App {
                     }
                 }
             },
+            Prompt::SaveResults(mut line) => match line.handle_key(key) {
+                EditOutcome::Editing => self.prompt = Some(Prompt::SaveResults(line)),
+                EditOutcome::Cancel => {}
+                EditOutcome::Commit => self.save_results(PathBuf::from(line.text.trim())),
+            },
             Prompt::Search(mut line) => match line.handle_key(key) {
                 EditOutcome::Editing => self.prompt = Some(Prompt::Search(line)),
                 EditOutcome::Cancel => {}
@@ -755,6 +762,23 @@ impl App {
             },
         }
         Effect::None
+    }
+
+    /// Write the current results (atomically) where `rocklab plot/compare/merge` can read them.
+    fn save_results(&mut self, path: PathBuf) {
+        let Some(view) = &self.results else {
+            return;
+        };
+        let written = path
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .map_or(Ok(()), std::fs::create_dir_all)
+            .map_err(anyhow::Error::from)
+            .and_then(|()| report::save_results(&path, &view.results));
+        match written {
+            Ok(()) => self.say(format!("results written to {}", path.display())),
+            Err(e) => self.complain(format!("cannot write {}: {e:#}", path.display())),
+        }
     }
 
     /// Move to the next row (after the cursor, wrapping) whose label contains `text`.
@@ -1063,6 +1087,16 @@ impl App {
             KeyCode::Char('c') => view.tab = ResultsTab::Compare,
             KeyCode::Char('r') => {
                 self.start_run();
+                return;
+            }
+            KeyCode::Char('w') => {
+                let name = view
+                    .results
+                    .study
+                    .as_ref()
+                    .map_or("study", |s| s.name.as_str());
+                let default = format!("out/{name}/results.json");
+                self.prompt = Some(Prompt::SaveResults(LineEdit::new(default)));
                 return;
             }
             KeyCode::Enter => {

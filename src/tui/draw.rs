@@ -115,6 +115,7 @@ fn hints(app: &App) -> Vec<(&'static str, &'static str)> {
             ("←→↑↓", "cursor"),
             ("[ ]", "quantity"),
             ("Enter", "scene"),
+            ("w", "write results"),
         ],
         Screen::Scene => vec![("Esc", "back")],
     });
@@ -132,10 +133,14 @@ fn draw_status(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
                 spans.extend(hint_spans(theme, &hints(app)));
                 Line::from(spans)
             }
-            Prompt::SaveAs(line) | Prompt::Open(line) | Prompt::Search(line) => {
+            Prompt::SaveAs(line)
+            | Prompt::Open(line)
+            | Prompt::Search(line)
+            | Prompt::SaveResults(line) => {
                 let label = match prompt {
-                    Prompt::SaveAs(_) => "save as: ",
-                    Prompt::Open(_) => "open: ",
+                    Prompt::SaveAs(_) => "save study as: ",
+                    Prompt::Open(_) => "open study: ",
+                    Prompt::SaveResults(_) => "write results to: ",
                     _ => "find field: ",
                 };
                 let mut spans = vec![Span::styled(label, theme.key())];
@@ -1101,10 +1106,14 @@ fn draw_help(theme: Theme, frame: &mut Frame, area: Rect) {
         k("[ ]", "previous / next quantity or map"),
         k("a b x", "compare: next A, next B, swap"),
         k("Enter", "open the scene under the cursor"),
+        k(
+            "w",
+            "write the results file (JSON, for rocklab plot/compare)",
+        ),
         h("Scene"),
         k("Esc", "back to results"),
     ];
-    popup(frame, theme, area, " help (any key closes) ", lines, 66, 21);
+    popup(frame, theme, area, " help (any key closes) ", lines, 66, 22);
 }
 
 fn popup(
