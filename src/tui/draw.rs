@@ -1106,10 +1106,7 @@ fn draw_help(theme: Theme, frame: &mut Frame, area: Rect) {
         k("[ ]", "previous / next quantity or map"),
         k("a b x", "compare: next A, next B, swap"),
         k("Enter", "open the scene under the cursor"),
-        k(
-            "w",
-            "write the results file (JSON, for rocklab plot/compare)",
-        ),
+        k("w", "write the results file (JSON) for rocklab plot"),
         h("Scene"),
         k("Esc", "back to results"),
     ];
