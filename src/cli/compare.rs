@@ -133,18 +133,23 @@ pub fn side_by_side(a: &Spectrum, b: &Spectrum) -> String {
             ratio[i].map_or("—".to_string(), |r| format!("{r:.3}"))
         );
     }
+    let finite: Vec<f64> = ratio.iter().flatten().copied().collect();
     if let (Some(pa), Some(pb)) = (peak(&a.ys), peak(&ys_b)) {
-        let finite: Vec<f64> = ratio.iter().flatten().copied().collect();
-        let mean = finite.iter().sum::<f64>() / finite.len().max(1) as f64;
-        let _ = writeln!(
-            s,
-            "  peak a {pa:.5}, peak b {pb:.5}: b/a = {:.3} ({:+.1}%); mean ratio over {} points {:.3}",
-            pb / pa,
-            100.0 * (pb / pa - 1.0),
-            finite.len(),
-            mean
-        );
+        let _ = write!(s, "  peak a {pa:.5}, peak b {pb:.5}");
+        if pa > 0.0 {
+            let _ = write!(
+                s,
+                ": b/a = {:.3} ({:+.1}%)",
+                pb / pa,
+                100.0 * (pb / pa - 1.0)
+            );
+        }
     }
+    if !finite.is_empty() {
+        let mean = finite.iter().sum::<f64>() / finite.len() as f64;
+        let _ = write!(s, "; mean ratio over {} points {mean:.3}", finite.len());
+    }
+    s.push('\n');
     s
 }
 

@@ -46,6 +46,7 @@ fn register_font() {
 fn render(
     path: &Path,
     format: ImageFormat,
+    size: (u32, u32),
     draw: impl Fn(DrawingArea<SVGBackend, Shift>) -> anyhow::Result<()>,
     draw_png: impl Fn(DrawingArea<BitMapBackend, Shift>) -> anyhow::Result<()>,
 ) -> anyhow::Result<()> {
@@ -54,7 +55,7 @@ fn render(
         ImageFormat::Svg => {
             let mut svg = String::new();
             {
-                let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+                let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
                 draw(root)?;
             }
             super::write_atomic(path, svg.as_bytes())
@@ -66,7 +67,7 @@ fn render(
                 .tempfile_in(dir)
                 .with_context(|| format!("cannot create a file in {}", dir.display()))?;
             {
-                let root = BitMapBackend::new(tmp.path(), SIZE).into_drawing_area();
+                let root = BitMapBackend::new(tmp.path(), size).into_drawing_area();
                 draw_png(root)?;
             }
             super::readable_by_all(tmp.as_file())?;
@@ -264,13 +265,15 @@ fn draw_history<DB: DrawingBackend>(
             .configure_mesh()
             .x_desc("t (s)")
             .y_desc(*name)
+            .y_labels(5)
             .label_style((FONT, 13))
             .draw()
             .map_err(err)?;
         chart
             .draw_series(LineSeries::new(
                 t.iter().copied().zip(values.iter().copied()),
-                palette(i + 1).stroke_width(2),
+                // Width 1: plotters leaves gaps between many short wide segments.
+                palette(i + 1).stroke_width(1),
             ))
             .map_err(err)?;
     }
@@ -328,6 +331,7 @@ pub fn plot_spectra(
         render(
             &path,
             format,
+            SIZE,
             |root| draw_spectra(root, &title, &of_q),
             |root| draw_spectra(root, &title, &of_q),
         )?;
@@ -348,7 +352,13 @@ pub fn plot_maps(
             slug(&map.group),
             format.extension()
         ));
-        render(&path, format, |r| draw_map(r, map), |r| draw_map(r, map))?;
+        render(
+            &path,
+            format,
+            SIZE,
+            |r| draw_map(r, map),
+            |r| draw_map(r, map),
+        )?;
         written.push(path);
     }
     Ok(written)
@@ -360,14 +370,16 @@ pub fn plot_history(
     title: &str,
     history: &History,
 ) -> anyhow::Result<()> {
-    let wanted = ["theta", "ground_accel", "device_force", "u"];
+    let wanted = ["theta", "u", "ground_accel", "device_force"];
     let columns: Vec<&str> = wanted
         .into_iter()
         .filter(|c| history.columns.contains(c))
         .collect();
+    let size = (SIZE.0, 80 + 220 * columns.len() as u32);
     render(
         path,
         format,
+        size,
         |r| draw_history(r, title, history, &columns),
         |r| draw_history(r, title, history, &columns),
     )

@@ -109,7 +109,6 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
             }
         }
     }
-    probe_support(&points)?;
     Ok(points)
 }
 
@@ -667,24 +666,4 @@ pub fn fmt_num(v: f64) -> String {
     } else {
         s.to_string()
     }
-}
-
-/// Families the simulation core cannot run yet fail here, before anything runs: one quick
-/// probe per structure family (the core rejects unsupported families before integrating).
-fn probe_support(points: &[ScenePoint]) -> Result<(), StudyError> {
-    let flexible = points
-        .iter()
-        .find(|p| matches!(p.scene.structure, Structure::Flexible(_)));
-    if let Some(point) = flexible {
-        let mut scene = point.scene.clone();
-        scene.duration = 1e-3;
-        if let Err(crate::sim::SimError::Unsupported(what)) = crate::sim::run(&scene) {
-            return Err(StudyError::field(
-                "structure",
-                format!("{what} is not available in this build yet"),
-                "the flexible family arrives with issue 3; use `rigid(…)` for now",
-            ));
-        }
-    }
-    Ok(())
 }
