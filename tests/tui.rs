@@ -429,6 +429,14 @@ fn edit_run_and_read_results_by_keys() {
     snap_text(&app, "scene");
     key(&mut app, Esc);
     assert_eq!(app.screen, Screen::Results);
+    // Editing the study afterwards marks the results as stale.
+    let fresh = text(&render(&app, Theme::COLOR, SMALL));
+    assert!(!fresh.contains("edited since"), "{fresh}");
+    keys(&mut app, &[KeyCode::Char('1')]);
+    set_field(&mut app, "duration", "10.0");
+    key(&mut app, KeyCode::Char('3'));
+    let stale = text(&render(&app, Theme::COLOR, SMALL));
+    assert!(stale.contains("study edited since this run"), "{stale}");
     key(&mut app, Backspace);
 }
 

@@ -487,6 +487,12 @@ fn draw_results(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
     if view.cancelled {
         spans.push(Span::styled("  partial: sweep cancelled", theme.warn()));
     }
+    if view.results.study.as_ref().is_some_and(|s| *s != app.study) {
+        spans.push(Span::styled(
+            "  study edited since this run (r reruns)",
+            theme.warn(),
+        ));
+    }
     frame.render_widget(Paragraph::new(Line::from(spans)), tabs);
     match view.tab {
         ResultsTab::Spectra => draw_spectra(view, theme, frame, body),
