@@ -46,7 +46,7 @@ pub enum Command {
 
 #[derive(clap::Args, Debug)]
 pub struct TuiArgs {
-    /// Study file (RON) to open.
+    /// Study file (RON) to open, or `default` for the built-in study (the default).
     pub study: Option<std::path::PathBuf>,
     /// No colours: glyphs and reverse video only (also: NO_COLOR).
     #[arg(long)]
@@ -55,13 +55,15 @@ pub struct TuiArgs {
 
 /// Open the workbench on a study file, or on the built-in default study.
 fn tui(args: &TuiArgs) -> anyhow::Result<()> {
-    let study = match &args.study {
+    // `default` names the built-in study, as in `rocklab run default`.
+    let path = args.study.clone().filter(|p| p.as_os_str() != "default");
+    let study = match &path {
         Some(path) => {
             crate::study::Study::load(path).map_err(|e| UsageError::new(e.to_string()))?
         }
         None => crate::study::Study::builtin_default(),
     };
-    crate::tui::run(study, args.study.clone(), args.mono)
+    crate::tui::run(study, path, args.mono)
 }
 
 /// Bad flags or values: reported in one line, exit code 2.
