@@ -144,7 +144,8 @@ fn draw_status(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
                     _ => "find field: ",
                 };
                 let mut spans = vec![Span::styled(label, theme.key())];
-                spans.extend(edit_spans(theme, line));
+                let room = (area.width as usize).saturating_sub(label.chars().count());
+                spans.extend(edit_spans(theme, line, room));
                 Line::from(spans)
             }
         }
@@ -166,8 +167,16 @@ fn hint_spans(theme: Theme, keys: &[(&str, &str)]) -> Vec<Span<'static>> {
     spans
 }
 
-fn edit_spans(theme: Theme, line: &super::edit::LineEdit) -> Vec<Span<'static>> {
+/// The edited text with its cursor, scrolled sideways so the cursor stays within `width`.
+fn edit_spans(theme: Theme, line: &super::edit::LineEdit, width: usize) -> Vec<Span<'static>> {
     let (before, at, after) = line.split();
+    let width = width.max(2);
+    let shown_before = before.chars().count().min(width - 1);
+    let before: String = before
+        .chars()
+        .skip(before.chars().count() - shown_before)
+        .collect();
+    let after: String = after.chars().take(width - 1 - shown_before).collect();
     vec![
         Span::styled(before, theme.value()),
         Span::styled(at, theme.cursor()),
@@ -228,7 +237,7 @@ fn draw_study(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
         spans.push(Span::raw(" "));
         let value_room = (inner.width as usize).saturating_sub(label_width + 1);
         match (&app.editor.edit, selected) {
-            (Some(line), true) => spans.extend(edit_spans(theme, line)),
+            (Some(line), true) => spans.extend(edit_spans(theme, line, value_room)),
             _ => {
                 let style = if row.leaf && row.absent.is_none() {
                     theme.value()
@@ -1277,6 +1286,22 @@ mod tests {
             downsample(&[0.0, 1.0], &[2.0, 3.0], 10),
             vec![(0.0, 2.0), (1.0, 3.0)]
         );
+    }
+
+    #[test]
+    fn a_long_edit_scrolls_to_keep_the_cursor_in_view() {
+        let shown = |line: &super::super::edit::LineEdit| -> String {
+            edit_spans(Theme::MONO, line, 10)
+                .iter()
+                .map(|s| s.content.to_string())
+                .collect()
+        };
+        let mut line = super::super::edit::LineEdit::new("[1.0, 2.0, 3.0, 4.0]");
+        assert_eq!(shown(&line), "3.0, 4.0] ");
+        line.cursor = 0;
+        assert_eq!(shown(&line), "[1.0, 2.0,");
+        line.cursor = 5;
+        assert_eq!(shown(&line), "[1.0, 2.0,");
     }
 
     #[test]
