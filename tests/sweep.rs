@@ -408,6 +408,10 @@ fn run_prints_a_summary_and_compare_and_plot_read_the_results() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    // Not a terminal: plain progress lines instead of a bar.
+    let log = String::from_utf8(out.stderr).unwrap();
+    assert!(log.contains("progress: 0/16 scenes"), "{log}");
+    assert!(log.contains("16 scenes in"), "{log}");
     let summary = String::from_utf8(out.stdout).unwrap();
     assert!(summary.contains("study small"), "{summary}");
     assert!(summary.contains("mechanistic kθ=3"), "{summary}");

@@ -200,8 +200,10 @@ impl Reporter {
         match p {
             Progress::Started { total } => {
                 self.total.store(total, Ordering::Relaxed);
-                if let Some(bar) = &self.bar {
-                    bar.set_length(total as u64);
+                match &self.bar {
+                    Some(bar) => bar.set_length(total as u64),
+                    // Batch logs get a first line at once, then one every few seconds.
+                    None => self.line(0, 0),
                 }
             }
             Progress::SceneDone { ok, .. } => {
