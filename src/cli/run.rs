@@ -91,10 +91,21 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&out)
         .with_context(|| format!("cannot create output directory {}", out.display()))?;
     let results_path = out.join(results_name(args.shard));
+    let mut cache = (!args.fresh && results_path.exists()).then(|| results_path.clone());
+    if let Some(path) = &cache
+        && let Ok(previous) = report::load_results(path)
+        && !sweep::reusable(&previous)
+    {
+        eprintln!(
+            "note: {} was written by another build of rocklab; rerunning every scene",
+            path.display()
+        );
+        cache = None;
+    }
     let opts = SweepOptions {
         jobs: args.jobs,
         shard: args.shard,
-        cache: (!args.fresh && results_path.exists()).then(|| results_path.clone()),
+        cache,
     };
     // Only the first handler registration succeeds; later calls (tests) keep it.
     let _ = ctrlc::set_handler(|| CANCEL.store(true, Ordering::SeqCst));
