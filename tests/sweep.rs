@@ -203,6 +203,18 @@ fn reruns_reuse_finished_scenes_by_key_and_fresh_runs_do_not() {
         timeless(&reused.outcomes[..5]),
         timeless(&first.outcomes[..5])
     );
+    // Results of another build of rocklab are never reused.
+    tampered.build = "another build".into();
+    let other = dir.path().join("other.json");
+    report::save_results(&other, &tampered).unwrap();
+    let rerun = run_with(
+        &study,
+        SweepOptions {
+            cache: Some(other),
+            ..Default::default()
+        },
+    );
+    assert_eq!(timeless(&rerun.outcomes), timeless(&first.outcomes));
     let fresh = run_with(&study, SweepOptions::default());
     assert_eq!(timeless(&fresh.outcomes), timeless(&first.outcomes));
     // A changed solver setting changes every key: nothing is reused.
@@ -408,6 +420,10 @@ fn run_prints_a_summary_and_compare_and_plot_read_the_results() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    // Not a terminal: plain progress lines instead of a bar.
+    let log = String::from_utf8(out.stderr).unwrap();
+    assert!(log.contains("progress: 0/16 scenes"), "{log}");
+    assert!(log.contains("16 scenes in"), "{log}");
     let summary = String::from_utf8(out.stdout).unwrap();
     assert!(summary.contains("study small"), "{summary}");
     assert!(summary.contains("mechanistic kθ=3"), "{summary}");

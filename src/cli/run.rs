@@ -91,10 +91,21 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&out)
         .with_context(|| format!("cannot create output directory {}", out.display()))?;
     let results_path = out.join(results_name(args.shard));
+    let mut cache = (!args.fresh && results_path.exists()).then(|| results_path.clone());
+    if let Some(path) = &cache
+        && let Ok(previous) = report::load_results(path)
+        && !sweep::reusable(&previous)
+    {
+        eprintln!(
+            "note: {} was written by another build of rocklab; rerunning every scene",
+            path.display()
+        );
+        cache = None;
+    }
     let opts = SweepOptions {
         jobs: args.jobs,
         shard: args.shard,
-        cache: (!args.fresh && results_path.exists()).then(|| results_path.clone()),
+        cache,
     };
     // Only the first handler registration succeeds; later calls (tests) keep it.
     let _ = ctrlc::set_handler(|| CANCEL.store(true, Ordering::SeqCst));
@@ -200,8 +211,10 @@ impl Reporter {
         match p {
             Progress::Started { total } => {
                 self.total.store(total, Ordering::Relaxed);
-                if let Some(bar) = &self.bar {
-                    bar.set_length(total as u64);
+                match &self.bar {
+                    Some(bar) => bar.set_length(total as u64),
+                    // Batch logs get a first line at once, then one every few seconds.
+                    None => self.line(0, 0),
                 }
             }
             Progress::SceneDone { ok, .. } => {

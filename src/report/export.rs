@@ -68,7 +68,7 @@ pub fn results_csv(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
         }
     }
     let mut w = csv::Writer::from_writer(Vec::new());
-    let mut header: Vec<String> = ["scene", "key", "group", "device"]
+    let mut header: Vec<String> = ["scene", "key", "group", "device", "excitation"]
         .map(String::from)
         .to_vec();
     header.extend(axes.iter().cloned());
@@ -82,6 +82,7 @@ pub fn results_csv(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
                 o.point.key.clone(),
                 o.point.group.clone(),
                 o.point.scene.device.name().to_string(),
+                excitation_name(&o.point.scene.excitation),
             ];
             for axis in &axes {
                 row.push(
@@ -239,5 +240,15 @@ fn fmt_sig(v: f64) -> String {
         format!("{v:.3e}")
     } else {
         format!("{v:.4}")
+    }
+}
+
+/// The record's name, or the pulse's shape: the categorical part of the excitation.
+fn excitation_name(e: &crate::scene::Excitation) -> String {
+    use crate::scene::Excitation;
+    match e {
+        Excitation::Record { name, .. } => name.clone(),
+        Excitation::Pulse { shape, .. } => ron::to_string(shape).unwrap_or_default(),
+        Excitation::MpPulse { .. } => "mp_pulse".into(),
     }
 }

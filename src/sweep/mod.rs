@@ -57,6 +57,32 @@ pub struct SweepResults {
     /// The shard this result holds, if any.
     #[serde(default)]
     pub shard: Option<(usize, usize)>,
+    /// Identifies the program that computed the results ([`build_id`]); a cache is reused only
+    /// by the same build, so a rebuilt rocklab never serves results of older physics.
+    #[serde(default)]
+    pub build: String,
+}
+
+/// A hash of the running executable, computed once per process ("unknown" if unreadable).
+pub fn build_id() -> &'static str {
+    static ID: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    ID.get_or_init(|| {
+        use sha2::{Digest, Sha256};
+        std::env::current_exe()
+            .and_then(std::fs::read)
+            .map(|bytes| {
+                Sha256::digest(&bytes)[..8]
+                    .iter()
+                    .map(|b| format!("{b:02x}"))
+                    .collect()
+            })
+            .unwrap_or_else(|_| "unknown".into())
+    })
+}
+
+/// Whether finished scenes of `previous` may be reused by this program.
+pub fn reusable(previous: &SweepResults) -> bool {
+    previous.build == build_id() && previous.build != "unknown"
 }
 
 /// Expand and run a whole study.
@@ -93,6 +119,7 @@ pub fn run(
         .cache
         .as_ref()
         .and_then(|path| crate::report::load_results(path).ok())
+        .filter(reusable)
         .map(cache_by_key)
         .unwrap_or_default();
     let run_one = |point: &&ScenePoint| -> Option<SceneOutcome> {
@@ -126,6 +153,7 @@ pub fn run(
         outcomes: finished.into_iter().flatten().collect(),
         cancelled,
         shard: opts.shard,
+        build: build_id().to_string(),
     }
 }
 
@@ -199,6 +227,7 @@ pub fn merge(parts: Vec<SweepResults>) -> anyhow::Result<SweepResults> {
     };
     let hash = first.study_hash.clone();
     let study = first.study.clone();
+    let build = first.build.clone();
     let mut by_index: std::collections::BTreeMap<usize, SceneOutcome> = Default::default();
     let mut cancelled = false;
     for part in parts {
@@ -229,5 +258,6 @@ pub fn merge(parts: Vec<SweepResults>) -> anyhow::Result<SweepResults> {
         cancelled: cancelled || by_index.len() < total,
         outcomes: by_index.into_values().collect(),
         shard: None,
+        build,
     })
 }
