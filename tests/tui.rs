@@ -506,3 +506,38 @@ fn every_screen_draws_at_any_size() {
         }
     }
 }
+
+/// Enter on a map cell reruns exactly that scene: its axes values and its overturning verdict
+/// match the cell.
+#[test]
+fn a_scene_opened_from_a_map_cell_is_that_cell() {
+    let mut app = new_app();
+    small_map_study(&mut app);
+    run_to_completion(&mut app);
+    keys(
+        &mut app,
+        &[KeyCode::Char('m'), Right, Right, Up, KeyCode::Char(']')],
+    );
+    let (x_axis, y_axis, x, y, cell) = {
+        let view = app.results.as_ref().unwrap();
+        let map = &view.maps[view.map];
+        let (cx, cy) = view.cell;
+        (
+            map.x_axis.clone(),
+            map.y_axis.clone(),
+            map.xs[cx],
+            map.ys[cy],
+            map.cells[cy][cx],
+        )
+    };
+    key(&mut app, Enter);
+    assert_eq!(app.screen, Screen::Scene, "{:?}", app.message);
+    assert!(app.wait_idle(Duration::from_secs(60)));
+    let scene = app.scene.as_ref().unwrap();
+    assert_eq!(scene.point.coord(&x_axis), Some(x));
+    assert_eq!(scene.point.coord(&y_axis), Some(y));
+    match &scene.state {
+        SceneState::Done(result, _) => assert_eq!(Some(result.overturned), cell),
+        _ => panic!("the scene did not finish"),
+    }
+}
