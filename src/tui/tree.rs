@@ -539,7 +539,6 @@ impl ser::SerializeStructVariant for StructBuilder {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::excitation::PulseShape;
     use crate::scene::*;
 
     fn parse<T: serde::de::DeserializeOwned>(text: &str) -> T {
@@ -549,28 +548,16 @@ mod tests {
             .unwrap()
     }
 
+    /// A scene with nested enums, an Option and a struct-valued variant; written as RON so
+    /// that fields the scene gains later take their defaults.
     fn scene() -> Scene {
-        Scene {
-            structure: Structure::Rigid(RigidBlock {
-                size: 1.2,
-                alpha: 0.25,
-                mass: 1.0,
-                form: Form::Exact,
-            }),
-            device: Device::Mechanistic(Clutch::paper_default(0.3)),
-            impact: Impact::Housner {
-                restitution: Some(0.9),
-            },
-            excitation: Excitation::Pulse {
-                shape: PulseShape::Sine,
-                amplitude: Amplitude::AlphaRatio(2.0),
-                frequency: Frequency::Ratio(4.0),
-            },
-            duration: 10.0,
-            rtol: 1e-6,
-            initial_rotation: 0.0,
-            stop_when_settled: false,
-        }
+        parse(
+            "(structure: rigid((size: 1.2, alpha: 0.25)), \
+              device: mechanistic((sigma: 0.3, play: 0.001)), \
+              impact: housner(restitution: Some(0.9)), \
+              excitation: pulse(shape: sine, amplitude: alpha_ratio(2.0), frequency: ratio(4.0)), \
+              duration: 10.0)",
+        )
     }
 
     #[test]
