@@ -46,3 +46,15 @@ fn a_missing_or_bad_study_file_is_a_usage_error_before_the_terminal_is_touched()
         assert!(!String::from_utf8_lossy(&out.stdout).contains("\u{1b}[?1049h"));
     }
 }
+
+#[test]
+fn without_a_terminal_the_workbench_points_to_batch_runs() {
+    let out = Command::new(env!("CARGO_BIN_EXE_rocklab"))
+        .stdin(std::process::Stdio::null())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("rocklab run"), "{stderr}");
+    assert!(out.stdout.is_empty(), "nothing drawn on a pipe");
+}

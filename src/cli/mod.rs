@@ -63,6 +63,13 @@ fn tui(args: &TuiArgs) -> anyhow::Result<()> {
         }
         None => crate::study::Study::builtin_default(),
     };
+    use std::io::IsTerminal;
+    if !std::io::stdout().is_terminal() || !std::io::stdin().is_terminal() {
+        return Err(UsageError::new(
+            "the workbench needs a terminal; for batch runs use `rocklab run <study.ron>`",
+        )
+        .into());
+    }
     crate::tui::run(study, path, args.mono)
 }
 
