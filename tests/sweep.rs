@@ -307,6 +307,15 @@ fn spectra_and_maps_are_the_scene_results_rearranged() {
         let i = sp.xs.iter().position(|v| *v == x).unwrap();
         assert_eq!(sp.ys[i], (!r.overturned).then_some(r.peak_rotation_ratio));
     }
+    // Both maps draw, one file each.
+    let dir = tempfile::tempdir().unwrap();
+    let files = report::plot_maps(dir.path(), report::ImageFormat::Svg, &maps).unwrap();
+    assert_eq!(files.len(), 2);
+    assert!(
+        std::fs::read_to_string(&files[1])
+            .unwrap()
+            .contains("sequential")
+    );
     // Overturning is monotone in amplitude for the bare block at ωg/p = 2 (the most
     // dangerous frequency here): if it survives a strong pulse it survives a weaker one.
     let bare = &maps[0];
