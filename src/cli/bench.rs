@@ -51,6 +51,7 @@ pub fn rigid_fig8(device: Device) -> Scene {
         rtol: default_rtol(),
         initial_rotation: 0.0,
         stop_when_settled: false,
+        exact_contact: true,
     }
 }
 
@@ -77,6 +78,7 @@ pub fn flexible_fig14(device: Device) -> Scene {
         rtol: default_rtol(),
         initial_rotation: 0.0,
         stop_when_settled: false,
+        exact_contact: true,
     }
 }
 

@@ -13,10 +13,12 @@
 //! friction, column damping ∫ c u̇² dt)]. In full contact θ ≡ θ̇ ≡ 0.
 
 use super::device::DeviceModel;
+use super::sdof::{Oscillator, Segment, gauss_legendre_5};
 use super::{
-    Action, Counters, EndReason, Energy, Ledger, Peaks, SimModel, extremum_on_step, refined_max,
+    Action, Counters, EndReason, Energy, Exact, Ledger, Peaks, SimModel, extremum_on_step,
+    refined_max,
 };
-use crate::excitation::{G, Motion};
+use crate::excitation::{G, Motion, RecordMotion};
 use crate::scene::{FlexibleStructure, ResetRule};
 use crate::solver::{Dense, Direction, MAX_EVENTS, OdeSystem};
 
@@ -75,6 +77,20 @@ pub struct FlexibleModel<'m> {
     ledger: Ledger,
     counters: Counters,
     peaks: Peaks,
+    /// The full-contact phase as a linear oscillator, when it is advanced in closed form.
+    contact: Option<ContactOscillator>,
+}
+
+/// Full contact with a linear device: (m + mc) ü + c u̇ + k u = −m a_g (Eq. 41 with
+/// Fd = −mc ü), i.e. ü + 2ζω u̇ + ω² u = −(m/M) a_g with M = m + mc, ω² = k/M, 2ζω = c/M.
+#[derive(Clone, Copy, Debug)]
+struct ContactOscillator {
+    osc: Oscillator,
+    /// m/M: the share of the ground's inertial load per unit moving mass.
+    load_ratio: f64,
+    /// Longest closed-form interval (ωd h ≤ 0.5 rad), so that samples at quarters resolve
+    /// every extremum and the quadrature stays at roundoff.
+    max_interval: f64,
 }
 
 impl<'m> FlexibleModel<'m> {
@@ -131,7 +147,36 @@ impl<'m> FlexibleModel<'m> {
             ledger: Ledger::default(),
             counters: Counters::default(),
             peaks: Peaks::default(),
+            contact: None,
         }
+    }
+
+    /// Advance full contact in closed form where it is exact: a linear device (none, or a
+    /// rigidly coupled inerter), a sampled record (linear between samples) and an
+    /// underdamped column. Otherwise (or when `enabled` is false) the integrator does it.
+    pub fn with_exact_contact(mut self, enabled: bool) -> Self {
+        let mc = match self.dev {
+            DeviceModel::None => 0.0,
+            DeviceModel::Coupled { mr } => mr,
+            _ => return self,
+        };
+        if !enabled || !matches!(self.motion, Motion::Record(_)) {
+            return self;
+        }
+        let total = self.m + mc;
+        let omega = (self.k / total).sqrt();
+        let zeta = self.c / (2.0 * (self.k * total).sqrt());
+        self.contact = Oscillator::new(omega, zeta).map(|osc| ContactOscillator {
+            osc,
+            load_ratio: self.m / total,
+            max_interval: 0.5 / osc.omega_d(),
+        });
+        self
+    }
+
+    /// Whether full contact is advanced in closed form (see [`Self::with_exact_contact`]).
+    pub fn exact_contact(&self) -> bool {
+        self.contact.is_some()
     }
 
     /// Number of state components this model needs.
@@ -433,6 +478,125 @@ impl<'m> FlexibleModel<'m> {
         action
     }
 
+    /// One closed-form interval of full contact (see [`ContactOscillator`]): from t to the next
+    /// record sample (or t_stop, or the longest interval), stopping early at an uplift.
+    fn advance_contact(&mut self, t: f64, t_stop: f64, y: &mut [f64]) -> Option<(f64, Exact)> {
+        let contact = self.contact.filter(|_| self.phase == Phase::Contact)?;
+        let Motion::Record(record) = self.motion else {
+            return None;
+        };
+        let (t1, a0, a1) = record_interval(record, t, t_stop, contact.max_interval);
+        let h = t1 - t;
+        if h <= 0.0 {
+            return None;
+        }
+        let slope = (a1 - a0) / h;
+        let seg = contact.osc.segment(
+            y[0],
+            y[1],
+            -contact.load_ratio * a0,
+            -contact.load_ratio * slope,
+        );
+        let ground = |tau: f64| a0 + slope * tau;
+        let (tau_end, outcome) = match self.first_uplift(&seg, h) {
+            Some((tau, side)) => {
+                let index = self.events[..self.n_events]
+                    .iter()
+                    .position(|e| *e == Ev::Uplift(side))
+                    .expect("uplift events exist in both directions");
+                (tau, Exact::Event(index))
+            }
+            None => (h, Exact::Reached),
+        };
+        self.observe_segment(&seg, tau_end, &ground);
+        let [input, damping] = gauss_legendre_5(tau_end, |tau| {
+            let (_, v) = seg.state(tau);
+            [-self.m * ground(tau) * v, self.c * v * v]
+        });
+        y[self.acc] += input;
+        y[self.acc + 3] += damping;
+        (y[0], y[1]) = seg.state(tau_end);
+        let t_end = if tau_end == h { t1 } else { t + tau_end };
+        Some((t_end, outcome))
+    }
+
+    /// The earliest uplift (Eqs. 37–38, either side) on [0, h] of a contact segment: the
+    /// margin rising through zero between quarter samples, or peaking above zero between two
+    /// samples where it stays negative (its rate changes sign from + to −). Located by
+    /// bisection to roundoff; the returned τ is on the lifted side (margin ≥ 0).
+    fn first_uplift(&self, seg: &Segment, h: f64) -> Option<(f64, f64)> {
+        const QUARTERS: usize = 4;
+        let margin = |side: f64, tau: f64| {
+            let (u, v) = seg.state(tau);
+            self.uplift_margin(side, &[u, v])
+        };
+        // d/dt of the margin: s (k u̇ + c ü) H + m g s u̇.
+        let margin_rate = |side: f64, tau: f64| {
+            let (u, v) = seg.state(tau);
+            side * ((self.k * v + self.c * seg.accel(tau, u, v)) * self.h + self.m * G * v)
+        };
+        let at = |k: usize| h * k as f64 / QUARTERS as f64;
+        for k in 1..=QUARTERS {
+            let (lo, hi) = (at(k - 1), at(k));
+            let mut found: Option<(f64, f64)> = None;
+            for side in [1.0, -1.0] {
+                let (g_lo, g_hi) = (margin(side, lo), margin(side, hi));
+                if g_lo >= 0.0 {
+                    // Already lifted-side at the start (a grazing landing): not a rise.
+                    continue;
+                }
+                let crossing_end = if g_hi >= 0.0 {
+                    Some(hi)
+                } else if margin_rate(side, lo) > 0.0 && margin_rate(side, hi) < 0.0 {
+                    let top = bisect(lo, hi, |tau| margin_rate(side, tau) > 0.0).0;
+                    (margin(side, top) >= 0.0).then_some(top)
+                } else {
+                    None
+                };
+                if let Some(end) = crossing_end {
+                    let tau = bisect(lo, end, |tau| margin(side, tau) < 0.0).1;
+                    if found.is_none_or(|(t0, _)| tau < t0) {
+                        found = Some((tau, side));
+                    }
+                }
+            }
+            if found.is_some() {
+                return found;
+            }
+        }
+        None
+    }
+
+    /// Peaks over [0, τ_end] of a contact segment, where X = u (θ = 0): |u| at quarter samples
+    /// and at interior zeros of u̇, and the absolute acceleration ü + a_g refined like
+    /// [`refined_max`] does on an integrator step.
+    fn observe_segment(&mut self, seg: &Segment, tau_end: f64, ground: &impl Fn(f64) -> f64) {
+        const QUARTERS: usize = 4;
+        let at = |k: usize| tau_end * k as f64 / QUARTERS as f64;
+        let mut deformation = 0.0f64;
+        let mut prev = seg.state(0.0);
+        deformation = deformation.max(prev.0.abs());
+        for k in 1..=QUARTERS {
+            let next = seg.state(at(k));
+            deformation = deformation.max(next.0.abs());
+            if prev.1 * next.1 < 0.0 {
+                let rising = prev.1 > 0.0;
+                let (a, b) = bisect(at(k - 1), at(k), |tau| (seg.state(tau).1 > 0.0) == rising);
+                deformation = deformation.max(seg.state(0.5 * (a + b)).0.abs());
+            }
+            prev = next;
+        }
+        self.peaks.deformation = self.peaks.deformation.max(deformation);
+        self.peaks.drift = self.peaks.drift.max(deformation / self.h);
+        let accel_g = |tau: f64| {
+            let (u, v) = seg.state(tau);
+            (seg.accel(tau, u, v) + ground(tau)).abs() / G
+        };
+        let floor = self.peaks.abs_acceleration_g;
+        let peak = refined_max(accel_g, 0.0, tau_end, QUARTERS, floor);
+        self.peaks.abs_acceleration_g = floor.max(peak);
+    }
+
     fn absolute_acceleration(&self, t: f64, y: &[f64], dy: &[f64]) -> f64 {
         self.xddot(y, dy) + self.motion.accel(t)
     }
@@ -499,6 +663,41 @@ impl<'m> FlexibleModel<'m> {
             reset: self.ledger.reset,
         }
     }
+}
+
+/// The closed-form interval from t: up to the next sample of the record (a_g linear on it),
+/// t_stop or t + `longest`, with a_g at its ends taken from inside it (a record that starts
+/// or ends on a nonzero sample jumps there; a_g = 0 outside it).
+fn record_interval(record: &RecordMotion, t: f64, t_stop: f64, longest: f64) -> (f64, f64, f64) {
+    let s = &*record.series;
+    let cap = t_stop.min(t + longest);
+    if t < s.t0() {
+        return (cap.min(s.t0()), 0.0, 0.0);
+    }
+    if t >= s.end() {
+        return (cap, 0.0, 0.0);
+    }
+    // The first sample strictly after t, computed as the integrator's breakpoints are.
+    let time = |k: usize| s.t0() + k as f64 * s.dt();
+    let mut k = ((t - s.t0()) / s.dt()).floor() as usize + 1;
+    if time(k) <= t + 1e-9 * s.dt() {
+        k += 1;
+    }
+    let t1 = cap.min(time(k.min(s.npts() - 1)));
+    (t1, record.accel(t), record.accel(t1))
+}
+
+/// Bisection of [a, b] where `left(a)` holds and `left(b)` does not, down to adjacent
+/// floating-point numbers: the final bracket (a, b).
+fn bisect(mut a: f64, mut b: f64, left: impl Fn(f64) -> bool) -> (f64, f64) {
+    for _ in 0..200 {
+        let mid = 0.5 * (a + b);
+        if mid <= a || mid >= b {
+            break;
+        }
+        if left(mid) { a = mid } else { b = mid }
+    }
+    (a, b)
 }
 
 /// |v_g|max over the motion, by the trapezoidal rule on 4000 intervals (a scale, not a result).
@@ -650,6 +849,10 @@ impl<const N: usize> SimModel<N> for FlexibleModel<'_> {
             && u_max <= self.peaks.deformation
             && u_max / self.h <= self.peaks.drift
             && accel_g <= self.peaks.abs_acceleration_g
+    }
+
+    fn advance_exact(&mut self, t: f64, t_stop: f64, y: &mut [f64; N]) -> Option<(f64, Exact)> {
+        self.advance_contact(t, t_stop, y)
     }
 
     fn observe_step(&mut self, dense: &Dense<N>, t_end: f64) {

@@ -5,6 +5,7 @@ pub mod clutch;
 pub mod device;
 pub mod flexible;
 pub mod rigid;
+pub mod sdof;
 
 use crate::solver::{Dense, OdeSystem};
 use serde::{Deserialize, Serialize};
@@ -31,6 +32,15 @@ pub enum Action {
         until: f64,
     },
     Stop(EndReason),
+}
+
+/// How a closed-form advance ([`SimModel::advance_exact`]) ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Exact {
+    /// The end of the interval was reached.
+    Reached,
+    /// Event `index` was located at the new time; its jump is not applied yet.
+    Event(usize),
 }
 
 /// Energy partition at one instant (J), following the paper's Fig. 15.
@@ -108,6 +118,12 @@ pub trait SimModel<const N: usize>: OdeSystem<N> {
     /// The excitation has ended and the energy left can no longer raise any peak.
     fn settled(&self, _y: &[f64; N]) -> bool {
         false
+    }
+    /// If the current phase has a closed-form solution, advance y exactly from t over one
+    /// interval ending at most at `t_stop`, updating peaks and energy accumulators on the way,
+    /// and return the new time and how the interval ended. `None`: the driver integrates.
+    fn advance_exact(&mut self, _t: f64, _t_stop: f64, _y: &mut [f64; N]) -> Option<(f64, Exact)> {
+        None
     }
     /// Update peaks over an accepted step (dense output over [t0, t1]).
     fn observe_step(&mut self, dense: &Dense<N>, t_end: f64);
