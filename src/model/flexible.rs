@@ -13,10 +13,10 @@
 //! friction, column damping ∫ c u̇² dt)]. In full contact θ ≡ θ̇ ≡ 0.
 
 use super::device::DeviceModel;
-use super::sdof::{Oscillator, Segment, gauss_legendre_5};
+use super::sdof::{Basis, Oscillator, Segment, gauss_legendre_5_nodes};
 use super::{
     Action, Counters, EndReason, Energy, Exact, Ledger, Peaks, SimModel, extremum_on_step,
-    refined_max,
+    refined_max, refined_max_of_samples,
 };
 use crate::excitation::{G, Motion, RecordMotion};
 use crate::scene::{FlexibleStructure, ResetRule};
@@ -79,6 +79,49 @@ pub struct FlexibleModel<'m> {
     peaks: Peaks,
     /// The full-contact phase as a linear oscillator, when it is advanced in closed form.
     contact: Option<ContactOscillator>,
+    /// The closed form's basis at the nodes of the last interval length.
+    nodes: Option<IntervalNodes>,
+}
+
+/// The closed form's basis (e^{−στ}, cos ωd τ, sin ωd τ) at the interior quarter points and
+/// the Gauss–Legendre nodes of an interval of length h: a record's intervals all have its dt,
+/// so each interval costs one fresh basis (its end) instead of nine.
+#[derive(Clone, Copy, Debug)]
+struct IntervalNodes {
+    h: f64,
+    quarters: [Basis; 3],
+    gauss: [(Basis, f64); 5],
+}
+
+impl IntervalNodes {
+    fn new(osc: &Oscillator, h: f64) -> Self {
+        IntervalNodes {
+            h,
+            quarters: std::array::from_fn(|k| osc.basis(h * (k + 1) as f64 / 4.0)),
+            gauss: gauss_legendre_5_nodes(h).map(|(tau, w)| (osc.basis(tau), w)),
+        }
+    }
+}
+
+/// The closed-form state (u, u̇, ü) at one instant τ of a contact segment.
+#[derive(Clone, Copy, Debug)]
+struct Sample {
+    tau: f64,
+    u: f64,
+    v: f64,
+    a: f64,
+}
+
+impl Sample {
+    fn new(seg: &Segment, basis: &Basis) -> Self {
+        let (u, v) = seg.state_at(basis);
+        Sample {
+            tau: basis.tau,
+            u,
+            v,
+            a: seg.accel(basis.tau, u, v),
+        }
+    }
 }
 
 /// Full contact with a linear device: (m + mc) ü + c u̇ + k u = −m a_g (Eq. 41 with
@@ -148,6 +191,7 @@ impl<'m> FlexibleModel<'m> {
             counters: Counters::default(),
             peaks: Peaks::default(),
             contact: None,
+            nodes: None,
         }
     }
 
@@ -491,70 +535,93 @@ impl<'m> FlexibleModel<'m> {
             return None;
         }
         let slope = (a1 - a0) / h;
-        let seg = contact.osc.segment(
+        let ground = |tau: f64| a0 + slope * tau;
+        let osc = contact.osc;
+        let seg = osc.segment(
             y[0],
             y[1],
             -contact.load_ratio * a0,
             -contact.load_ratio * slope,
         );
-        let ground = |tau: f64| a0 + slope * tau;
-        let (tau_end, outcome) = match self.first_uplift(&seg, h) {
+        let nodes = match self.nodes {
+            // A record's intervals differ in length by roundoff only (t0 + k dt).
+            Some(n) if (n.h - h).abs() <= 1e-10 * h => n,
+            _ => *self.nodes.insert(IntervalNodes::new(&osc, h)),
+        };
+        let at = |basis: &Basis| Sample::new(&seg, basis);
+        let mut samples = [
+            Sample::new(&seg, &osc.basis(0.0)),
+            at(&nodes.quarters[0]),
+            at(&nodes.quarters[1]),
+            at(&nodes.quarters[2]),
+            at(&osc.basis(h)),
+        ];
+        let (tau_end, outcome, gauss) = match self.first_uplift(&seg, &samples) {
             Some((tau, side)) => {
                 let index = self.events[..self.n_events]
                     .iter()
                     .position(|e| *e == Ev::Uplift(side))
                     .expect("uplift events exist in both directions");
-                (tau, Exact::Event(index))
+                samples = std::array::from_fn(|k| at(&osc.basis(tau * k as f64 / 4.0)));
+                let gauss = gauss_legendre_5_nodes(tau).map(|(x, w)| (osc.basis(x), w));
+                (tau, Exact::Event(index), gauss)
             }
-            None => (h, Exact::Reached),
+            None => {
+                let stretch = h / nodes.h;
+                (
+                    h,
+                    Exact::Reached,
+                    nodes.gauss.map(|(b, w)| (b, w * stretch)),
+                )
+            }
         };
-        self.observe_segment(&seg, tau_end, &ground);
-        let [input, damping] = gauss_legendre_5(tau_end, |tau| {
-            let (_, v) = seg.state(tau);
-            [-self.m * ground(tau) * v, self.c * v * v]
-        });
-        y[self.acc] += input;
-        y[self.acc + 3] += damping;
-        (y[0], y[1]) = seg.state(tau_end);
+        self.observe_segment(&seg, &samples, &ground);
+        for (basis, w) in gauss {
+            let (_, v) = seg.state_at(&basis);
+            y[self.acc] -= w * self.m * ground(basis.tau) * v;
+            y[self.acc + 3] += w * self.c * v * v;
+        }
+        (y[0], y[1]) = (samples[4].u, samples[4].v);
         let t_end = if tau_end == h { t1 } else { t + tau_end };
         Some((t_end, outcome))
     }
 
-    /// The earliest uplift (Eqs. 37–38, either side) on [0, h] of a contact segment: the
-    /// margin rising through zero between quarter samples, or peaking above zero between two
-    /// samples where it stays negative (its rate changes sign from + to −). Located by
-    /// bisection to roundoff; the returned τ is on the lifted side (margin ≥ 0).
-    fn first_uplift(&self, seg: &Segment, h: f64) -> Option<(f64, f64)> {
-        const QUARTERS: usize = 4;
-        let margin = |side: f64, tau: f64| {
-            let (u, v) = seg.state(tau);
-            self.uplift_margin(side, &[u, v])
-        };
+    /// The earliest uplift (Eqs. 37–38, either side) on a contact segment: the margin rising
+    /// through zero between two samples, or peaking above zero between samples where it is
+    /// negative (its rate turns from + to − and the tangent bounds of the concave peak allow
+    /// it to reach zero). Located by bisection to roundoff; the returned τ is on the lifted
+    /// side (margin ≥ 0).
+    fn first_uplift(&self, seg: &Segment, samples: &[Sample; 5]) -> Option<(f64, f64)> {
+        let margin = |side: f64, s: &Sample| self.uplift_margin(side, &[s.u, s.v]);
         // d/dt of the margin: s (k u̇ + c ü) H + m g s u̇.
-        let margin_rate = |side: f64, tau: f64| {
-            let (u, v) = seg.state(tau);
-            side * ((self.k * v + self.c * seg.accel(tau, u, v)) * self.h + self.m * G * v)
+        let rate = |side: f64, s: &Sample| {
+            side * ((self.k * s.v + self.c * s.a) * self.h + self.m * G * s.v)
         };
-        let at = |k: usize| h * k as f64 / QUARTERS as f64;
-        for k in 1..=QUARTERS {
-            let (lo, hi) = (at(k - 1), at(k));
+        let fresh = |tau: f64| Sample::new(seg, &seg.basis(tau));
+        for pair in samples.windows(2) {
+            let (lo, hi) = (&pair[0], &pair[1]);
+            let width = hi.tau - lo.tau;
             let mut found: Option<(f64, f64)> = None;
             for side in [1.0, -1.0] {
                 let (g_lo, g_hi) = (margin(side, lo), margin(side, hi));
                 if g_lo >= 0.0 {
-                    // Already lifted-side at the start (a grazing landing): not a rise.
+                    // Already on the lifted side at the start (a grazing landing): not a rise.
                     continue;
                 }
+                let (r_lo, r_hi) = (rate(side, lo), rate(side, hi));
                 let crossing_end = if g_hi >= 0.0 {
-                    Some(hi)
-                } else if margin_rate(side, lo) > 0.0 && margin_rate(side, hi) < 0.0 {
-                    let top = bisect(lo, hi, |tau| margin_rate(side, tau) > 0.0).0;
-                    (margin(side, top) >= 0.0).then_some(top)
+                    Some(hi.tau)
+                } else if r_lo > 0.0
+                    && r_hi < 0.0
+                    && (g_lo + 2.0 * r_lo * width >= 0.0 || g_hi - 2.0 * r_hi * width >= 0.0)
+                {
+                    let top = bisect(lo.tau, hi.tau, 60, |tau| rate(side, &fresh(tau)) > 0.0).0;
+                    (margin(side, &fresh(top)) >= 0.0).then_some(top)
                 } else {
                     None
                 };
                 if let Some(end) = crossing_end {
-                    let tau = bisect(lo, end, |tau| margin(side, tau) < 0.0).1;
+                    let tau = bisect(lo.tau, end, 200, |tau| margin(side, &fresh(tau)) < 0.0).1;
                     if found.is_none_or(|(t0, _)| tau < t0) {
                         found = Some((tau, side));
                     }
@@ -567,24 +634,26 @@ impl<'m> FlexibleModel<'m> {
         None
     }
 
-    /// Peaks over [0, τ_end] of a contact segment, where X = u (θ = 0): |u| at quarter samples
+    /// Peaks over a contact segment from its samples, where X = u (θ = 0): |u| at the samples
     /// and at interior zeros of u̇, and the absolute acceleration ü + a_g refined like
     /// [`refined_max`] does on an integrator step.
-    fn observe_segment(&mut self, seg: &Segment, tau_end: f64, ground: &impl Fn(f64) -> f64) {
-        const QUARTERS: usize = 4;
-        let at = |k: usize| tau_end * k as f64 / QUARTERS as f64;
-        let mut deformation = 0.0f64;
-        let mut prev = seg.state(0.0);
-        deformation = deformation.max(prev.0.abs());
-        for k in 1..=QUARTERS {
-            let next = seg.state(at(k));
-            deformation = deformation.max(next.0.abs());
-            if prev.1 * next.1 < 0.0 {
-                let rising = prev.1 > 0.0;
-                let (a, b) = bisect(at(k - 1), at(k), |tau| (seg.state(tau).1 > 0.0) == rising);
+    fn observe_segment(
+        &mut self,
+        seg: &Segment,
+        samples: &[Sample; 5],
+        ground: &impl Fn(f64) -> f64,
+    ) {
+        let mut deformation = samples.iter().fold(0.0f64, |m, s| m.max(s.u.abs()));
+        for pair in samples.windows(2) {
+            if pair[0].v * pair[1].v < 0.0 {
+                // |u| is flat at its extremum: a bracket of 2⁻³⁰ of the sample spacing leaves
+                // a relative error ~ (ω δτ)² far below roundoff.
+                let rising = pair[0].v > 0.0;
+                let (a, b) = bisect(pair[0].tau, pair[1].tau, 30, |tau| {
+                    (seg.state(tau).1 > 0.0) == rising
+                });
                 deformation = deformation.max(seg.state(0.5 * (a + b)).0.abs());
             }
-            prev = next;
         }
         self.peaks.deformation = self.peaks.deformation.max(deformation);
         self.peaks.drift = self.peaks.drift.max(deformation / self.h);
@@ -592,8 +661,9 @@ impl<'m> FlexibleModel<'m> {
             let (u, v) = seg.state(tau);
             (seg.accel(tau, u, v) + ground(tau)).abs() / G
         };
+        let sampled = samples.map(|s| (s.tau, (s.a + ground(s.tau)).abs() / G));
         let floor = self.peaks.abs_acceleration_g;
-        let peak = refined_max(accel_g, 0.0, tau_end, QUARTERS, floor);
+        let peak = refined_max_of_samples(accel_g, &sampled, floor);
         self.peaks.abs_acceleration_g = floor.max(peak);
     }
 
@@ -687,10 +757,10 @@ fn record_interval(record: &RecordMotion, t: f64, t_stop: f64, longest: f64) -> 
     (t1, record.accel(t), record.accel(t1))
 }
 
-/// Bisection of [a, b] where `left(a)` holds and `left(b)` does not, down to adjacent
-/// floating-point numbers: the final bracket (a, b).
-fn bisect(mut a: f64, mut b: f64, left: impl Fn(f64) -> bool) -> (f64, f64) {
-    for _ in 0..200 {
+/// Bisection of [a, b] where `left(a)` holds and `left(b)` does not, for at most `iterations`
+/// halvings or down to adjacent floating-point numbers: the final bracket (a, b).
+fn bisect(mut a: f64, mut b: f64, iterations: usize, left: impl Fn(f64) -> bool) -> (f64, f64) {
+    for _ in 0..iterations {
         let mid = 0.5 * (a + b);
         if mid <= a || mid >= b {
             break;

@@ -190,11 +190,36 @@ pub fn refined_max(f: impl Fn(f64) -> f64, t0: f64, t1: f64, n: usize, floor: f6
     if best <= floor {
         return best;
     }
-    let (mut lo, mut hi) = (at(best_k.saturating_sub(1)), at((best_k + 1).min(n)));
+    best.max(golden_max(
+        f,
+        at(best_k.saturating_sub(1)),
+        at((best_k + 1).min(n)),
+    ))
+}
+
+/// [`refined_max`] over samples (t_k, f(t_k)) the caller already has.
+pub fn refined_max_of_samples(f: impl Fn(f64) -> f64, samples: &[(f64, f64)], floor: f64) -> f64 {
+    let (best_k, best) = samples
+        .iter()
+        .enumerate()
+        .fold(
+            (0, f64::NEG_INFINITY),
+            |a, (k, s)| if s.1 > a.1 { (k, s.1) } else { a },
+        );
+    if best <= floor {
+        return best;
+    }
+    let lo = samples[best_k.saturating_sub(1)].0;
+    let hi = samples[(best_k + 1).min(samples.len() - 1)].0;
+    best.max(golden_max(f, lo, hi))
+}
+
+/// Golden-section search for the maximum of a unimodal f on [lo, hi] (50 iterations).
+fn golden_max(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
     let r = 0.5 * (5f64.sqrt() - 1.0);
     for _ in 0..50 {
         let (c, d) = (hi - r * (hi - lo), lo + r * (hi - lo));
         if f(c) > f(d) { hi = d } else { lo = c }
     }
-    best.max(f(0.5 * (lo + hi)))
+    f(0.5 * (lo + hi))
 }

@@ -32,6 +32,18 @@ impl Oscillator {
         self.omega_d
     }
 
+    /// The free-vibration basis at τ.
+    #[inline]
+    pub fn basis(&self, tau: f64) -> Basis {
+        let (sin, cos) = (self.omega_d * tau).sin_cos();
+        Basis {
+            tau,
+            decay: (-self.sigma * tau).exp(),
+            cos,
+            sin,
+        }
+    }
+
     /// The response from (u0, v0) to the forcing f0 + b τ.
     pub fn segment(&self, u0: f64, v0: f64, f0: f64, b: f64) -> Segment {
         let w2 = self.omega * self.omega;
@@ -51,6 +63,16 @@ impl Oscillator {
     }
 }
 
+/// e^{−στ}, cos ωd τ and sin ωd τ at one instant τ: all the closed form needs that costs
+/// transcendental functions, so intervals of one length can share them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Basis {
+    pub tau: f64,
+    decay: f64,
+    cos: f64,
+    sin: f64,
+}
+
 /// The closed-form response over one interval, τ measured from its start.
 #[derive(Clone, Copy, Debug)]
 pub struct Segment {
@@ -67,9 +89,19 @@ impl Segment {
     /// (u, u̇) at τ.
     #[inline]
     pub fn state(&self, tau: f64) -> (f64, f64) {
+        self.state_at(&self.osc.basis(tau))
+    }
+
+    /// (u, u̇) at the instant of a precomputed basis (no transcendental functions).
+    #[inline]
+    pub fn state_at(&self, basis: &Basis) -> (f64, f64) {
         let Oscillator { sigma, omega_d, .. } = self.osc;
-        let e = (-sigma * tau).exp();
-        let (sn, cs) = (omega_d * tau).sin_cos();
+        let Basis {
+            tau,
+            decay: e,
+            cos: cs,
+            sin: sn,
+        } = *basis;
         let (c1, c2) = (self.c1, self.c2);
         let u = self.p + self.q * tau + e * (c1 * cs + c2 * sn);
         let v = self.q + e * ((omega_d * c2 - sigma * c1) * cs - (sigma * c2 + omega_d * c1) * sn);
@@ -82,35 +114,47 @@ impl Segment {
         self.forcing(tau) - 2.0 * self.osc.sigma * v - self.osc.omega * self.osc.omega * u
     }
 
+    /// The basis of this segment's oscillator at τ.
+    #[inline]
+    pub fn basis(&self, tau: f64) -> Basis {
+        self.osc.basis(tau)
+    }
+
     #[inline]
     pub fn forcing(&self, tau: f64) -> f64 {
         self.f0 + self.b * tau
     }
 }
 
+/// Nodes τ_i and weights w_i of 5-point Gauss–Legendre on [0, h]: ∫₀^h g ≈ Σ w_i g(τ_i).
+pub fn gauss_legendre_5_nodes(h: f64) -> [(f64, f64); 5] {
+    let half = 0.5 * h;
+    std::array::from_fn(|i| (half * (1.0 + GL5_NODES[i]), half * GL5_WEIGHTS[i]))
+}
+
+const GL5_NODES: [f64; 5] = [
+    0.0,
+    -0.538_469_310_105_683_1,
+    0.538_469_310_105_683_1,
+    -0.906_179_845_938_664,
+    0.906_179_845_938_664,
+];
+const GL5_WEIGHTS: [f64; 5] = [
+    0.568_888_888_888_888_9,
+    0.478_628_670_499_366_47,
+    0.478_628_670_499_366_47,
+    0.236_926_885_056_189_08,
+    0.236_926_885_056_189_08,
+];
+
 /// ∫₀^h g(τ) dτ by 5-point Gauss–Legendre: exact for polynomials of degree 9. On the closed
 /// form the integrands (u̇², f u̇) are analytic with frequency ≤ 2ω, and the rule's error is
 /// ~ 4e-13 h max|g| (2ωh)^10; callers keep ωh ≤ 0.5, and a record's ωh ≈ 0.06 gives ~1e-22.
 pub fn gauss_legendre_5<const K: usize>(h: f64, g: impl Fn(f64) -> [f64; K]) -> [f64; K] {
-    const NODES: [f64; 5] = [
-        0.0,
-        -0.538_469_310_105_683_1,
-        0.538_469_310_105_683_1,
-        -0.906_179_845_938_664,
-        0.906_179_845_938_664,
-    ];
-    const WEIGHTS: [f64; 5] = [
-        0.568_888_888_888_888_9,
-        0.478_628_670_499_366_47,
-        0.478_628_670_499_366_47,
-        0.236_926_885_056_189_08,
-        0.236_926_885_056_189_08,
-    ];
-    let half = 0.5 * h;
     let mut sum = [0.0; K];
-    for (x, w) in NODES.iter().zip(WEIGHTS) {
-        for (s, v) in sum.iter_mut().zip(g(half * (1.0 + x))) {
-            *s += half * w * v;
+    for (tau, w) in gauss_legendre_5_nodes(h) {
+        for (s, v) in sum.iter_mut().zip(g(tau)) {
+            *s += w * v;
         }
     }
     sum
