@@ -257,10 +257,30 @@ fn closed_form_only_where_it_is_exact() {
         frequency: Frequency::RadPerSec(8.0),
     };
     assert_eq!(counts(&pulse), 0);
+    // A critically damped or overdamped column has no oscillatory closed form here.
+    let mut overdamped = short(Device::None);
+    if let Structure::Flexible(f) = &mut overdamped.structure {
+        f.xi = 1.2;
+    }
+    assert_eq!(counts(&overdamped), 0);
 
     let text = ron::to_string(&short(Device::None)).unwrap();
     let without = text.replace(",exact_contact:true", "");
     assert_ne!(text, without, "the option is serialised: {text}");
     let parsed: Scene = ron::from_str(&without).unwrap();
     assert!(parsed.exact_contact);
+}
+
+/// The settled-tail cut works on the closed-form path as on the integrator's: same peaks, an
+/// earlier end, and the energy still balances.
+#[test]
+fn settled_tail_cut_on_the_closed_form_keeps_the_peaks() {
+    let full = flexible(1.3, Device::None, "northridge", 40.0);
+    let mut cut = full.clone();
+    cut.stop_when_settled = true;
+    let (a, b) = (sim::run(&full).unwrap(), sim::run(&cut).unwrap());
+    assert_eq!(b.end_reason, rocklab::model::EndReason::Settled);
+    assert!(b.end_time < 0.9 * a.end_time, "{} vs {}", b.end_time, a.end_time);
+    assert_eq!(a.peaks, b.peaks);
+    assert!(b.energy_residual < 1e-12, "{}", b.energy_residual);
 }
