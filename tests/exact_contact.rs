@@ -280,7 +280,12 @@ fn settled_tail_cut_on_the_closed_form_keeps_the_peaks() {
     cut.stop_when_settled = true;
     let (a, b) = (sim::run(&full).unwrap(), sim::run(&cut).unwrap());
     assert_eq!(b.end_reason, rocklab::model::EndReason::Settled);
-    assert!(b.end_time < 0.9 * a.end_time, "{} vs {}", b.end_time, a.end_time);
+    assert!(
+        b.end_time < 0.9 * a.end_time,
+        "{} vs {}",
+        b.end_time,
+        a.end_time
+    );
     assert_eq!(a.peaks, b.peaks);
     assert!(b.energy_residual < 1e-12, "{}", b.energy_residual);
 }

@@ -79,17 +79,18 @@ pub struct FlexibleModel<'m> {
     peaks: Peaks,
     /// The full-contact phase as a linear oscillator, when it is advanced in closed form.
     contact: Option<ContactOscillator>,
-    /// The closed form's basis at the nodes of the last interval length.
-    nodes: Option<IntervalNodes>,
+    /// The closed form's basis at the nodes of the last few interval lengths.
+    nodes: [Option<IntervalNodes>; 4],
+    nodes_next: usize,
 }
 
-/// The closed form's basis (e^{−στ}, cos ωd τ, sin ωd τ) at the interior quarter points and
-/// the Gauss–Legendre nodes of an interval of length h: a record's intervals all have its dt,
-/// so each interval costs one fresh basis (its end) instead of nine.
+/// The closed form's basis (e^{−στ}, cos ωd τ, sin ωd τ) at the interior quarter points, the
+/// end and the Gauss–Legendre nodes of an interval of length h.
 #[derive(Clone, Copy, Debug)]
 struct IntervalNodes {
     h: f64,
     quarters: [Basis; 3],
+    end: Basis,
     gauss: [(Basis, f64); 5],
 }
 
@@ -98,6 +99,7 @@ impl IntervalNodes {
         IntervalNodes {
             h,
             quarters: std::array::from_fn(|k| osc.basis(h * (k + 1) as f64 / 4.0)),
+            end: osc.basis(h),
             gauss: gauss_legendre_5_nodes(h).map(|(tau, w)| (osc.basis(tau), w)),
         }
     }
@@ -191,7 +193,8 @@ impl<'m> FlexibleModel<'m> {
             counters: Counters::default(),
             peaks: Peaks::default(),
             contact: None,
-            nodes: None,
+            nodes: [None; 4],
+            nodes_next: 0,
         }
     }
 
@@ -543,18 +546,14 @@ impl<'m> FlexibleModel<'m> {
             -contact.load_ratio * a0,
             -contact.load_ratio * slope,
         );
-        let nodes = match self.nodes {
-            // A record's intervals differ in length by roundoff only (t0 + k dt).
-            Some(n) if (n.h - h).abs() <= 1e-10 * h => n,
-            _ => *self.nodes.insert(IntervalNodes::new(&osc, h)),
-        };
+        let nodes = self.interval_nodes(&osc, h);
         let at = |basis: &Basis| Sample::new(&seg, basis);
         let mut samples = [
             Sample::new(&seg, &osc.basis(0.0)),
             at(&nodes.quarters[0]),
             at(&nodes.quarters[1]),
             at(&nodes.quarters[2]),
-            at(&osc.basis(h)),
+            at(&nodes.end),
         ];
         let (tau_end, outcome, gauss) = match self.first_uplift(&seg, &samples) {
             Some((tau, side)) => {
@@ -584,6 +583,18 @@ impl<'m> FlexibleModel<'m> {
         (y[0], y[1]) = (samples[4].u, samples[4].v);
         let t_end = if tau_end == h { t1 } else { t + tau_end };
         Some((t_end, outcome))
+    }
+
+    /// The bases at the nodes of an interval of length h, from a small cache keyed by h's bits:
+    /// a record's intervals t0 + k dt take only a few distinct lengths (dt to roundoff), so
+    /// an interval rarely costs a transcendental function.
+    fn interval_nodes(&mut self, osc: &Oscillator, h: f64) -> IntervalNodes {
+        if let Some(n) = self.nodes.iter().flatten().find(|n| n.h == h) {
+            return *n;
+        }
+        let slot = self.nodes_next % self.nodes.len();
+        self.nodes_next += 1;
+        *self.nodes[slot].insert(IntervalNodes::new(osc, h))
     }
 
     /// The earliest uplift (Eqs. 37–38, either side) on a contact segment: the margin rising
