@@ -484,3 +484,28 @@ fn free_rocking_with_flywheels_starts_with_unloaded_springs() {
         assert!(r.energy_residual < 1e-6, "{name}: {}", r.energy_residual);
     }
 }
+
+/// `form: auto` integrates the slender equations only where their error against the exact
+/// ones is below the tolerance, and says which it used.
+#[test]
+fn auto_form_uses_slender_only_below_the_tolerance() {
+    for (alpha, rtol) in [(5e-4, 1e-6), (0.05, 1e-6), (0.05, 1e-2)] {
+        let mut exact = fig8(Device::None);
+        exact.excitation = pulse(Amplitude::TanAlphaRatio(1.5), 4.0);
+        exact.rtol = rtol;
+        if let Structure::Rigid(b) = &mut exact.structure {
+            b.alpha = alpha;
+        }
+        let mut auto = exact.clone();
+        if let Structure::Rigid(b) = &mut auto.structure {
+            b.form = Form::Auto;
+        }
+        let (e, a) = (run(&exact), run(&auto));
+        assert_eq!(e.form_used, Some(Form::Exact));
+        let expected = Form::Auto.resolve(alpha, rtol);
+        assert_eq!(a.form_used, Some(expected), "α = {alpha}, rtol = {rtol}");
+        assert_eq!(expected == Form::Slender, alpha < 0.01 || rtol > 1e-3);
+        // Whatever it picks, the peak stays within the tolerance of the exact equations'.
+        assert!(rel(a.peaks.rotation, e.peaks.rotation) < rtol.max(1e-6));
+    }
+}

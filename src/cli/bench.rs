@@ -432,6 +432,38 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         |s| s.stop_when_settled = true,
         args,
     )?;
+    println!("\n## Slender equations where their error is below the tolerance (form: auto)\n");
+    println!("| α | form used | time (ms) exact → auto | speed-up | θmax change | rtol |");
+    println!("|---|---|---|---|---|---|");
+    for alpha in [2e-4, 5e-4, 0.01] {
+        let mut exact = rigid_fig8(Device::None);
+        exact.excitation = Excitation::Pulse {
+            shape: PulseShape::Sine,
+            amplitude: Amplitude::TanAlphaRatio(1.5),
+            frequency: Frequency::Ratio(4.0),
+        };
+        if let Structure::Rigid(b) = &mut exact.structure {
+            b.alpha = alpha;
+        }
+        let [(off, t_off), (on, t_on)] = compare_option(
+            &exact,
+            |s| {
+                if let Structure::Rigid(b) = &mut s.structure {
+                    b.form = Form::Auto;
+                }
+            },
+            args.repeats,
+        )?;
+        println!(
+            "| {alpha:e} | {:?} | {:.3} → {:.3} | {:.2}× | {:.1e} | {:e} |",
+            on.form_used.unwrap_or(Form::Exact),
+            t_off * 1e3,
+            t_on * 1e3,
+            t_off / t_on,
+            relative_error(on.peaks.rotation, off.peaks.rotation),
+            exact.rtol
+        );
+    }
     print_exact_contact_table(args)?;
     Ok(())
 }

@@ -41,6 +41,8 @@ pub enum CouplingKind {
 pub enum FormKind {
     Exact,
     Slender,
+    /// Slender only where its error against the exact form is below --rtol.
+    Auto,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -272,12 +274,13 @@ impl SimulateArgs {
                 form: match self.form {
                     FormKind::Exact => Form::Exact,
                     FormKind::Slender => Form::Slender,
+                    FormKind::Auto => Form::Auto,
                 },
             })
         } else {
-            if self.form == FormKind::Slender {
+            if self.form != FormKind::Exact {
                 return Err(UsageError::new(
-                    "--form slender only applies to --structure rigid",
+                    "--form slender|auto only applies to --structure rigid",
                 ));
             }
             // The flexible structure lands by the VVEL rule (MODEL.md): no restitution to choose.
@@ -596,6 +599,7 @@ pub fn result_json(scene: &Scene, r: &SceneResult) -> serde_json::Value {
         "rhs_evals": r.stats.rhs_evals,
         "exact_steps": r.stats.exact_steps,
         "wall_seconds": r.wall_seconds,
+        "form_used": r.form_used,
         "scene": scene,
     })
 }

@@ -9,6 +9,14 @@ use super::{
 };
 use crate::excitation::{G, Motion};
 use crate::scene::{Form, Impact, RigidBlock};
+
+/// The equations actually integrated (a scene's `Form::Auto` is resolved before the model is
+/// built, by [`Form::resolve`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Equations {
+    Exact,
+    Slender,
+}
 use crate::solver::{Dense, Direction, MAX_EVENTS, OdeSystem};
 use std::f64::consts::PI;
 
@@ -54,7 +62,7 @@ pub struct RigidModel<'m> {
     r: f64,
     alpha: f64,
     m: f64,
-    form: Form,
+    form: Equations,
     p2: f64,
     i0: f64,
     sin_a: f64,
@@ -94,6 +102,10 @@ impl<'m> RigidModel<'m> {
     ) -> Self {
         let r = block.size;
         let p2 = 3.0 * G / (4.0 * r);
+        let form = match block.form {
+            Form::Slender => Equations::Slender,
+            Form::Exact | Form::Auto => Equations::Exact,
+        };
         let (restitution_override, dirac) = match impact {
             Impact::Housner { restitution } => (restitution, None),
             Impact::Dirac { width } => (None, Some((width, dirac_zone(width)))),
@@ -129,14 +141,14 @@ impl<'m> RigidModel<'m> {
             r,
             alpha: block.alpha,
             m: block.mass,
-            form: block.form,
+            form,
             p2,
             i0: 4.0 / 3.0 * block.mass * r * r,
             sin_a: block.alpha.sin(),
             cos_a: block.alpha.cos(),
-            uplift_ratio: match block.form {
-                Form::Exact => block.alpha.tan(),
-                Form::Slender => block.alpha,
+            uplift_ratio: match form {
+                Equations::Exact => block.alpha.tan(),
+                Equations::Slender => block.alpha,
             },
             dev: device,
             restitution_override,
@@ -167,8 +179,8 @@ impl<'m> RigidModel<'m> {
     fn sc(&self, theta: f64) -> (f64, f64) {
         let a = self.pivot * self.alpha - theta;
         match self.form {
-            Form::Exact => a.sin_cos(),
-            Form::Slender => (a, 1.0),
+            Equations::Exact => a.sin_cos(),
+            Equations::Slender => (a, 1.0),
         }
     }
 
@@ -180,8 +192,8 @@ impl<'m> RigidModel<'m> {
         }
         let (s, c) = self.sc(y[0]);
         let x = match self.form {
-            Form::Exact => self.r * (self.pivot * self.sin_a - s),
-            Form::Slender => self.r * y[0],
+            Equations::Exact => self.r * (self.pivot * self.sin_a - s),
+            Equations::Slender => self.r * y[0],
         };
         (x, self.r * c * y[1])
     }
@@ -215,8 +227,8 @@ impl<'m> RigidModel<'m> {
         let ag = self.motion.accel(t);
         let thdd = -self.p2 * (s + ag / G * c) + self.dirac_moment(y[0], y[1]) / self.i0;
         match self.form {
-            Form::Exact => self.r * (c * thdd + s * y[1] * y[1]),
-            Form::Slender => self.r * thdd,
+            Equations::Exact => self.r * (c * thdd + s * y[1] * y[1]),
+            Equations::Slender => self.r * thdd,
         }
     }
 
@@ -252,7 +264,7 @@ impl<'m> RigidModel<'m> {
             let mut den = 1.0;
             if sigma > 0.0 {
                 den += 0.75 * sigma * c * c;
-                if self.form == Form::Exact {
+                if self.form == Equations::Exact {
                     num -= 0.75 * sigma * c * s * thetadot * thetadot;
                 }
             }
@@ -478,16 +490,16 @@ impl<'m> RigidModel<'m> {
         }
         let (s, c) = self.sc(y[0]);
         let xddot = match self.form {
-            Form::Exact => self.r * (c * dy[1] + s * y[1] * y[1]),
-            Form::Slender => self.r * dy[1],
+            Equations::Exact => self.r * (c * dy[1] + s * y[1] * y[1]),
+            Equations::Slender => self.r * dy[1],
         };
         xddot + ag
     }
 
     fn drift_of(&self, theta: f64) -> f64 {
         let x = match self.form {
-            Form::Exact => self.r * (self.sin_a - (self.alpha - theta.abs()).sin()),
-            Form::Slender => self.r * theta.abs(),
+            Equations::Exact => self.r * (self.sin_a - (self.alpha - theta.abs()).sin()),
+            Equations::Slender => self.r * theta.abs(),
         };
         x / (self.r * self.cos_a)
     }
@@ -501,8 +513,8 @@ impl<'m> RigidModel<'m> {
             self.rhs_slice(t, y, &mut dy);
             let (s, c) = self.sc(y[0]);
             let xddot = match self.form {
-                Form::Exact => self.r * (c * dy[1] + s * y[1] * y[1]),
-                Form::Slender => self.r * dy[1],
+                Equations::Exact => self.r * (c * dy[1] + s * y[1] * y[1]),
+                Equations::Slender => self.r * dy[1],
             };
             return (0.0, 0.0, -mr * xddot);
         }
@@ -611,8 +623,8 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
         }
         let (s, c) = self.sc(y[0]);
         let pe = match self.form {
-            Form::Exact => self.m * G * self.r * (c - self.cos_a),
-            Form::Slender => 0.5 * self.m * G * self.r * (self.alpha.powi(2) - s * s),
+            Equations::Exact => self.m * G * self.r * (c - self.cos_a),
+            Equations::Slender => 0.5 * self.m * G * self.r * (self.alpha.powi(2) - s * s),
         };
         let block = 0.5 * self.i0 * y[1] * y[1] + pe;
         let (x, _) = self.x_xdot(y);
@@ -630,14 +642,14 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
         let e = block + returnable;
         let mgr = self.m * G * self.r;
         let reach = match self.form {
-            Form::Exact => {
+            Equations::Exact => {
                 let c_min = self.cos_a + e / mgr;
                 if c_min >= 1.0 {
                     return false;
                 }
                 self.alpha - c_min.acos()
             }
-            Form::Slender => {
+            Equations::Slender => {
                 let d = self.alpha.powi(2) - 2.0 * e / mgr;
                 if d <= 0.0 {
                     return false;
@@ -646,8 +658,8 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
             }
         };
         let s_max = match self.form {
-            Form::Exact => self.sin_a,
-            Form::Slender => self.alpha,
+            Equations::Exact => self.sin_a,
+            Equations::Slender => self.alpha,
         };
         let sigma = self.dev.mr() / self.m;
         let rate2 = 2.0 * e / self.i0;
@@ -692,8 +704,8 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
         let structure = if self.phase == Phase::Rocking {
             let (s, c) = self.sc(y[0]);
             let pe = match self.form {
-                Form::Exact => self.m * G * self.r * (c - self.cos_a),
-                Form::Slender => 0.5 * self.m * G * self.r * (self.alpha.powi(2) - s * s),
+                Equations::Exact => self.m * G * self.r * (c - self.cos_a),
+                Equations::Slender => 0.5 * self.m * G * self.r * (self.alpha.powi(2) - s * s),
             };
             0.5 * self.i0 * y[1] * y[1] + pe
         } else {
