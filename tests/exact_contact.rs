@@ -289,3 +289,16 @@ fn settled_tail_cut_on_the_closed_form_keeps_the_peaks() {
     assert_eq!(a.peaks, b.peaks);
     assert!(b.energy_residual < 1e-12, "{}", b.energy_residual);
 }
+
+/// A maximum just past an interval's first sample, which equals the running peak (it was the
+/// previous interval's end), is still found between the samples.
+#[test]
+fn sampled_maximum_is_refined_when_the_first_sample_ties_the_running_peak() {
+    let f = |t: f64| 1.0 - (t - 0.1).powi(2);
+    let samples: Vec<(f64, f64)> = (0..=4)
+        .map(|k| (k as f64 / 4.0, f(k as f64 / 4.0)))
+        .collect();
+    let floor = samples[0].1;
+    let peak = rocklab::model::refined_max_of_samples(f, &samples, floor);
+    assert!((peak - 1.0).abs() < 1e-12, "{peak}");
+}
