@@ -97,8 +97,9 @@ fn chained_intervals_reproduce_the_analytic_ramp_response() {
 /// in closed form, and the integrator at rtol 1e-13 agrees on every peak and on the final
 /// state and energies to ~1e-9, bare and with a rigid inerter. (At rtol 1e-12 the
 /// integrator's acceleration peak of the bare column is 1e-6 low: `refined_max` refines a step
-/// only when a sample beats the running peak, and one step's true maximum fell between
-/// samples; at 1e-8, 1e-10 and 1e-13 it agrees with the closed form to 2e-8, 1e-9, 5e-12.)
+/// only when a sample beats the running peak, and a maximum just past one step's end leaves the
+/// next step's first sample only tying it; at 1e-8, 1e-10 and 1e-13 it agrees with the closed
+/// form to 2e-8, 1e-9, 5e-12.)
 #[test]
 fn in_full_contact_the_closed_form_matches_the_tight_integrator() {
     for device in [Device::None, rigid_inerter()] {
