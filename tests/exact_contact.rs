@@ -299,7 +299,8 @@ fn sampled_maximum_is_refined_when_the_first_sample_ties_the_running_peak() {
     let samples: Vec<(f64, f64)> = (0..=4)
         .map(|k| (k as f64 / 4.0, f(k as f64 / 4.0)))
         .collect();
-    let floor = samples[0].1;
+    // The running peak, from the previous interval's end, a roundoff above this first sample.
+    let floor = samples[0].1 + 1e-15;
     let peak = rocklab::model::refined_max_of_samples(f, &samples, floor);
     assert!((peak - 1.0).abs() < 1e-12, "{peak}");
 }

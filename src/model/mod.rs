@@ -198,9 +198,9 @@ pub fn refined_max(f: impl Fn(f64) -> f64, t0: f64, t1: f64, n: usize, floor: f6
 }
 
 /// [`refined_max`] over samples (t_k, f(t_k)) the caller already has, refining also when the
-/// best sample only equals the running peak: a maximum just past the end of one interval leaves
-/// the running peak at that end, which is the next interval's first sample, and `best <= floor`
-/// would then never look between its samples.
+/// best sample only ties the running peak (to 1e-9, for roundoff): a maximum just past the end
+/// of one interval leaves the running peak at that end, which is the next interval's first
+/// sample, and `best <= floor` would then never look between its samples.
 pub fn refined_max_of_samples(f: impl Fn(f64) -> f64, samples: &[(f64, f64)], floor: f64) -> f64 {
     let (best_k, best) = samples
         .iter()
@@ -209,7 +209,7 @@ pub fn refined_max_of_samples(f: impl Fn(f64) -> f64, samples: &[(f64, f64)], fl
             (0, f64::NEG_INFINITY),
             |a, (k, s)| if s.1 > a.1 { (k, s.1) } else { a },
         );
-    if best < floor {
+    if best < floor - 1e-9 * floor.abs() {
         return best;
     }
     let lo = samples[best_k.saturating_sub(1)].0;
