@@ -640,7 +640,7 @@ pub fn summary(scene: &Scene, r: &SceneResult) -> String {
          peak |abs. accel.| {:.6} g\n\
          impacts {}  uplifts {}  engagements {}  resets {}\n\
          energy (J): input {:.6e}  structure {:.6e}  inerter {:.6e}  dissipated {:.6e}  residual {:.2e}\n\
-         solver: {} steps ({} rejected), {} rhs evaluations, {:.3} ms\n",
+         solver: {} steps ({} rejected), {} rhs evaluations, {} closed-form steps, {:.3} ms\n",
         match scene.structure {
             Structure::Rigid(_) => "rigid",
             Structure::Flexible(_) => "flexible",
@@ -665,6 +665,7 @@ pub fn summary(scene: &Scene, r: &SceneResult) -> String {
         r.stats.steps,
         r.stats.rejected,
         r.stats.rhs_evals,
+        r.stats.exact_steps,
         r.wall_seconds * 1e3,
     )
 }

@@ -11,6 +11,11 @@
 //!
 //! State: [u, u̇, θ, θ̇, flywheels (y, ẏ per flywheel), accumulators (input work, device damping,
 //! friction, column damping ∫ c u̇² dt)]. In full contact θ ≡ θ̇ ≡ 0.
+//!
+//! Full contact with no device or a rigidly coupled inerter under a record is a linear SDOF
+//! under piecewise-linear forcing: [`FlexibleModel::with_exact_contact`] advances it in closed
+//! form ([`super::sdof`]), one record sample at a time, and hands over to the integrator at
+//! the located uplift.
 
 use super::device::DeviceModel;
 use super::sdof::{Basis, Oscillator, Segment, gauss_legendre_5_nodes};
