@@ -604,8 +604,12 @@ impl<'m> FlexibleModel<'m> {
 
     /// The earliest uplift (Eqs. 37–38, either side) on a contact segment: the margin rising
     /// through zero between two samples, or peaking above zero between samples where it is
-    /// negative (its rate turns from + to − and the tangent bounds of the concave peak allow
-    /// it to reach zero). Located by bisection to roundoff; the returned τ is on the lifted
+    /// negative (its rate turns from + to − and the end tangents allow it to reach zero).
+    /// The margin is linear in (u, u̇), so its second derivative is a damped free vibration
+    /// with zeros π/ωd apart: samples ≤ ωd h/4 ≤ 0.125 rad apart hold at most one inflection,
+    /// the peak lies on a concave stretch, below the tangent at one end (the factor 2 is
+    /// margin). Not seen: a rate turning −, +, − within one piece, which can only graze zero by
+    /// a third-order amount. Located by bisection to roundoff; the returned τ is on the lifted
     /// side (margin ≥ 0).
     fn first_uplift(&self, seg: &Segment, samples: &[Sample; 5]) -> Option<(f64, f64)> {
         let margin = |side: f64, s: &Sample| self.uplift_margin(side, &[s.u, s.v]);
