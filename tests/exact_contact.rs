@@ -152,6 +152,7 @@ fn in_full_contact_the_closed_form_matches_the_tight_integrator() {
 fn with_uplift_the_hand_over_keeps_the_integrator_peaks() {
     for (record, device) in [
         ("landers", Device::None),
+        ("landers", rigid_inerter()),
         ("northridge", Device::None),
         ("northridge", rigid_inerter()),
     ] {
