@@ -181,13 +181,16 @@ pub fn extremum_on_step<const N: usize>(
 }
 
 /// Largest f over the sample points t_k = t0 + (t1 − t0)k/n, refined by golden section around
-/// the best sample when that beats `floor` (so only steps that can raise a peak pay for it).
+/// the best sample when that reaches `floor` (so only steps that can raise a peak pay for it).
 pub fn refined_max(f: impl Fn(f64) -> f64, t0: f64, t1: f64, n: usize, floor: f64) -> f64 {
     let at = |k: usize| t0 + (t1 - t0) * k as f64 / n as f64;
     let (best_k, best) = (0..=n)
         .map(|k| (k, f(at(k))))
         .fold((0, f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a });
-    if best <= floor {
+    // A sample that only ties the running peak still gets refined: when a maximum lies just
+    // past the previous step's end, this step's first sample equals the peak so far and the
+    // true maximum is inside this step.
+    if best < floor * (1.0 - 1e-9) {
         return best;
     }
     best.max(golden_max(
