@@ -163,6 +163,7 @@ const CASES: &[(&str, &str, &str)] = &[
         "duration: 10.0, map: (x: frequency, y: frequency),",
     ),
     ("rtol", "duration: 10.0,", "duration: 10.0, rtol: 0.5,"),
+    ("same_label", "none,", "mechanistic(sigma: 0.2),"),
     ("not_ron", "devices: [", "devices: ["),
 ];
 

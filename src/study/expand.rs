@@ -154,6 +154,16 @@ fn check_top_level(study: &Study) -> Result<(), StudyError> {
             "e.g. quantities: [peak_rotation_ratio]",
         ));
     }
+    let labels: Vec<String> = study.devices.iter().map(device_label).collect();
+    for (i, label) in labels.iter().enumerate() {
+        if labels[..i].contains(label) {
+            return Err(StudyError::field(
+                format!("devices[{i}]"),
+                format!("two device variants are both labelled `{label}`"),
+                "give one a `label: \"…\"` so their spectra stay apart",
+            ));
+        }
+    }
     if !(study.duration.is_finite() && study.duration > 0.0) {
         return Err(StudyError::field(
             "duration",
