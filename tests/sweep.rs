@@ -516,6 +516,14 @@ fn a_bad_study_file_exits_2_naming_the_place() {
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.contains("bad.ron:7:") && err.contains("sigm"), "{err}");
     assert!(!dir.path().join("results.json").exists());
+    let out = rocklab(&["run", &write_small(dir.path()), "--dry-run"]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("16 scenes in 4 groups") && text.contains("4  mechanistic kθ=3"),
+        "{text}"
+    );
+    assert!(!dir.path().join("out").exists());
     let out = rocklab(&["run", "default", "--shard", "3/3"]);
     assert_eq!(out.status.code(), Some(2));
 }
