@@ -37,7 +37,12 @@ impl Param {
             path,
             label: label.to_string(),
             axis,
-            values: v.expand(),
+            // A malformed range is reported, never expanded (it may be astronomically long).
+            values: if v.shape_error().is_some() {
+                vec![]
+            } else {
+                v.expand()
+            },
             names: None,
             shape_error: v.shape_error(),
         }
