@@ -22,6 +22,47 @@ pub struct BenchArgs {
     /// Only scenes whose name contains this.
     #[arg(long)]
     pub only: Option<String>,
+    /// Skip the sweep-throughput table (Fig. 12 and Fig. 24 studies on 1 and 2 threads).
+    #[arg(long)]
+    pub no_sweeps: bool,
+}
+
+/// The studies whose sweep throughput the bench reports, embedded so the bench runs anywhere.
+const SWEEP_STUDIES: [(&str, &str); 2] = [
+    (
+        "studies/fig12_rigid_spectra.ron",
+        include_str!("../../studies/fig12_rigid_spectra.ron"),
+    ),
+    (
+        "studies/fig24_records.ron",
+        include_str!("../../studies/fig24_records.ron"),
+    ),
+];
+
+/// Scenes per second of a whole study at its own tolerance, best of `repeats`, with `jobs`
+/// worker threads. Returns (scenes, best wall seconds).
+pub fn sweep_throughput(
+    study: &crate::study::Study,
+    jobs: usize,
+    repeats: usize,
+) -> anyhow::Result<(usize, f64)> {
+    let points = study.expand()?;
+    let opts = crate::sweep::SweepOptions {
+        jobs: Some(jobs),
+        shard: None,
+        cache: None,
+    };
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let mut best = f64::INFINITY;
+    for _ in 0..repeats.max(1) {
+        let start = Instant::now();
+        let results = crate::sweep::run(&points, &opts, &cancel, &|_| {});
+        best = best.min(start.elapsed().as_secs_f64());
+        if let Some(failed) = results.outcomes.iter().find(|o| o.result.is_err()) {
+            anyhow::bail!("a scene failed in the bench sweep: {:?}", failed.result);
+        }
+    }
+    Ok((points.len(), best))
 }
 
 /// A named scene for benchmarks.
@@ -432,6 +473,24 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         |s| s.stop_when_settled = true,
         args,
     )?;
+    if !args.no_sweeps {
+        println!(
+            "\n## Sweep throughput (best of {} runs)\n",
+            args.repeats.clamp(1, 3)
+        );
+        println!("| study | scenes | threads | wall time (s) | scenes/s |");
+        println!("|---|---|---|---|---|");
+        for (origin, text) in SWEEP_STUDIES {
+            let study = crate::study::Study::from_ron_str(text, origin)?;
+            for jobs in [1, 2] {
+                let (n, secs) = sweep_throughput(&study, jobs, args.repeats.clamp(1, 3))?;
+                println!(
+                    "| {origin} | {n} | {jobs} | {secs:.2} | {:.0} |",
+                    n as f64 / secs
+                );
+            }
+        }
+    }
     println!("\n## Slender equations where their error is below the tolerance (form: auto)\n");
     println!("| α | form used | time (ms) exact → auto | speed-up | θmax change | rtol |");
     println!("|---|---|---|---|---|---|");
