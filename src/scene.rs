@@ -25,6 +25,16 @@ pub struct Scene {
     /// peak (the free-vibration tail). Peaks are unchanged; end time and final energies differ.
     #[serde(default)]
     pub stop_when_settled: bool,
+    /// Advance the full-contact phase of a flexible structure with a linear device (none, or a
+    /// rigidly coupled inerter) under a record in closed form, exactly, instead of with the
+    /// integrator (`false` forces the integrator; `stats.exact_steps` counts closed-form
+    /// intervals).
+    #[serde(default = "default_exact_contact")]
+    pub exact_contact: bool,
+}
+
+pub fn default_exact_contact() -> bool {
+    true
 }
 
 pub fn default_rtol() -> f64 {

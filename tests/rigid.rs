@@ -38,6 +38,7 @@ fn fig8(device: Device) -> Scene {
         rtol: 1e-8,
         initial_rotation: 0.0,
         stop_when_settled: false,
+        exact_contact: true,
     }
 }
 
@@ -119,6 +120,7 @@ fn slender_free_rocking_matches_closed_form() {
         rtol: 1e-11,
         initial_rotation: theta0,
         stop_when_settled: false,
+        exact_contact: true,
     };
     let (result, history) = sim::run_with_history(&scene, true).unwrap();
     let history = history.unwrap();

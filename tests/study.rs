@@ -135,6 +135,7 @@ const CASES: &[(&str, &str, &str)] = &[
     ),
     ("missing_duration", "    duration: 10.0,\n", ""),
     ("bad_range", "steps: 10", "steps: 1"),
+    ("huge_range", "steps: 10", "steps: 1000000000000"),
     ("range_typo", "steps: 10", "stesp: 10"),
     ("negative_sigma", "sigma: 0.5", "sigma: [0.5, -0.5]"),
     ("alpha_too_large", "alpha: 0.1745", "alpha: 2.0"),
@@ -163,6 +164,7 @@ const CASES: &[(&str, &str, &str)] = &[
         "duration: 10.0, map: (x: frequency, y: frequency),",
     ),
     ("rtol", "duration: 10.0,", "duration: 10.0, rtol: 0.5,"),
+    ("same_label", "none,", "mechanistic(sigma: 0.2),"),
     ("not_ron", "devices: [", "devices: ["),
 ];
 

@@ -307,6 +307,15 @@ fn spectra_and_maps_are_the_scene_results_rearranged() {
         let i = sp.xs.iter().position(|v| *v == x).unwrap();
         assert_eq!(sp.ys[i], (!r.overturned).then_some(r.peak_rotation_ratio));
     }
+    // Both maps draw, one file each.
+    let dir = tempfile::tempdir().unwrap();
+    let files = report::plot_maps(dir.path(), report::ImageFormat::Svg, &maps).unwrap();
+    assert_eq!(files.len(), 2);
+    assert!(
+        std::fs::read_to_string(&files[1])
+            .unwrap()
+            .contains("sequential")
+    );
     // Overturning is monotone in amplitude for the bare block at ωg/p = 2 (the most
     // dangerous frequency here): if it survives a strong pulse it survives a weaker one.
     let bare = &maps[0];
@@ -507,6 +516,14 @@ fn a_bad_study_file_exits_2_naming_the_place() {
     let err = String::from_utf8(out.stderr).unwrap();
     assert!(err.contains("bad.ron:7:") && err.contains("sigm"), "{err}");
     assert!(!dir.path().join("results.json").exists());
+    let out = rocklab(&["run", &write_small(dir.path()), "--dry-run"]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("16 scenes in 4 groups") && text.contains("4  mechanistic kθ=3"),
+        "{text}"
+    );
+    assert!(!dir.path().join("out").exists());
     let out = rocklab(&["run", "default", "--shard", "3/3"]);
     assert_eq!(out.status.code(), Some(2));
 }

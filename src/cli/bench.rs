@@ -22,6 +22,47 @@ pub struct BenchArgs {
     /// Only scenes whose name contains this.
     #[arg(long)]
     pub only: Option<String>,
+    /// Skip the sweep-throughput table (Fig. 12 and Fig. 24 studies on 1 and 2 threads).
+    #[arg(long)]
+    pub no_sweeps: bool,
+}
+
+/// The studies whose sweep throughput the bench reports, embedded so the bench runs anywhere.
+const SWEEP_STUDIES: [(&str, &str); 2] = [
+    (
+        "studies/fig12_rigid_spectra.ron",
+        include_str!("../../studies/fig12_rigid_spectra.ron"),
+    ),
+    (
+        "studies/fig24_records.ron",
+        include_str!("../../studies/fig24_records.ron"),
+    ),
+];
+
+/// Scenes per second of a whole study at its own tolerance, best of `repeats`, with `jobs`
+/// worker threads. Returns (scenes, best wall seconds).
+pub fn sweep_throughput(
+    study: &crate::study::Study,
+    jobs: usize,
+    repeats: usize,
+) -> anyhow::Result<(usize, f64)> {
+    let points = study.expand()?;
+    let opts = crate::sweep::SweepOptions {
+        jobs: Some(jobs),
+        shard: None,
+        cache: None,
+    };
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let mut best = f64::INFINITY;
+    for _ in 0..repeats.max(1) {
+        let start = Instant::now();
+        let results = crate::sweep::run(&points, &opts, &cancel, &|_| {});
+        best = best.min(start.elapsed().as_secs_f64());
+        if let Some(failed) = results.outcomes.iter().find(|o| o.result.is_err()) {
+            anyhow::bail!("a scene failed in the bench sweep: {:?}", failed.result);
+        }
+    }
+    Ok((points.len(), best))
 }
 
 /// A named scene for benchmarks.
@@ -51,6 +92,7 @@ pub fn rigid_fig8(device: Device) -> Scene {
         rtol: default_rtol(),
         initial_rotation: 0.0,
         stop_when_settled: false,
+        exact_contact: true,
     }
 }
 
@@ -77,6 +119,7 @@ pub fn flexible_fig14(device: Device) -> Scene {
         rtol: default_rtol(),
         initial_rotation: 0.0,
         stop_when_settled: false,
+        exact_contact: true,
     }
 }
 
@@ -95,6 +138,36 @@ pub fn flexible_landers(device: Device) -> Scene {
     };
     s.duration = 58.0;
     s
+}
+
+/// The Fig. 24 structure under the Northridge–Rinaldi fault-normal record (20 s + 10 s).
+pub fn flexible_northridge(device: Device) -> Scene {
+    let mut s = flexible_landers(device);
+    s.excitation = Excitation::Record {
+        name: "northridge".into(),
+        scale: RecordScale::Factor(1.0),
+        baseline: false,
+        kinks: Default::default(),
+    };
+    s.duration = 30.0;
+    s
+}
+
+/// The Fig. 24 column on a base wide enough (α = 1.3) never to lift under Landers: the whole
+/// run is full contact.
+pub fn flexible_wide_landers(device: Device) -> Scene {
+    let mut s = flexible_landers(device);
+    if let Structure::Flexible(f) = &mut s.structure {
+        f.alpha = 1.3;
+    }
+    s
+}
+
+fn rigid_inerter() -> Device {
+    Device::Inerter {
+        sigma: 0.5,
+        coupling: Coupling::Rigid,
+    }
 }
 
 /// A rigid block R = 5 m, α = 0.2 under the Northridge–Rinaldi fault-normal record (30 s).
@@ -146,6 +219,26 @@ pub fn scenes() -> Vec<BenchScene> {
         BenchScene {
             name: "flexible mechanistic, Fig. 14",
             scene: flexible_fig14(Device::Mechanistic(Clutch::paper_default(0.5))),
+        },
+        BenchScene {
+            name: "flexible bare, Landers record",
+            scene: flexible_landers(Device::None),
+        },
+        BenchScene {
+            name: "flexible inerter, Landers record",
+            scene: flexible_landers(rigid_inerter()),
+        },
+        BenchScene {
+            name: "flexible bare, Northridge record",
+            scene: flexible_northridge(Device::None),
+        },
+        BenchScene {
+            name: "flexible inerter, Northridge record",
+            scene: flexible_northridge(rigid_inerter()),
+        },
+        BenchScene {
+            name: "flexible bare, wide base, Landers record",
+            scene: flexible_wide_landers(Device::None),
         },
         BenchScene {
             name: "flexible sequential, Landers record",
@@ -280,6 +373,68 @@ fn print_option_table(
     Ok(())
 }
 
+/// Closed-form full contact against the integrator throughout: both at the default tolerance,
+/// each with its peak errors against the integrator at the reference tolerance, for the scenes
+/// where the closed form applies (a flexible structure, no device or a rigid inerter, a record).
+fn print_exact_contact_table(args: &BenchArgs) -> anyhow::Result<()> {
+    println!(
+        "\n## Full contact in closed form (rtol {:e}; errors against the integrator at {:e})\n",
+        default_rtol(),
+        args.reference
+    );
+    println!(
+        "| scene | RHS evals off → on | exact steps | time (ms) off → on | speed-up | err θmax off / on | err umax off / on | err accel off / on | energy residual off / on |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    let integrate = |s: &mut Scene| s.exact_contact = false;
+    for bench in scenes() {
+        let applies = matches!(bench.scene.structure, Structure::Flexible(_))
+            && matches!(bench.scene.excitation, Excitation::Record { .. })
+            && matches!(
+                bench.scene.device,
+                Device::None
+                    | Device::Inerter {
+                        coupling: Coupling::Rigid,
+                        ..
+                    }
+            );
+        if !applies
+            || args
+                .only
+                .as_ref()
+                .is_some_and(|o| !bench.name.contains(o.as_str()))
+        {
+            continue;
+        }
+        let mut off = bench.scene.clone();
+        integrate(&mut off);
+        let (reference, _) = timed(&off, args.reference, 1)?;
+        let want = peaks(&reference);
+        let [(off, t_off), (on, t_on)] =
+            compare_option(&off, |s| s.exact_contact = true, args.repeats)?;
+        let err = |r: &SceneResult, i: usize| relative_error(peaks(r)[i], want[i]);
+        println!(
+            "| {} | {} → {} | {} | {:.3} → {:.3} | {:.2}× | {:.1e} / {:.1e} | {:.1e} / {:.1e} | {:.1e} / {:.1e} | {:.1e} / {:.1e} |",
+            bench.name,
+            off.stats.rhs_evals,
+            on.stats.rhs_evals,
+            on.stats.exact_steps,
+            t_off * 1e3,
+            t_on * 1e3,
+            t_off / t_on,
+            err(&off, 0),
+            err(&on, 0),
+            err(&off, 1),
+            err(&on, 1),
+            err(&off, 3),
+            err(&on, 3),
+            off.energy_residual,
+            on.energy_residual,
+        );
+    }
+    Ok(())
+}
+
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     println!(
         "rocklab bench: relative peak errors against rtol = {:e}; time = median of {} runs",
@@ -318,6 +473,24 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         |s| s.stop_when_settled = true,
         args,
     )?;
+    if !args.no_sweeps {
+        println!(
+            "\n## Sweep throughput (best of {} runs)\n",
+            args.repeats.clamp(1, 3)
+        );
+        println!("| study | scenes | threads | wall time (s) | scenes/s |");
+        println!("|---|---|---|---|---|");
+        for (origin, text) in SWEEP_STUDIES {
+            let study = crate::study::Study::from_ron_str(text, origin)?;
+            for jobs in [1, 2] {
+                let (n, secs) = sweep_throughput(&study, jobs, args.repeats.clamp(1, 3))?;
+                println!(
+                    "| {origin} | {n} | {jobs} | {secs:.2} | {:.0} |",
+                    n as f64 / secs
+                );
+            }
+        }
+    }
     println!("\n## Slender equations where their error is below the tolerance (form: auto)\n");
     println!("| α | form used | time (ms) exact → auto | speed-up | θmax change | rtol |");
     println!("|---|---|---|---|---|---|");
@@ -350,5 +523,6 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             exact.rtol
         );
     }
+    print_exact_contact_table(args)?;
     Ok(())
 }

@@ -157,3 +157,47 @@ pub fn side_by_side(a: &Spectrum, b: &Spectrum) -> String {
 fn peak(ys: &[Option<f64>]) -> Option<f64> {
     ys.iter().flatten().copied().reduce(f64::max)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spectrum(group: &str) -> Spectrum {
+        Spectrum {
+            quantity: Quantity::PeakRotationRatio,
+            group: group.into(),
+            axis: "ωn".into(),
+            xs: vec![1.0],
+            ys: vec![Some(1.0)],
+        }
+    }
+
+    #[test]
+    fn variants_pair_up_within_each_record_and_grid_point() {
+        let spectra: Vec<Spectrum> = [
+            "landers · sequential",
+            "landers · mechanistic",
+            "northridge · sequential",
+            "northridge · mechanistic",
+            "northridge · bare",
+            "mechanistic kθ=3",
+            "sequential kθ=3",
+        ]
+        .map(spectrum)
+        .to_vec();
+        let pairs: Vec<(&str, &str)> = pair_spectra(&spectra, "sequential", "mechanistic")
+            .into_iter()
+            .map(|(a, b)| (a.group.as_str(), b.group.as_str()))
+            .collect();
+        assert_eq!(
+            pairs,
+            [
+                ("landers · sequential", "landers · mechanistic"),
+                ("northridge · sequential", "northridge · mechanistic"),
+                ("sequential kθ=3", "mechanistic kθ=3"),
+            ]
+        );
+        // A word inside another word does not match.
+        assert!(pair_spectra(&spectra, "sequent", "mechanistic").is_empty());
+    }
+}

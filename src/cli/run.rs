@@ -34,6 +34,9 @@ pub struct RunArgs {
     /// Do not print the summary.
     #[arg(long)]
     pub quiet: bool,
+    /// Validate and expand only: print the scene count per group (to size a job array).
+    #[arg(long)]
+    pub dry_run: bool,
 }
 
 /// Combine shard results (`rocklab run --shard i/N`) into one results set.
@@ -83,6 +86,27 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let study = load_study(&args.study)?;
     if args.jobs == Some(0) {
         return Err(UsageError::new("--jobs must be at least 1").into());
+    }
+    if args.dry_run {
+        let points = study.expand().map_err(|e| UsageError::new(e.to_string()))?;
+        let mut groups: Vec<(String, usize)> = Vec::new();
+        for p in &points {
+            match groups.iter_mut().find(|(g, _)| *g == p.group) {
+                Some((_, n)) => *n += 1,
+                None => groups.push((p.group.clone(), 1)),
+            }
+        }
+        println!(
+            "study {} (hash {}): {} scenes in {} groups",
+            study.name,
+            study.hash(),
+            points.len(),
+            groups.len()
+        );
+        for (g, n) in groups {
+            println!("  {n:>7}  {g}");
+        }
+        return Ok(());
     }
     let out = args
         .out

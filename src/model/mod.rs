@@ -5,6 +5,7 @@ pub mod clutch;
 pub mod device;
 pub mod flexible;
 pub mod rigid;
+pub mod sdof;
 
 use crate::solver::{Dense, OdeSystem};
 use serde::{Deserialize, Serialize};
@@ -31,6 +32,15 @@ pub enum Action {
         until: f64,
     },
     Stop(EndReason),
+}
+
+/// How a closed-form advance ([`SimModel::advance_exact`]) ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Exact {
+    /// The end of the interval was reached.
+    Reached,
+    /// Event `index` was located at the new time; its jump is not applied yet.
+    Event(usize),
 }
 
 /// Energy partition at one instant (J), following the paper's Fig. 15.
@@ -109,6 +119,12 @@ pub trait SimModel<const N: usize>: OdeSystem<N> {
     fn settled(&self, _y: &[f64; N]) -> bool {
         false
     }
+    /// If the current phase has a closed-form solution, advance y exactly from t over one
+    /// interval ending at most at `t_stop`, updating peaks and energy accumulators on the way,
+    /// and return the new time and how the interval ended. `None`: the driver integrates.
+    fn advance_exact(&mut self, _t: f64, _t_stop: f64, _y: &mut [f64; N]) -> Option<(f64, Exact)> {
+        None
+    }
     /// Update peaks over an accepted step (dense output over [t0, t1]).
     fn observe_step(&mut self, dense: &Dense<N>, t_end: f64);
     /// Update peaks at a single point (start, events, idle periods).
@@ -165,20 +181,51 @@ pub fn extremum_on_step<const N: usize>(
 }
 
 /// Largest f over the sample points t_k = t0 + (t1 − t0)k/n, refined by golden section around
-/// the best sample when that beats `floor` (so only steps that can raise a peak pay for it).
+/// the best sample when that reaches `floor` (so only steps that can raise a peak pay for it).
 pub fn refined_max(f: impl Fn(f64) -> f64, t0: f64, t1: f64, n: usize, floor: f64) -> f64 {
     let at = |k: usize| t0 + (t1 - t0) * k as f64 / n as f64;
     let (best_k, best) = (0..=n)
         .map(|k| (k, f(at(k))))
         .fold((0, f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a });
-    if best <= floor {
+    // A sample that only ties the running peak still gets refined: when a maximum lies just
+    // past the previous step's end, this step's first sample equals the peak so far and the
+    // true maximum is inside this step.
+    if best < floor * (1.0 - 1e-9) {
         return best;
     }
-    let (mut lo, mut hi) = (at(best_k.saturating_sub(1)), at((best_k + 1).min(n)));
+    best.max(golden_max(
+        f,
+        at(best_k.saturating_sub(1)),
+        at((best_k + 1).min(n)),
+    ))
+}
+
+/// [`refined_max`] over samples (t_k, f(t_k)) the caller already has, refining also when the
+/// best sample only ties the running peak (to 1e-9, for roundoff): a maximum just past the end
+/// of one interval leaves the running peak at that end, which is the next interval's first
+/// sample, and `best <= floor` would then never look between its samples.
+pub fn refined_max_of_samples(f: impl Fn(f64) -> f64, samples: &[(f64, f64)], floor: f64) -> f64 {
+    let (best_k, best) = samples
+        .iter()
+        .enumerate()
+        .fold(
+            (0, f64::NEG_INFINITY),
+            |a, (k, s)| if s.1 > a.1 { (k, s.1) } else { a },
+        );
+    if best < floor - 1e-9 * floor.abs() {
+        return best;
+    }
+    let lo = samples[best_k.saturating_sub(1)].0;
+    let hi = samples[(best_k + 1).min(samples.len() - 1)].0;
+    best.max(golden_max(f, lo, hi))
+}
+
+/// Golden-section search for the maximum of a unimodal f on [lo, hi] (50 iterations).
+fn golden_max(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
     let r = 0.5 * (5f64.sqrt() - 1.0);
     for _ in 0..50 {
         let (c, d) = (hi - r * (hi - lo), lo + r * (hi - lo));
         if f(c) > f(d) { hi = d } else { lo = c }
     }
-    best.max(f(0.5 * (lo + hi)))
+    f(0.5 * (lo + hi))
 }

@@ -165,8 +165,11 @@ pub fn maps(results: &SweepResults) -> Vec<OverturningMap> {
             groups.push(o.point.group.clone());
         }
     }
-    // Axis values come from the full expansion, so a partial run shows its gaps.
-    let all = study.expand().unwrap_or_default();
+    // Axis values come from the full expansion, so a partial run shows its gaps (or from the
+    // results alone where the study cannot be expanded here, e.g. without its records).
+    let all: Vec<crate::study::ScenePoint> = study
+        .expand()
+        .unwrap_or_else(|_| results.outcomes.iter().map(|o| o.point.clone()).collect());
     groups
         .into_iter()
         .map(|group| {

@@ -28,7 +28,8 @@ pub fn results_json(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
         spectra: spectra(results),
         maps: maps(results),
     };
-    Ok(serde_json::to_vec_pretty(&file)?)
+    // Compact: a study of 10⁵ scenes would otherwise spend half its file on indentation.
+    Ok(serde_json::to_vec(&file)?)
 }
 
 pub fn save_results(path: &Path, results: &SweepResults) -> anyhow::Result<()> {
@@ -214,7 +215,16 @@ pub fn summary(results: &SweepResults) -> String {
             "  … {hidden} more spectra in results.csv / results.json (`rocklab plot` draws them all)"
         );
     }
-    for m in maps(results) {
+    let maps = maps(results);
+    const MAPS_SHOWN: usize = 6;
+    if maps.len() > MAPS_SHOWN {
+        let _ = writeln!(
+            s,
+            "\n{} overturning maps; the first {MAPS_SHOWN} follow (`rocklab plot` draws them all)",
+            maps.len()
+        );
+    }
+    for m in maps.into_iter().take(MAPS_SHOWN) {
         let _ = writeln!(
             s,
             "\noverturning map, {}: {} (→) × {} (↑); █ overturned, · safe, ? missing",

@@ -5,7 +5,7 @@ use crate::excitation::{Motion, Pulse, RecordMotion, library};
 use crate::model::device::DeviceModel;
 use crate::model::flexible::FlexibleModel;
 use crate::model::rigid::RigidModel;
-use crate::model::{Action, Counters, EndReason, Energy, Peaks, SimModel};
+use crate::model::{Action, Counters, EndReason, Energy, Exact, Peaks, SimModel};
 use crate::scene::{Excitation, Impact, RigidBlock, Scene, Structure};
 use crate::solver::{Integrator, Options, SolverError, Stats, StepOutcome};
 use serde::{Deserialize, Serialize};
@@ -167,7 +167,8 @@ pub fn run_with_history(
             }
             let p = scene.structure.p();
             let device = DeviceModel::new(&scene.device, flex.mass, p);
-            let mut model = FlexibleModel::new(flex, device, &motion, scene.initial_rotation);
+            let mut model = FlexibleModel::new(flex, device, &motion, scene.initial_rotation)
+                .with_exact_contact(scene.exact_contact);
             let (state, energy) = FlexibleModel::scales(flex, &motion, p);
             let s = Scales {
                 state: &state,
@@ -226,6 +227,7 @@ fn drive<const N: usize, M: SimModel<N>>(
     let e0 = model.energy(&y);
     let initial_stored = e0.structure + e0.inerter;
     let mut energy_scale = initial_stored.abs();
+    let mut exact_steps = 0;
     model.observe_point(t, &y);
     if let Some(h) = history.as_deref_mut() {
         h.columns = model.history_columns();
@@ -245,7 +247,20 @@ fn drive<const N: usize, M: SimModel<N>>(
                 model.observe_point(t, &y);
                 continue;
             }
-            Action::Continue => integ.restart(model, t, y),
+            Action::Continue => {
+                let mut run = Run {
+                    model: &mut *model,
+                    motion,
+                    scene,
+                    history: history.as_deref_mut(),
+                    energy_scale: &mut energy_scale,
+                };
+                if let Some(next) = run.advance_exactly(&mut t, &mut y, &mut exact_steps) {
+                    action = next;
+                    continue;
+                }
+                integ.restart(model, t, y)
+            }
         }
         action = loop {
             let t_stop = motion
@@ -286,22 +301,14 @@ fn drive<const N: usize, M: SimModel<N>>(
                     }
                 }
                 StepOutcome::Event(index) => {
-                    record(&mut history, model, t, &y);
-                    if let Some(h) = history.as_deref_mut() {
-                        h.events.push((t, model.event_name(index)));
+                    break Run {
+                        model: &mut *model,
+                        motion,
+                        scene,
+                        history: history.as_deref_mut(),
+                        energy_scale: &mut energy_scale,
                     }
-                    let next = model.on_event(index, t, &mut y);
-                    model.observe_point(t, &y);
-                    record(&mut history, model, t, &y);
-                    if next == Action::Continue && t >= motion.end() {
-                        if model.at_rest(t, &y) {
-                            break 'run EndReason::Rest;
-                        }
-                        if scene.stop_when_settled && model.settled(&y) {
-                            break 'run EndReason::Settled;
-                        }
-                    }
-                    break next;
+                    .event(index, t, &mut y);
                 }
             }
             record(&mut history, model, t, &y);
@@ -321,10 +328,84 @@ fn drive<const N: usize, M: SimModel<N>>(
         counters: model.counters(),
         energy,
         energy_residual: imbalance.abs() / scale,
-        stats: integ.stats,
+        stats: Stats {
+            exact_steps,
+            ..integ.stats
+        },
         wall_seconds: 0.0,
         form_used: None,
     })
+}
+
+/// What the driver shares with the closed-form path and the event handling.
+struct Run<'r, const N: usize, M: SimModel<N>> {
+    model: &'r mut M,
+    motion: &'r Motion,
+    scene: &'r Scene,
+    history: Option<&'r mut History>,
+    energy_scale: &'r mut f64,
+}
+
+impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
+    /// Apply event `index` located at t, as after an integrator step: history rows before and
+    /// after the jump, the next action (a stop if the ground has ended and the model is at rest
+    /// or settled).
+    fn event(&mut self, index: usize, t: f64, y: &mut [f64; N]) -> Action {
+        let model = &mut *self.model;
+        record(&mut self.history, model, t, y);
+        if let Some(h) = self.history.as_deref_mut() {
+            h.events.push((t, model.event_name(index)));
+        }
+        let next = model.on_event(index, t, y);
+        model.observe_point(t, y);
+        record(&mut self.history, model, t, y);
+        if next == Action::Continue && t >= self.motion.end() {
+            if model.at_rest(t, y) {
+                return Action::Stop(EndReason::Rest);
+            }
+            if self.scene.stop_when_settled && model.settled(y) {
+                return Action::Stop(EndReason::Settled);
+            }
+        }
+        next
+    }
+
+    /// Advance in closed form while the model offers it, with the integrator path's stops
+    /// (duration, rest, settled) and a history row per interval. `None` when the model has no
+    /// closed form in its current phase: the integrator takes over at (t, y).
+    fn advance_exactly(
+        &mut self,
+        t: &mut f64,
+        y: &mut [f64; N],
+        steps: &mut u64,
+    ) -> Option<Action> {
+        let duration = self.scene.duration;
+        loop {
+            let (t1, how) = self.model.advance_exact(*t, duration, y)?;
+            *t = t1;
+            *steps += 1;
+            let e = self.model.energy(y);
+            *self.energy_scale = self
+                .energy_scale
+                .max(e.input.abs())
+                .max(e.structure + e.inerter);
+            if let Exact::Event(index) = how {
+                return Some(self.event(index, *t, y));
+            }
+            record(&mut self.history, self.model, *t, y);
+            if *t >= duration {
+                return Some(Action::Stop(EndReason::Duration));
+            }
+            if *t >= self.motion.end() {
+                if self.model.at_rest(*t, y) {
+                    return Some(Action::Stop(EndReason::Rest));
+                }
+                if self.scene.stop_when_settled && self.model.settled(y) {
+                    return Some(Action::Stop(EndReason::Settled));
+                }
+            }
+        }
+    }
 }
 
 fn record<const N: usize, M: SimModel<N>>(

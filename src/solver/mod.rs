@@ -76,6 +76,10 @@ pub struct Stats {
     pub rejected: u64,
     pub rhs_evals: u64,
     pub events: u64,
+    /// Intervals advanced in closed form instead of integrated (no RHS evaluations; not
+    /// counted in `steps`). Set by the simulation driver.
+    #[serde(default)]
+    pub exact_steps: u64,
 }
 
 #[derive(Clone, Debug, Error, PartialEq)]

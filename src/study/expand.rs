@@ -37,7 +37,12 @@ impl Param {
             path,
             label: label.to_string(),
             axis,
-            values: v.expand(),
+            // A malformed range is reported, never expanded (it may be astronomically long).
+            values: if v.shape_error().is_some() {
+                vec![]
+            } else {
+                v.expand()
+            },
             names: None,
             shape_error: v.shape_error(),
         }
@@ -92,6 +97,7 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
                 rtol: study.rtol,
                 initial_rotation: 0.0,
                 stop_when_settled: study.stop_when_settled,
+                exact_contact: study.exact_contact,
             };
             scene
                 .validate()
@@ -152,6 +158,16 @@ fn check_top_level(study: &Study) -> Result<(), StudyError> {
             "no response quantities",
             "e.g. quantities: [peak_rotation_ratio]",
         ));
+    }
+    let labels: Vec<String> = study.devices.iter().map(device_label).collect();
+    for (i, label) in labels.iter().enumerate() {
+        if labels[..i].contains(label) {
+            return Err(StudyError::field(
+                format!("devices[{i}]"),
+                format!("two device variants are both labelled `{label}`"),
+                "give one a `label: \"…\"` so their spectra stay apart",
+            ));
+        }
     }
     if !(study.duration.is_finite() && study.duration > 0.0) {
         return Err(StudyError::field(

@@ -55,6 +55,10 @@ pub struct Study {
     /// unchanged; end times and final energies differ). On by default: studies report peaks.
     #[serde(default = "yes")]
     pub stop_when_settled: bool,
+    /// Advance full contact of a flexible structure with a linear device under a record in
+    /// closed form (exact) instead of with the integrator; `false` forces the integrator.
+    #[serde(default = "crate::scene::default_exact_contact")]
+    pub exact_contact: bool,
 }
 
 fn yes() -> bool {

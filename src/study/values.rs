@@ -6,6 +6,9 @@ use serde::ser::SerializeStruct;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::fmt;
 
+/// Most steps a range may have (larger is surely a typo, and would not fit in memory).
+pub const MAX_STEPS: usize = 1_000_000;
+
 #[derive(Clone, Debug, PartialEq)]
 pub enum Values {
     One(f64),
@@ -77,6 +80,10 @@ impl Values {
             } if *steps < 2 || !from.is_finite() || !to.is_finite() => Some((
                 format!("range from {from} to {to} in {steps} steps"),
                 "a range needs finite ends and steps ≥ 2, e.g. (from: 0.5, to: 10, steps: 40)",
+            )),
+            Values::Range { steps, .. } if *steps > MAX_STEPS => Some((
+                format!("range of {steps} steps"),
+                "a range has at most 1 000 000 steps",
             )),
             Values::Range {
                 from,
