@@ -273,17 +273,39 @@ fn an_unset_optional_field_can_be_set_and_unset() {
 }
 
 #[test]
-fn list_elements_can_be_duplicated_and_deleted() {
+fn list_elements_can_be_added_from_a_copy_and_deleted() {
     let mut app = new_app();
     let before = scene_count(&app);
+    let variants = app.study.devices.len();
     key(&mut app, KeyCode::Char('/'));
-    typed(&mut app, "[0]");
+    typed(&mut app, "[1]");
     key(&mut app, Enter);
+    // An unchanged copy would be a second variant with the same label: refused, editor open.
     key(&mut app, KeyCode::Char('a'));
-    let grown = scene_count(&app);
-    assert!(grown > before);
+    key(&mut app, Enter);
+    assert!(app.editor.edit_error.is_some());
+    assert_eq!(app.study.devices.len(), variants);
+    // Changed and labelled, it goes in after the original, with as many scenes as each other
+    // variant.
+    ctrl(&mut app, 'u');
+    ctrl(&mut app, 'k');
+    typed(
+        &mut app,
+        "sequential(sigma: 1.0, label: \"sequential σ=1\")",
+    );
+    key(&mut app, Enter);
+    assert!(
+        app.editor.edit_error.is_none(),
+        "{:?}",
+        app.editor.edit_error
+    );
+    assert_eq!(app.study.devices.len(), variants + 1);
+    assert_eq!(scene_count(&app), before + before / variants);
+    let row = &app.editor.rows[app.editor.cursor];
+    assert_eq!(row.label, "[2]", "the cursor is on the new element");
     key(&mut app, KeyCode::Char('d'));
     assert_eq!(scene_count(&app), before);
+    assert_eq!(app.study.devices.len(), variants);
 }
 
 #[test]

@@ -198,6 +198,8 @@ pub struct StudyEditor {
     pub edit: Option<LineEdit>,
     /// Why the last edit was refused (parse error), shown under the editor.
     pub edit_error: Option<String>,
+    /// The edit is a new list element, to go after the selected one (`a`).
+    pub inserting: bool,
 }
 
 /// Result of validating and expanding the study being edited.
@@ -484,6 +486,7 @@ impl App {
                 cursor: 0,
                 edit: None,
                 edit_error: None,
+                inserting: false,
             },
             check: Check::Invalid(String::new()),
             prompt: None,
@@ -872,13 +875,23 @@ impl App {
             EditOutcome::Cancel => {
                 self.editor.edit = None;
                 self.editor.edit_error = None;
+                self.editor.inserting = false;
             }
             EditOutcome::Commit => {
                 let text = line.text.clone();
                 let Some(row) = self.editor.rows.get(self.editor.cursor) else {
                     return;
                 };
+                let inserting = self.editor.inserting;
                 let doc = match row.absent {
+                    None if inserting => {
+                        let (parent, i) = row.path.split_at(row.path.len() - 1);
+                        let mut tree = self.editor.tree.clone();
+                        if let Some(Node::Seq(items)) = tree.get_mut(parent) {
+                            items.insert(i[0] + 1, Node::Raw(text));
+                        }
+                        tree::to_ron(&tree)
+                    }
                     Some(field) => {
                         let mut tree = self.editor.tree.clone();
                         if let Some(fields) = tree.get_mut(&row.path).and_then(tree::fields_mut) {
@@ -888,7 +901,21 @@ impl App {
                     }
                     None => tree::to_ron_with(&self.editor.tree, &row.path, &text),
                 };
+                // A new element: the cursor moves onto it once it is in.
+                let new_path = inserting.then(|| {
+                    let mut p = row.path.clone();
+                    if let Some(last) = p.last_mut() {
+                        *last += 1;
+                    }
+                    p
+                });
                 self.apply_document(&doc, true);
+                if let Some(path) = new_path
+                    && self.editor.edit.is_none()
+                    && let Some(i) = self.editor.rows.iter().position(|r| r.path == path)
+                {
+                    self.editor.cursor = i;
+                }
             }
         }
     }
@@ -902,6 +929,7 @@ impl App {
                 self.dirty = true;
                 self.editor.edit = None;
                 self.editor.edit_error = None;
+                self.editor.inserting = false;
                 let path = self
                     .editor
                     .rows
@@ -930,11 +958,21 @@ impl App {
         }
     }
 
+    /// Add a list element after the selected one: the editor opens on a copy of it, to be
+    /// changed before it goes in (two identical device variants would be refused).
     fn duplicate_row(&mut self) {
-        self.edit_list(|items, i| {
-            let copy = items[i].clone();
-            items.insert(i + 1, copy);
-        });
+        let ed = &mut self.editor;
+        let Some(row) = ed.rows.get(ed.cursor) else {
+            return;
+        };
+        if !row.in_list {
+            self.complain("a adds a list element; this row is not in a list");
+            return;
+        }
+        let text = ed.tree.get(&row.path).map_or(String::new(), tree::to_ron);
+        ed.edit = Some(LineEdit::new(text));
+        ed.edit_error = None;
+        ed.inserting = true;
     }
 
     /// Delete a list element, or unset a field (the study's default applies, or the parser
@@ -967,10 +1005,6 @@ impl App {
         let Some(row) = self.editor.rows.get(self.editor.cursor) else {
             return;
         };
-        if !row.in_list {
-            self.complain("a duplicates a list element; this row is not in a list");
-            return;
-        }
         let (parent, i) = row.path.split_at(row.path.len() - 1);
         let mut tree = self.editor.tree.clone();
         if let Some(Node::Seq(items)) = tree.get_mut(parent) {

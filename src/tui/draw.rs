@@ -87,7 +87,12 @@ fn hints(app: &App) -> Vec<(&'static str, &'static str)> {
         };
     }
     if app.editor.edit.is_some() && app.screen == Screen::Study {
-        return vec![("Enter", "apply"), ("Esc", "cancel"), ("←→", "move")];
+        let enter = if app.editor.inserting {
+            "add as a new element after this one"
+        } else {
+            "apply"
+        };
+        return vec![("Enter", enter), ("Esc", "cancel"), ("←→", "move")];
     }
     let mut keys = vec![("?", "help"), ("q", "quit")];
     keys.extend(match app.screen {
@@ -95,7 +100,7 @@ fn hints(app: &App) -> Vec<(&'static str, &'static str)> {
             ("↑↓", "move"),
             ("Enter", "edit"),
             ("/", "find"),
-            ("a", "dup"),
+            ("a", "add"),
             ("d", "del/unset"),
             ("r", "run"),
             ("s", "save"),
@@ -1128,7 +1133,7 @@ fn draw_help(theme: Theme, frame: &mut Frame, area: Rect) {
         ),
         k(
             "a / d",
-            "duplicate / delete a list element; d unsets a field",
+            "add (from a copy) / delete a list element; d unsets a field",
         ),
         k("s S o n", "save, save as, open, new from default"),
         h("Run"),
