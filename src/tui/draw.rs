@@ -1133,7 +1133,7 @@ fn draw_help(theme: Theme, frame: &mut Frame, area: Rect) {
         ),
         k(
             "a / d",
-            "add (from a copy) / delete a list element; d unsets a field",
+            "add from a copy / delete list element; unset a field",
         ),
         k("s S o n", "save, save as, open, new from default"),
         h("Run"),
