@@ -180,7 +180,7 @@ fn check_top_level(study: &Study) -> Result<(), StudyError> {
         return Err(StudyError::field(
             "rtol",
             format!("{} is out of range", study.rtol),
-            "relative tolerance must be in [1e-14, 0.1]; 1e-6 is the default",
+            "relative tolerance must be in [1e-14, 0.1]; 1e-5 is the default",
         ));
     }
     if let Some(map) = study.map
