@@ -260,3 +260,49 @@ fn long_record_chattering_to_rest() {
         );
     }
 }
+
+/// The flexible structure of Fig. 14 on the same hard cases: stiff clutch, 1 cm of play under
+/// both reset rules, strong friction, a fast pulse.
+#[test]
+fn flexible_hard_cases() {
+    use rocklab::cli::bench::flexible_fig14;
+    let cases: Vec<(&str, Scene)> = vec![
+        (
+            "flexible, clutch frequency 1e3 p",
+            flexible_fig14(clutch(|c| {
+                c.stiffness = ClutchStiffness::FrequencyRatio(1e3)
+            })),
+        ),
+        (
+            "flexible, play 1 cm, paper rule",
+            flexible_fig14(clutch(|c| c.play = 0.01)),
+        ),
+        (
+            "flexible, play 1 cm, strict rule",
+            flexible_fig14(clutch(|c| {
+                c.play = 0.01;
+                c.reset = ResetRule::Strict
+            })),
+        ),
+        (
+            "flexible, friction 0.2 mr g, eta 1e3",
+            flexible_fig14(clutch(|c| {
+                c.friction = 0.2;
+                c.eta = 1e3;
+            })),
+        ),
+        ("flexible, omega_g/p = 20", {
+            let mut s = flexible_fig14(Device::Mechanistic(Clutch::paper_default(0.5)));
+            s.excitation = Excitation::Pulse {
+                shape: PulseShape::Sine,
+                amplitude: Amplitude::TanAlphaRatio(3.0),
+                frequency: Frequency::Ratio(20.0),
+            };
+            s
+        }),
+    ];
+    for (name, scene) in cases {
+        let r = assert_stable(name, &scene, 1e-3);
+        assert!(r.peaks.deformation > 0.0 && r.peaks.deformation.is_finite());
+    }
+}
