@@ -3,8 +3,10 @@
 //! and the accelerations of its flywheels. Shared by the rigid and flexible families.
 
 use super::clutch::{clutch_force, clutch_potential, friction_force};
+use super::{Counters, Ledger};
 use crate::excitation::G;
 use crate::scene::{ClutchStiffness, Coupling, Damping, Device, ResetRule};
+use crate::solver::Direction;
 
 /// A device with its parameters converted to the translational form.
 #[derive(Clone, Copy, Debug)]
@@ -180,21 +182,168 @@ impl DeviceModel {
     }
 
     pub fn clutch_potential_a(&self, delta_a: f64) -> f64 {
-        match *self {
-            DeviceModel::Clutch(c) => clutch_potential(c.k, c.eps_hat, delta_a - c.play),
+        match self {
+            DeviceModel::Clutch(c) => c.potential_a(delta_a),
             _ => 0.0,
         }
     }
 
     pub fn clutch_potential_b(&self, delta_b: f64) -> f64 {
-        match *self {
-            DeviceModel::Clutch(c) => clutch_potential(c.k, c.eps_hat, -delta_b - c.play),
+        match self {
+            DeviceModel::Clutch(c) => c.potential_b(delta_b),
             _ => 0.0,
         }
     }
 }
 
+/// The sequential law's switch at velocity ẋ. Disengaging loses the flywheel's ½ mr ẋ²;
+/// engaging at ẋ ≠ 0 creates it from nothing (the law's known flaw, MODEL.md), booked as
+/// negative dissipation so the energy balance closes.
+pub fn toggle_sequential(
+    mr: f64,
+    xdot: f64,
+    engaged: &mut bool,
+    ledger: &mut Ledger,
+    counters: &mut Counters,
+) {
+    let e = 0.5 * mr * xdot * xdot;
+    if *engaged {
+        ledger.disengagement += e;
+    } else {
+        ledger.disengagement -= e;
+        counters.engagements += 1;
+    }
+    *engaged = !*engaged;
+}
+
+/// After a jump, put the sequential clutch where its law wants it: engaged exactly while
+/// ẋ·ẍ > 0 (ẍ of the bare structure).
+pub fn resync_sequential(
+    mr: f64,
+    xdot: f64,
+    bare_xddot: f64,
+    engaged: &mut bool,
+    ledger: &mut Ledger,
+    counters: &mut Counters,
+) {
+    let g = xdot * bare_xddot;
+    if (*engaged && g < 0.0) || (!*engaged && g > 0.0) {
+        toggle_sequential(mr, xdot, engaged, ledger, counters);
+    }
+}
+
+/// Events of the mechanistic clutch, the same for every structure: contact and separation at
+/// δ = ±up (located, so no step straddles the tanh corner), the re-engagement resets, and the
+/// strict rule's guard boundaries at δ = 0.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ClutchEvent {
+    ContactA,
+    ContactB,
+    ResetA,
+    ResetB,
+    GuardA,
+    GuardB,
+}
+
+impl ClutchEvent {
+    pub fn name(self) -> &'static str {
+        match self {
+            ClutchEvent::ContactA => "contact_a",
+            ClutchEvent::ContactB => "contact_b",
+            ClutchEvent::ResetA => "reset_a",
+            ClutchEvent::ResetB => "reset_b",
+            ClutchEvent::GuardA => "guard_a",
+            ClutchEvent::GuardB => "guard_b",
+        }
+    }
+
+    pub fn direction(self) -> Direction {
+        match self {
+            ClutchEvent::ResetA => Direction::Rising,
+            ClutchEvent::ResetB => Direction::Falling,
+            _ => Direction::Either,
+        }
+    }
+}
+
 impl ClutchModel {
+    pub fn potential_a(&self, delta_a: f64) -> f64 {
+        clutch_potential(self.k, self.eps_hat, delta_a - self.play)
+    }
+
+    pub fn potential_b(&self, delta_b: f64) -> f64 {
+        clutch_potential(self.k, self.eps_hat, -delta_b - self.play)
+    }
+
+    /// The clutch events this clutch needs (guards only for the strict rule with play).
+    pub fn events(&self) -> &'static [ClutchEvent] {
+        use ClutchEvent::*;
+        if self.play > 0.0 && self.reset == ResetRule::Strict {
+            &[ContactA, ContactB, ResetA, ResetB, GuardA, GuardB]
+        } else {
+            &[ContactA, ContactB, ResetA, ResetB]
+        }
+    }
+
+    /// Event function for structure position x and velocity ẋ, flywheels
+    /// `fly = [y_a, ẏ_a, y_b, ẏ_b]`. A reset function is a constant of the non-triggering sign
+    /// while its clutch is engaged; it can only jump in the non-triggering direction.
+    pub fn event_value(&self, ev: ClutchEvent, x: f64, xdot: f64, fly: &[f64]) -> f64 {
+        let (da, db) = (x - fly[0], x - fly[2]);
+        match ev {
+            ClutchEvent::ContactA => da - self.play,
+            ClutchEvent::ContactB => db + self.play,
+            ClutchEvent::ResetA if self.a_resettable(da) => xdot - fly[1],
+            ClutchEvent::ResetA => 1.0,
+            ClutchEvent::ResetB if self.b_resettable(db) => xdot - fly[3],
+            ClutchEvent::ResetB => -1.0,
+            ClutchEvent::GuardA => da,
+            ClutchEvent::GuardB => db,
+        }
+    }
+
+    /// The jump of a clutch event at structure position x: a reset puts the flywheel at x
+    /// (velocity unchanged) and books the spring energy it releases; a contact crossing into
+    /// engagement is counted.
+    pub fn apply(
+        &self,
+        ev: ClutchEvent,
+        x: f64,
+        fly: &mut [f64],
+        ledger: &mut Ledger,
+        counters: &mut Counters,
+    ) {
+        match ev {
+            ClutchEvent::ContactA | ClutchEvent::ContactB => {
+                // Just past the crossing: engaged when δa − up > 0, or δb + up < 0.
+                let value = self.event_value(ev, x, 0.0, fly);
+                let sign = if ev == ClutchEvent::ContactA {
+                    1.0
+                } else {
+                    -1.0
+                };
+                if value * sign > 0.0 {
+                    counters.engagements += 1;
+                }
+            }
+            ClutchEvent::ResetA | ClutchEvent::ResetB => {
+                let (j, before, after) = if ev == ClutchEvent::ResetA {
+                    (0, self.potential_a(x - fly[0]), self.potential_a(0.0))
+                } else {
+                    (2, self.potential_b(x - fly[2]), self.potential_b(0.0))
+                };
+                fly[j] = x;
+                ledger.reset += before - after;
+                counters.resets += 1;
+                // Without play the reset lands on the clutch corner and engages at once.
+                if self.play == 0.0 {
+                    counters.engagements += 1;
+                }
+            }
+            ClutchEvent::GuardA | ClutchEvent::GuardB => {}
+        }
+    }
+
     /// Clutch a is disengaged (may be reset on re-engagement) at relative displacement δa.
     pub fn a_resettable(&self, delta_a: f64) -> bool {
         match self.reset {

@@ -17,14 +17,14 @@
 //! form ([`super::sdof`]), one record sample at a time, and hands over to the integrator at
 //! the located uplift.
 
-use super::device::DeviceModel;
+use super::device::{ClutchEvent, DeviceModel};
 use super::sdof::{Basis, Oscillator, Segment, gauss_legendre_5_nodes};
 use super::{
     Action, Counters, EndReason, Energy, Exact, Ledger, Peaks, SimModel, extremum_on_step,
     refined_max, refined_max_of_samples,
 };
 use crate::excitation::{G, Motion, RecordMotion};
-use crate::scene::{FlexibleStructure, ResetRule};
+use crate::scene::FlexibleStructure;
 use crate::solver::{Dense, Direction, MAX_EVENTS, OdeSystem};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -33,12 +33,7 @@ enum Ev {
     Overturn,
     Uplift(f64),
     Sequential,
-    ContactA,
-    ContactB,
-    ResetA,
-    ResetB,
-    GuardA,
-    GuardB,
+    Clutch(ClutchEvent),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -169,13 +164,8 @@ impl<'m> FlexibleModel<'m> {
             push(Ev::Sequential);
         }
         if let DeviceModel::Clutch(c) = device {
-            push(Ev::ContactA);
-            push(Ev::ContactB);
-            push(Ev::ResetA);
-            push(Ev::ResetB);
-            if c.play > 0.0 && c.reset == ResetRule::Strict {
-                push(Ev::GuardA);
-                push(Ev::GuardB);
+            for e in c.events() {
+                push(Ev::Clutch(*e));
             }
         }
         FlexibleModel {
@@ -377,22 +367,12 @@ impl<'m> FlexibleModel<'m> {
             Ev::Uplift(_) if rocking => -1.0,
             Ev::Uplift(side) => self.uplift_margin(side, y),
             Ev::Sequential => self.x_xdot(y).1 * self.bare_xddot(t, y),
-            _ => {
+            Ev::Clutch(e) => {
                 let DeviceModel::Clutch(c) = &self.dev else {
                     return 1.0;
                 };
                 let (x, xdot) = self.x_xdot(y);
-                let (da, db) = (x - y[4], x - y[6]);
-                match ev {
-                    Ev::ContactA => da - c.play,
-                    Ev::ContactB => db + c.play,
-                    Ev::ResetA if c.a_resettable(da) => xdot - y[5],
-                    Ev::ResetA => 1.0,
-                    Ev::ResetB if c.b_resettable(db) => xdot - y[7],
-                    Ev::ResetB => -1.0,
-                    Ev::GuardA => da,
-                    _ => db,
-                }
+                c.event_value(e, x, xdot, &y[4..8])
             }
         }
     }
@@ -408,23 +388,27 @@ impl<'m> FlexibleModel<'m> {
         if !matches!(self.dev, DeviceModel::Sequential { .. }) {
             return;
         }
-        let g = self.x_xdot(y).1 * self.bare_xddot(t, y);
-        if (self.seq_engaged && g < 0.0) || (!self.seq_engaged && g > 0.0) {
-            self.toggle_sequential(y);
-        }
+        let xdot = self.x_xdot(y).1;
+        let bare = self.bare_xddot(t, y);
+        super::device::resync_sequential(
+            self.dev.mr(),
+            xdot,
+            bare,
+            &mut self.seq_engaged,
+            &mut self.ledger,
+            &mut self.counters,
+        );
     }
 
     fn toggle_sequential(&mut self, y: &[f64]) {
-        let (_, xdot) = self.x_xdot(y);
-        let e = 0.5 * self.dev.mr() * xdot * xdot;
-        if self.seq_engaged {
-            self.ledger.disengagement += e;
-        } else {
-            // The law switches mr on with no velocity jump: energy from nothing (MODEL.md).
-            self.ledger.disengagement -= e;
-            self.counters.engagements += 1;
-        }
-        self.seq_engaged = !self.seq_engaged;
+        let xdot = self.x_xdot(y).1;
+        super::device::toggle_sequential(
+            self.dev.mr(),
+            xdot,
+            &mut self.seq_engaged,
+            &mut self.ledger,
+            &mut self.counters,
+        );
     }
 
     fn uplift(&mut self, side: f64, t: f64, y: &mut [f64]) -> Action {
@@ -473,42 +457,13 @@ impl<'m> FlexibleModel<'m> {
                 self.toggle_sequential(y);
                 Action::Continue
             }
-            Ev::ContactA | Ev::ContactB => {
-                let sign = if self.events[index] == Ev::ContactA {
-                    1.0
-                } else {
-                    -1.0
-                };
-                if self.event_value(self.events[index], t, y) * sign > 0.0 {
-                    self.counters.engagements += 1;
+            Ev::Clutch(e) => {
+                if let DeviceModel::Clutch(c) = self.dev {
+                    let (x, _) = self.x_xdot(y);
+                    c.apply(e, x, &mut y[4..8], &mut self.ledger, &mut self.counters);
                 }
                 Action::Continue
             }
-            Ev::ResetA | Ev::ResetB => {
-                let (x, _) = self.x_xdot(y);
-                let (j, before, after) = if self.events[index] == Ev::ResetA {
-                    (
-                        4,
-                        self.dev.clutch_potential_a(x - y[4]),
-                        self.dev.clutch_potential_a(0.0),
-                    )
-                } else {
-                    (
-                        6,
-                        self.dev.clutch_potential_b(x - y[6]),
-                        self.dev.clutch_potential_b(0.0),
-                    )
-                };
-                y[j] = x;
-                self.ledger.reset += before - after;
-                self.counters.resets += 1;
-                // Without play the reset lands on the clutch corner and engages at once.
-                if matches!(self.dev, DeviceModel::Clutch(c) if c.play == 0.0) {
-                    self.counters.engagements += 1;
-                }
-                Action::Continue
-            }
-            Ev::GuardA | Ev::GuardB => Action::Continue,
         }
     }
 
@@ -855,11 +810,10 @@ impl<const N: usize> OdeSystem<N> for FlexibleModel<'_> {
     fn event_direction(&self, index: usize) -> Direction {
         match self.events[index] {
             Ev::Impact => Direction::Falling,
-            Ev::Overturn | Ev::Uplift(_) | Ev::ResetA => Direction::Rising,
-            Ev::ResetB => Direction::Falling,
+            Ev::Overturn | Ev::Uplift(_) => Direction::Rising,
+            Ev::Clutch(e) => e.direction(),
             Ev::Sequential if self.seq_engaged => Direction::Falling,
             Ev::Sequential => Direction::Rising,
-            Ev::ContactA | Ev::ContactB | Ev::GuardA | Ev::GuardB => Direction::Either,
         }
     }
 
@@ -996,12 +950,7 @@ impl<const N: usize> SimModel<N> for FlexibleModel<'_> {
             Ev::Overturn => "overturn",
             Ev::Uplift(_) => "uplift",
             Ev::Sequential => "sequential_switch",
-            Ev::ContactA => "contact_a",
-            Ev::ContactB => "contact_b",
-            Ev::ResetA => "reset_a",
-            Ev::ResetB => "reset_b",
-            Ev::GuardA => "guard_a",
-            Ev::GuardB => "guard_b",
+            Ev::Clutch(e) => e.name(),
         }
     }
 

@@ -3,7 +3,7 @@
 //! State: [θ, θ̇, flywheels (y, ẏ per flywheel), accumulators (input work, device damping,
 //! friction, Dirac impact work)]. Only the flywheels the device has are in the state.
 
-use super::device::DeviceModel;
+use super::device::{ClutchEvent, DeviceModel};
 use super::{
     Action, Counters, EndReason, Energy, Ledger, Peaks, SimModel, extremum_on_step, refined_max,
 };
@@ -43,12 +43,7 @@ enum Ev {
     Uplift(f64),
     Sequential,
     DiracZone,
-    ContactA,
-    ContactB,
-    ResetA,
-    ResetB,
-    GuardA,
-    GuardB,
+    Clutch(ClutchEvent),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -128,13 +123,8 @@ impl<'m> RigidModel<'m> {
             push(Ev::DiracZone);
         }
         if let DeviceModel::Clutch(c) = device {
-            push(Ev::ContactA);
-            push(Ev::ContactB);
-            push(Ev::ResetA);
-            push(Ev::ResetB);
-            if c.play > 0.0 && c.reset == crate::scene::ResetRule::Strict {
-                push(Ev::GuardA);
-                push(Ev::GuardB);
+            for e in c.events() {
+                push(Ev::Clutch(*e));
             }
         }
         RigidModel {
@@ -316,22 +306,12 @@ impl<'m> RigidModel<'m> {
                 (true, Some(_)) => self.pivot * y[1],
                 (true, None) => self.pivot * y[0] - self.dirac.map_or(0.0, |d| d.1),
             },
-            Ev::ContactA | Ev::ContactB | Ev::ResetA | Ev::ResetB | Ev::GuardA | Ev::GuardB => {
+            Ev::Clutch(e) => {
                 let DeviceModel::Clutch(c) = &self.dev else {
                     return 1.0;
                 };
                 let (x, xdot) = self.x_xdot(y);
-                let (da, db) = (x - y[2], x - y[4]);
-                match ev {
-                    Ev::ContactA => da - c.play,
-                    Ev::ContactB => db + c.play,
-                    Ev::ResetA if c.a_resettable(da) => xdot - y[3],
-                    Ev::ResetA => 1.0,
-                    Ev::ResetB if c.b_resettable(db) => xdot - y[5],
-                    Ev::ResetB => -1.0,
-                    Ev::GuardA => da,
-                    _ => db,
-                }
+                c.event_value(e, x, xdot, &y[2..6])
             }
         }
     }
@@ -347,23 +327,27 @@ impl<'m> RigidModel<'m> {
         if !matches!(self.dev, DeviceModel::Sequential { .. }) || self.phase != Phase::Rocking {
             return;
         }
-        let g = self.x_xdot(y).1 * self.bare_xddot(t, y);
-        if (self.seq_engaged && g < 0.0) || (!self.seq_engaged && g > 0.0) {
-            self.toggle_sequential(y);
-        }
+        let xdot = self.x_xdot(y).1;
+        let bare = self.bare_xddot(t, y);
+        super::device::resync_sequential(
+            self.dev.mr(),
+            xdot,
+            bare,
+            &mut self.seq_engaged,
+            &mut self.ledger,
+            &mut self.counters,
+        );
     }
 
     fn toggle_sequential(&mut self, y: &[f64]) {
-        let (_, xdot) = self.x_xdot(y);
-        let e = 0.5 * self.dev.mr() * xdot * xdot;
-        if self.seq_engaged {
-            self.ledger.disengagement += e;
-        } else {
-            // The law switches mr on with no velocity jump: energy from nothing (MODEL.md).
-            self.ledger.disengagement -= e;
-            self.counters.engagements += 1;
-        }
-        self.seq_engaged = !self.seq_engaged;
+        let xdot = self.x_xdot(y).1;
+        super::device::toggle_sequential(
+            self.dev.mr(),
+            xdot,
+            &mut self.seq_engaged,
+            &mut self.ledger,
+            &mut self.counters,
+        );
     }
 
     fn uplift(&mut self, side: f64, y: &mut [f64]) -> Action {
@@ -442,44 +426,13 @@ impl<'m> RigidModel<'m> {
                 };
                 Action::Continue
             }
-            Ev::ContactA | Ev::ContactB => {
-                let engaging = self.event_value(self.events[index], t, y)
-                    * if self.events[index] == Ev::ContactA {
-                        1.0
-                    } else {
-                        -1.0
-                    }
-                    > 0.0;
-                if engaging {
-                    self.counters.engagements += 1;
+            Ev::Clutch(e) => {
+                if let DeviceModel::Clutch(c) = self.dev {
+                    let (x, _) = self.x_xdot(y);
+                    c.apply(e, x, &mut y[2..6], &mut self.ledger, &mut self.counters);
                 }
                 Action::Continue
             }
-            Ev::ResetA | Ev::ResetB => {
-                let (x, _) = self.x_xdot(y);
-                let (j, before, after) = if self.events[index] == Ev::ResetA {
-                    (
-                        2,
-                        self.dev.clutch_potential_a(x - y[2]),
-                        self.dev.clutch_potential_a(0.0),
-                    )
-                } else {
-                    (
-                        4,
-                        self.dev.clutch_potential_b(x - y[4]),
-                        self.dev.clutch_potential_b(0.0),
-                    )
-                };
-                y[j] = x;
-                self.ledger.reset += before - after;
-                self.counters.resets += 1;
-                // Without play the reset lands on the clutch corner and engages at once.
-                if matches!(self.dev, DeviceModel::Clutch(c) if c.play == 0.0) {
-                    self.counters.engagements += 1;
-                }
-                Action::Continue
-            }
-            Ev::GuardA | Ev::GuardB => Action::Continue,
         }
     }
 
@@ -535,13 +488,12 @@ impl<const N: usize> OdeSystem<N> for RigidModel<'_> {
     fn event_direction(&self, index: usize) -> Direction {
         match self.events[index] {
             Ev::Impact => Direction::Falling,
-            Ev::Overturn | Ev::Uplift(_) | Ev::ResetA => Direction::Rising,
-            Ev::ResetB => Direction::Falling,
+            Ev::Overturn | Ev::Uplift(_) => Direction::Rising,
+            Ev::Clutch(e) => e.direction(),
             Ev::Sequential if self.seq_engaged => Direction::Falling,
             Ev::Sequential => Direction::Rising,
             Ev::DiracZone if self.dirac_energy.is_some() => Direction::Rising,
             Ev::DiracZone => Direction::Falling,
-            Ev::ContactA | Ev::ContactB | Ev::GuardA | Ev::GuardB => Direction::Either,
         }
     }
 
@@ -740,12 +692,7 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
             Ev::Uplift(_) => "uplift",
             Ev::Sequential => "sequential_switch",
             Ev::DiracZone => "dirac_zone",
-            Ev::ContactA => "contact_a",
-            Ev::ContactB => "contact_b",
-            Ev::ResetA => "reset_a",
-            Ev::ResetB => "reset_b",
-            Ev::GuardA => "guard_a",
-            Ev::GuardB => "guard_b",
+            Ev::Clutch(e) => e.name(),
         }
     }
 
