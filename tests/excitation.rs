@@ -119,6 +119,14 @@ fn a_real_file_dropped_in_replaces_the_stand_in() {
     let after = lib.load("3", false).unwrap();
     assert!(matches!(after.source, Source::File(_)));
     assert_eq!(after.series.npts(), 4);
+    // The data fingerprint (part of a study's cache key) changes with the data, and not with
+    // the name used to reach it.
+    assert_eq!(before.fingerprint.len(), 16);
+    assert_ne!(before.fingerprint, after.fingerprint);
+    assert_eq!(
+        lib.load("imperial_valley", false).unwrap().fingerprint,
+        after.fingerprint
+    );
     assert!((after.series.pga() - 0.3 * G).abs() < 1e-12);
     // Any other data file dropped in is listed under its stem.
     std::fs::write(tmp.path().join("my_motion.txt"), "# dt: 0.02\n0\n0.1\n0\n").unwrap();

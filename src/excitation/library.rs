@@ -145,6 +145,8 @@ pub struct Record {
     pub meta: Option<RecordMeta>,
     pub source: Source,
     pub series: Arc<Series>,
+    /// [`Series::fingerprint`] of `series`, computed once at load.
+    pub fingerprint: String,
 }
 
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -294,6 +296,7 @@ impl Library {
         if baseline {
             record.series = Arc::new(record.series.baseline_corrected());
         }
+        record.fingerprint = record.series.fingerprint();
         let record = Arc::new(record);
         cache.insert(key, record.clone());
         Ok(record)
@@ -331,6 +334,7 @@ impl Library {
                 meta: Some(meta.clone()),
                 source,
                 series: Arc::new(series),
+                fingerprint: String::new(),
             });
         }
         let by_stem = self
@@ -346,6 +350,7 @@ impl Library {
                 meta: None,
                 source,
                 series: Arc::new(series),
+                fingerprint: String::new(),
             });
         }
         let path = Path::new(name);
@@ -356,6 +361,7 @@ impl Library {
                 meta: None,
                 source: Source::File(path.to_path_buf()),
                 series: Arc::new(series),
+                fingerprint: String::new(),
             });
         }
         Err(RecordError::Unknown {

@@ -289,7 +289,21 @@ impl ScenePoint {
 /// Cache key of a scene: the scene (solver settings included) and the crate version, hashed.
 pub fn scene_key(scene: &Scene) -> String {
     let json = serde_json::to_string(scene).expect("scenes serialise");
-    short_hash(&format!("rocklab {} {json}", env!("CARGO_PKG_VERSION")))
+    // A record is named in the scene, but its data can change under the same name (dropping
+    // the real AT2 into records/ replaces a stand-in): key on the data too.
+    let data = match &scene.excitation {
+        crate::scene::Excitation::Record { name, baseline, .. } => {
+            crate::excitation::library::global()
+                .and_then(|lib| lib.load(name, *baseline))
+                .map(|r| r.fingerprint.clone())
+                .unwrap_or_else(|e| format!("unavailable: {e}"))
+        }
+        _ => String::new(),
+    };
+    short_hash(&format!(
+        "rocklab {} {json} {data}",
+        env!("CARGO_PKG_VERSION")
+    ))
 }
 
 fn short_hash(text: &str) -> String {
