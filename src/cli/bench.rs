@@ -123,6 +123,16 @@ pub fn flexible_fig14(device: Device) -> Scene {
     }
 }
 
+/// A shipped record at its natural scale.
+fn record_excitation(name: &str) -> Excitation {
+    Excitation::Record {
+        name: name.into(),
+        scale: RecordScale::Factor(1.0),
+        baseline: false,
+        kinks: Default::default(),
+    }
+}
+
 /// The Fig. 24 structure (R0 = 10 m, α = 0.2, ξ = ξθ = 0.02, ωn = 12 rad/s) under the
 /// Landers–Lucerne fault-normal record (48 s record + 10 s).
 pub fn flexible_landers(device: Device) -> Scene {
@@ -130,12 +140,7 @@ pub fn flexible_landers(device: Device) -> Scene {
     if let Structure::Flexible(f) = &mut s.structure {
         f.omega_n = 12.0;
     }
-    s.excitation = Excitation::Record {
-        name: "landers".into(),
-        scale: RecordScale::Factor(1.0),
-        baseline: false,
-        kinks: Default::default(),
-    };
+    s.excitation = record_excitation("landers");
     s.duration = 58.0;
     s
 }
@@ -143,12 +148,7 @@ pub fn flexible_landers(device: Device) -> Scene {
 /// The Fig. 24 structure under the Northridge–Rinaldi fault-normal record (20 s + 10 s).
 pub fn flexible_northridge(device: Device) -> Scene {
     let mut s = flexible_landers(device);
-    s.excitation = Excitation::Record {
-        name: "northridge".into(),
-        scale: RecordScale::Factor(1.0),
-        baseline: false,
-        kinks: Default::default(),
-    };
+    s.excitation = record_excitation("northridge");
     s.duration = 30.0;
     s
 }
@@ -179,12 +179,7 @@ pub fn rigid_northridge(device: Device) -> Scene {
             mass: 1.0,
             form: Form::Exact,
         }),
-        excitation: Excitation::Record {
-            name: "northridge".into(),
-            scale: RecordScale::Factor(1.0),
-            baseline: false,
-            kinks: Default::default(),
-        },
+        excitation: record_excitation("northridge"),
         duration: 30.0,
         ..rigid_fig8(device)
     }

@@ -969,16 +969,10 @@ impl<const N: usize> SimModel<N> for FlexibleModel<'_> {
             "clutch_force_a",
             "clutch_force_b",
             "device_force",
-            "e_input",
-            "e_structure",
-            "e_inerter",
-            "e_column_damping",
-            "e_device_damping",
-            "e_friction",
-            "e_impact",
-            "e_disengagement",
-            "e_reset",
         ]
+        .into_iter()
+        .chain(Energy::COLUMNS)
+        .collect()
     }
 
     fn history_row(&self, t: f64, y: &[f64; N]) -> Vec<f64> {
@@ -1002,16 +996,10 @@ impl<const N: usize> SimModel<N> for FlexibleModel<'_> {
             fa,
             fb,
             fd,
-            e.input,
-            e.structure,
-            e.inerter,
-            e.column_damping,
-            e.device_damping,
-            e.friction,
-            e.impact,
-            e.disengagement,
-            e.reset,
         ]
+        .into_iter()
+        .chain(e.terms())
+        .collect()
     }
 }
 

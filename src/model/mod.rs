@@ -63,6 +63,34 @@ pub struct Energy {
 }
 
 impl Energy {
+    /// History column names of [`Energy::terms`], in the same order.
+    pub const COLUMNS: [&'static str; 9] = [
+        "e_input",
+        "e_structure",
+        "e_inerter",
+        "e_column_damping",
+        "e_device_damping",
+        "e_friction",
+        "e_impact",
+        "e_disengagement",
+        "e_reset",
+    ];
+
+    /// Every term of the partition, in the order of [`Energy::COLUMNS`].
+    pub fn terms(&self) -> [f64; 9] {
+        [
+            self.input,
+            self.structure,
+            self.inerter,
+            self.column_damping,
+            self.device_damping,
+            self.friction,
+            self.impact,
+            self.disengagement,
+            self.reset,
+        ]
+    }
+
     pub fn dissipated(&self) -> f64 {
         self.column_damping
             + self.device_damping

@@ -185,7 +185,6 @@ fn run_guarded(point: &ScenePoint) -> Result<SceneResult, String> {
 /// Whether the numbers of a result are finite (JSON cannot carry NaN or ∞, and a peak that is
 /// not finite is not a response).
 fn all_finite(r: &SceneResult) -> bool {
-    let e = &r.energy;
     [
         r.end_time,
         r.peaks.rotation,
@@ -194,18 +193,10 @@ fn all_finite(r: &SceneResult) -> bool {
         r.peaks.abs_acceleration_g,
         r.peak_rotation_ratio,
         r.energy_residual,
-        e.input,
-        e.structure,
-        e.inerter,
-        e.column_damping,
-        e.device_damping,
-        e.friction,
-        e.impact,
-        e.disengagement,
-        e.reset,
     ]
-    .iter()
-    .all(|v| v.is_finite())
+    .into_iter()
+    .chain(r.energy.terms())
+    .all(f64::is_finite)
 }
 
 /// Finished scenes of a previous run by key. Failures are not reused: they may come from the
