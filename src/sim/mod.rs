@@ -274,32 +274,6 @@ fn drive<const N: usize, M: SimModel<N>>(
             let e = model.energy(&y);
             energy_scale = energy_scale.max(e.input.abs()).max(e.structure + e.inerter);
             match outcome {
-                // A model may settle between breakpoints (a flexible column's free vibration
-                // decays with no event to mark it).
-                StepOutcome::Stepped if t >= motion.end() => {
-                    if model.at_rest(t, &y) {
-                        record(&mut history, model, t, &y);
-                        break 'run EndReason::Rest;
-                    }
-                    if scene.stop_when_settled && model.settled(&y) {
-                        record(&mut history, model, t, &y);
-                        break 'run EndReason::Settled;
-                    }
-                }
-                StepOutcome::Stepped => {}
-                StepOutcome::Reached => {
-                    if t >= duration {
-                        record(&mut history, model, t, &y);
-                        break 'run EndReason::Duration;
-                    }
-                    if motion.jumps_at(t) {
-                        integ.refresh(model);
-                    }
-                    if t >= motion.end() && model.at_rest(t, &y) {
-                        record(&mut history, model, t, &y);
-                        break 'run EndReason::Rest;
-                    }
-                }
                 StepOutcome::Event(index) => {
                     break Run {
                         model: &mut *model,
@@ -310,6 +284,18 @@ fn drive<const N: usize, M: SimModel<N>>(
                     }
                     .event(index, t, &mut y);
                 }
+                StepOutcome::Reached if t >= duration => {
+                    record(&mut history, model, t, &y);
+                    break 'run EndReason::Duration;
+                }
+                StepOutcome::Reached if motion.jumps_at(t) => integ.refresh(model),
+                StepOutcome::Reached | StepOutcome::Stepped => {}
+            }
+            // A model may settle between breakpoints (a flexible column's free vibration decays
+            // with no event to mark it).
+            if let Some(reason) = stop_after_ground(model, motion, scene, t, &y) {
+                record(&mut history, model, t, &y);
+                break 'run reason;
             }
             record(&mut history, model, t, &y);
         };
@@ -359,13 +345,10 @@ impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
         let next = model.on_event(index, t, y);
         model.observe_point(t, y);
         record(&mut self.history, model, t, y);
-        if next == Action::Continue && t >= self.motion.end() {
-            if model.at_rest(t, y) {
-                return Action::Stop(EndReason::Rest);
-            }
-            if self.scene.stop_when_settled && model.settled(y) {
-                return Action::Stop(EndReason::Settled);
-            }
+        if next == Action::Continue
+            && let Some(reason) = stop_after_ground(model, self.motion, self.scene, t, y)
+        {
+            return Action::Stop(reason);
         }
         next
     }
@@ -396,15 +379,31 @@ impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
             if *t >= duration {
                 return Some(Action::Stop(EndReason::Duration));
             }
-            if *t >= self.motion.end() {
-                if self.model.at_rest(*t, y) {
-                    return Some(Action::Stop(EndReason::Rest));
-                }
-                if self.scene.stop_when_settled && self.model.settled(y) {
-                    return Some(Action::Stop(EndReason::Settled));
-                }
+            if let Some(reason) = stop_after_ground(self.model, self.motion, self.scene, *t, y) {
+                return Some(Action::Stop(reason));
             }
         }
+    }
+}
+
+/// The one stop check of the event loop, after every step, event and closed-form interval:
+/// once the ground has stopped, the run ends when the model is at rest or, if the scene asks
+/// for it, settled (no reachable motion can raise a peak).
+fn stop_after_ground<const N: usize, M: SimModel<N>>(
+    model: &M,
+    motion: &Motion,
+    scene: &Scene,
+    t: f64,
+    y: &[f64; N],
+) -> Option<EndReason> {
+    if t < motion.end() {
+        None
+    } else if model.at_rest(t, y) {
+        Some(EndReason::Rest)
+    } else if scene.stop_when_settled && model.settled(y) {
+        Some(EndReason::Settled)
+    } else {
+        None
     }
 }
 
