@@ -5,7 +5,7 @@ use crate::excitation::{Motion, Pulse, RecordMotion, library};
 use crate::model::device::DeviceModel;
 use crate::model::flexible::FlexibleModel;
 use crate::model::rigid::RigidModel;
-use crate::model::{Action, Counters, EndReason, Energy, Exact, Peaks, SimModel};
+use crate::model::{Action, ClosedFormEnd, Counters, EndReason, Energy, Peaks, SimModel};
 use crate::scene::{Excitation, Impact, RigidBlock, Scene, Structure};
 use crate::solver::{Integrator, Options, SolverError, Stats, StepOutcome};
 use serde::{Deserialize, Serialize};
@@ -131,30 +131,11 @@ pub fn run_with_history(
             form_used = Some(block.form);
             let mut model =
                 RigidModel::new(block, device, scene.impact, &motion, scene.initial_rotation);
-            let p = scene.structure.p();
-            let a = block.alpha;
-            let x = block.size * a;
-            // Characteristic magnitudes: rotations ~α, rates ~pα. A flywheel position enters
-            // the physics only through the spring deflection δ = x − y, whose scale is the
-            // deflection that carries the uplift force m g tanα: resolving y to rtol·Rα left
-            // clutch forces with ~1e-3 relative error and peaks drifting by 1% at rtol 1e-6.
-            let deflection = match device {
-                DeviceModel::Spring { k, .. } => block.mass * crate::excitation::G * a.tan() / k,
-                DeviceModel::Clutch(c) => block.mass * crate::excitation::G * a.tan() / c.k,
-                _ => x,
-            }
-            .min(x);
-            let scales = [a, p * a, deflection, p * x, deflection, p * x];
-            // Energies ~ the work to tip the block over its pivot.
-            let energy = block.mass * crate::excitation::G * block.size * a * a;
-            let s = Scales {
-                state: &scales,
-                energy,
-            };
-            match RigidModel::state_len(&device) {
-                6 => drive::<6, _>(&mut model, &motion, scene, s, history.as_mut()),
-                8 => drive::<8, _>(&mut model, &motion, scene, s, history.as_mut()),
-                _ => drive::<10, _>(&mut model, &motion, scene, s, history.as_mut()),
+            let h = history.as_mut();
+            match model.state_len() {
+                6 => drive::<6, _>(&mut model, &motion, scene, h),
+                8 => drive::<8, _>(&mut model, &motion, scene, h),
+                _ => drive::<10, _>(&mut model, &motion, scene, h),
             }?
         }
         Structure::Flexible(flex) => {
@@ -168,16 +149,12 @@ pub fn run_with_history(
             let p = scene.structure.p();
             let device = DeviceModel::new(&scene.device, flex.mass, p);
             let mut model = FlexibleModel::new(flex, device, &motion, scene.initial_rotation)
-                .with_exact_contact(scene.exact_contact);
-            let (state, energy) = FlexibleModel::scales(flex, &motion, p);
-            let s = Scales {
-                state: &state,
-                energy,
-            };
-            match FlexibleModel::state_len(&device) {
-                8 => drive::<8, _>(&mut model, &motion, scene, s, history.as_mut()),
-                10 => drive::<10, _>(&mut model, &motion, scene, s, history.as_mut()),
-                _ => drive::<12, _>(&mut model, &motion, scene, s, history.as_mut()),
+                .with_closed_form_contact(scene.exact_contact);
+            let h = history.as_mut();
+            match model.state_len() {
+                8 => drive::<8, _>(&mut model, &motion, scene, h),
+                10 => drive::<10, _>(&mut model, &motion, scene, h),
+                _ => drive::<12, _>(&mut model, &motion, scene, h),
             }?
         }
     };
@@ -187,14 +164,6 @@ pub fn run_with_history(
     Ok((result, history))
 }
 
-/// Characteristic magnitudes for error control: of the leading state components, and of the
-/// energies in the four trailing accumulators.
-#[derive(Clone, Copy)]
-pub struct Scales<'a> {
-    pub state: &'a [f64],
-    pub energy: f64,
-}
-
 /// The event loop, generic over the model and its state size N. The energy accumulators are
 /// error controlled too: with a sharp friction law (η large) an uncontrolled quadrature of the
 /// friction work left 5e-3 of the balance unexplained at rtol 1e-6.
@@ -202,16 +171,16 @@ fn drive<const N: usize, M: SimModel<N>>(
     model: &mut M,
     motion: &Motion,
     scene: &Scene,
-    scales: Scales,
     mut history: Option<&mut History>,
 ) -> Result<SceneResult, SimError> {
     let duration = scene.duration;
     let controlled = N - 4;
+    let (state_scales, energy_unit) = model.tolerance_scales();
     let atol: [f64; N] = std::array::from_fn(|i| {
         if i < controlled {
-            scene.rtol * scales.state[i]
+            scene.rtol * state_scales[i]
         } else {
-            scene.rtol * scales.energy
+            scene.rtol * energy_unit
         }
     });
     let mut integ = Integrator::new(Options {
@@ -364,7 +333,7 @@ impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
     ) -> Option<Action> {
         let duration = self.scene.duration;
         loop {
-            let (t1, how) = self.model.advance_exact(*t, duration, y)?;
+            let (t1, how) = self.model.advance_closed_form(*t, duration, y)?;
             *t = t1;
             *steps += 1;
             let e = self.model.energy(y);
@@ -372,7 +341,7 @@ impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
                 .energy_scale
                 .max(e.input.abs())
                 .max(e.structure + e.inerter);
-            if let Exact::Event(index) = how {
+            if let ClosedFormEnd::Event(index) = how {
                 return Some(self.event(index, *t, y));
             }
             record(&mut self.history, self.model, *t, y);
