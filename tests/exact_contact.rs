@@ -42,11 +42,14 @@ fn rigid_inerter() -> Device {
 /// The same scene advanced in closed form (at the default tolerance, which only the rocking
 /// phases use) and by the integrator throughout at `rtol`.
 fn both(scene: &Scene, rtol: f64) -> (SceneResult, SceneResult) {
-    let exact = sim::run(scene).unwrap();
+    let exact = sim::run(scene, rocklab::excitation::library::global().unwrap()).unwrap();
     let mut integrated = scene.clone();
     integrated.exact_contact = false;
     integrated.rtol = rtol;
-    (exact, sim::run(&integrated).unwrap())
+    (
+        exact,
+        sim::run(&integrated, rocklab::excitation::library::global().unwrap()).unwrap(),
+    )
 }
 
 fn relative(a: f64, b: f64) -> f64 {
@@ -201,7 +204,9 @@ fn uplift_is_located_where_the_integrator_finds_it_and_history_keeps_every_sampl
     let mut scene = flexible(0.2, Device::None, "landers", 58.0);
     scene.rtol = 1e-10;
     let first_uplift = |s: &Scene| {
-        let (_, h) = sim::run_with_history(s, true).unwrap();
+        let (_, h) =
+            sim::run_with_history(s, rocklab::excitation::library::global().unwrap(), true)
+                .unwrap();
         let h = h.unwrap();
         let t = h
             .events
@@ -240,7 +245,12 @@ fn uplift_is_located_where_the_integrator_finds_it_and_history_keeps_every_sampl
 /// nothing is advanced in closed form; a scene file without the option gets the default.
 #[test]
 fn closed_form_only_where_it_is_exact() {
-    let counts = |s: &Scene| sim::run(s).unwrap().stats.exact_steps;
+    let counts = |s: &Scene| {
+        sim::run(s, rocklab::excitation::library::global().unwrap())
+            .unwrap()
+            .stats
+            .exact_steps
+    };
     let short = |device| flexible(0.2, device, "northridge", 3.0);
     assert!(counts(&short(Device::None)) > 0);
     assert!(counts(&short(rigid_inerter())) > 0);
@@ -280,7 +290,10 @@ fn settled_tail_cut_on_the_closed_form_keeps_the_peaks() {
     let full = flexible(1.3, Device::None, "northridge", 40.0);
     let mut cut = full.clone();
     cut.stop_when_settled = true;
-    let (a, b) = (sim::run(&full).unwrap(), sim::run(&cut).unwrap());
+    let (a, b) = (
+        sim::run(&full, rocklab::excitation::library::global().unwrap()).unwrap(),
+        sim::run(&cut, rocklab::excitation::library::global().unwrap()).unwrap(),
+    );
     assert_eq!(b.end_reason, rocklab::model::EndReason::Settled);
     assert!(
         b.end_time < 0.9 * a.end_time,

@@ -75,7 +75,7 @@ fn clutch(sigma: f64, cbar: f64, friction: f64, play: f64, reset: ResetRule) -> 
 }
 
 fn run(scene: &Scene) -> SceneResult {
-    sim::run(scene).expect("scene runs")
+    sim::run(scene, rocklab::excitation::library::global().unwrap()).expect("scene runs")
 }
 
 /// Exact response of ü + 2ξωn u̇ + ωn² u = −A sin(ω t) on [0, 2π/ω], then free vibration,
@@ -184,7 +184,9 @@ fn wide_base_reproduces_the_closed_form_fixed_base_response() {
             6.0,
         );
         sc.rtol = 1e-12;
-        let (result, history) = sim::run_with_history(&sc, true).unwrap();
+        let (result, history) =
+            sim::run_with_history(&sc, rocklab::excitation::library::global().unwrap(), true)
+                .unwrap();
         let history = history.unwrap();
         assert_eq!(result.counters.uplifts, 0);
         let scale = (1.0 + sigma).sqrt();
@@ -693,7 +695,9 @@ fn cli_rejects_bad_flexible_input_with_exit_code_2() {
     sc.impact = Impact::Housner {
         restitution: Some(0.5),
     };
-    let err = sim::run(&sc).unwrap_err().to_string();
+    let err = sim::run(&sc, rocklab::excitation::library::global().unwrap())
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("impact") && err.contains("VVEL"), "{err}");
     // xi is required for a flexible structure.
     let args: Vec<&str> = CASE6_FLAGS

@@ -73,7 +73,7 @@ fn all_devices() -> Vec<(&'static str, Device)> {
 }
 
 fn run(scene: &Scene) -> SceneResult {
-    sim::run(scene).expect("scene runs")
+    sim::run(scene, rocklab::excitation::library::global().unwrap()).expect("scene runs")
 }
 
 fn rel(a: f64, b: f64) -> f64 {
@@ -122,7 +122,12 @@ fn slender_free_rocking_matches_closed_form() {
         stop_when_settled: false,
         exact_contact: true,
     };
-    let (result, history) = sim::run_with_history(&scene, true).unwrap();
+    let (result, history) = sim::run_with_history(
+        &scene,
+        rocklab::excitation::library::global().unwrap(),
+        true,
+    )
+    .unwrap();
     let history = history.unwrap();
     let r = housner_restitution(alpha);
     // Closed form, half-cycle by half-cycle: starting at rest from amplitude a, the block

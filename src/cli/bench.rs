@@ -52,11 +52,12 @@ pub fn sweep_throughput(
         shard: None,
         cache: None,
     };
+    let library = crate::excitation::library::global()?;
     let cancel = std::sync::atomic::AtomicBool::new(false);
     let mut best = f64::INFINITY;
     for _ in 0..repeats.max(1) {
         let start = Instant::now();
-        let results = crate::sweep::run(&points, &opts, &cancel, &|_| {});
+        let results = crate::sweep::run(&points, &opts, library, &cancel, &|_| {});
         best = best.min(start.elapsed().as_secs_f64());
         if let Some(failed) = results.outcomes.iter().find(|o| o.result.is_err()) {
             anyhow::bail!("a scene failed in the bench sweep: {:?}", failed.result);
@@ -283,11 +284,13 @@ pub fn timed(
 ) -> Result<(SceneResult, f64), sim::SimError> {
     let mut s = scene.clone();
     s.rtol = rtol;
+    let library =
+        crate::excitation::library::global().map_err(|e| sim::SimError::Invalid(e.to_string()))?;
     let mut times = Vec::with_capacity(repeats);
     let mut last = None;
     for _ in 0..repeats.max(1) {
         let start = Instant::now();
-        let r = sim::run(&s)?;
+        let r = sim::run(&s, library)?;
         times.push(start.elapsed().as_secs_f64());
         last = Some(r);
     }

@@ -135,7 +135,8 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let _ = ctrlc::set_handler(|| CANCEL.store(true, Ordering::SeqCst));
     let reporter = Reporter::new(std::io::stderr().is_terminal());
     let started = Instant::now();
-    let results = sweep::run_study(&study, &opts, &CANCEL, &|p| reporter.report(p))
+    let library = crate::excitation::library::global()?;
+    let results = sweep::run_study(&study, &opts, library, &CANCEL, &|p| reporter.report(p))
         .map_err(|e| UsageError::new(e.to_string()))?;
     reporter.finish();
     let elapsed = started.elapsed();

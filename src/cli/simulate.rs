@@ -606,7 +606,8 @@ pub fn result_json(scene: &Scene, r: &SceneResult) -> serde_json::Value {
 
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let scene = args.scene()?;
-    let (result, history) = sim::run_with_history(&scene, args.history.is_some())?;
+    let library = library::global()?;
+    let (result, history) = sim::run_with_history(&scene, library, args.history.is_some())?;
     if let (Some(path), Some(h)) = (&args.history, &history) {
         crate::report::write_history_csv(path, h)?;
     }
@@ -614,8 +615,8 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         println!("{}", result_json(&scene, &result));
     } else {
         if let Excitation::Record { name, baseline, .. } = &scene.excitation {
-            let record = library::global()?.load(name, *baseline)?;
-            let factor = match sim::motion_for(&scene)? {
+            let record = library.load(name, *baseline)?;
+            let factor = match sim::motion_for(&scene, library)? {
                 crate::excitation::Motion::Record(m) => m.factor,
                 crate::excitation::Motion::Pulse(_) => 1.0,
             };

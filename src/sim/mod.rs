@@ -1,7 +1,7 @@
 //! One scene, start to finish: build the model the scene needs, run the event loop (step,
 //! locate event, apply jump, restart), track peaks and the energy balance.
 
-use crate::excitation::{Motion, Pulse, RecordMotion, library};
+use crate::excitation::{Library, Motion, Pulse, RecordMotion};
 use crate::model::device::DeviceModel;
 use crate::model::flexible::FlexibleModel;
 use crate::model::rigid::RigidModel;
@@ -22,8 +22,6 @@ pub enum SimError {
     Invalid(String),
     #[error("{0}")]
     Solver(#[from] SolverError),
-    #[error("{0} is not available yet")]
-    Unsupported(&'static str),
 }
 
 /// Everything a scene produces besides its histories.
@@ -63,8 +61,9 @@ impl History {
     }
 }
 
-/// Compile the scene's excitation into a ground motion.
-pub fn motion_for(scene: &Scene) -> Result<Motion, SimError> {
+/// Compile the scene's excitation into a ground motion, resolving a record's name in
+/// `library`.
+pub fn motion_for(scene: &Scene, library: &Library) -> Result<Motion, SimError> {
     let alpha = scene.structure.alpha();
     let p = scene.structure.p();
     match &scene.excitation {
@@ -86,9 +85,9 @@ pub fn motion_for(scene: &Scene) -> Result<Motion, SimError> {
             baseline,
             kinks,
         } => {
-            // Parsed once per process and shared by every scene that names it.
-            let record = library::global()
-                .and_then(|lib| lib.load(name, *baseline))
+            // Parsed once per library and shared by every scene that names it.
+            let record = library
+                .load(name, *baseline)
                 .map_err(|e| SimError::Invalid(e.to_string()))?;
             let series = Arc::clone(&record.series);
             let factor = scale.factor(series.pga(), series.pgv());
@@ -106,18 +105,21 @@ pub fn motion_for(scene: &Scene) -> Result<Motion, SimError> {
     }
 }
 
-pub fn run(scene: &Scene) -> Result<SceneResult, SimError> {
-    run_with_history(scene, false).map(|(r, _)| r)
+/// Run one scene; a record it names is resolved in `library` (a scene depends on nothing
+/// else).
+pub fn run(scene: &Scene, library: &Library) -> Result<SceneResult, SimError> {
+    run_with_history(scene, library, false).map(|(r, _)| r)
 }
 
 pub fn run_with_history(
     scene: &Scene,
+    library: &Library,
     record_history: bool,
 ) -> Result<(SceneResult, Option<History>), SimError> {
     scene
         .validate()
         .map_err(|e| SimError::Invalid(e.to_string()))?;
-    let motion = motion_for(scene)?;
+    let motion = motion_for(scene, library)?;
     let mut history = record_history.then(History::default);
     let started = Instant::now();
     let mut form_used = None;

@@ -2,6 +2,7 @@
 //! stop cleanly on cancel. Results come back in expansion order whatever the thread count, so
 //! a sweep is deterministic.
 
+use crate::excitation::Library;
 use crate::sim::{self, SceneResult};
 use crate::study::{ScenePoint, Study, StudyError};
 use rayon::prelude::*;
@@ -90,21 +91,23 @@ pub fn reusable(previous: &SweepResults) -> bool {
 pub fn run_study(
     study: &Study,
     opts: &SweepOptions,
+    library: &Library,
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<SweepResults, StudyError> {
     let points = study.expand()?;
-    let mut results = run(&points, opts, cancel, progress);
+    let mut results = run(&points, opts, library, cancel, progress);
     results.study_hash = study.hash();
     results.study = Some(study.clone());
     Ok(results)
 }
 
 /// Run `points` (or the shard's slice of them). Never panics on a bad scene: failures are
-/// recorded with their reason and the sweep goes on.
+/// recorded with their reason and the sweep goes on. Records are resolved in `library`.
 pub fn run(
     points: &[ScenePoint],
     opts: &SweepOptions,
+    library: &Library,
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> SweepResults {
@@ -126,7 +129,7 @@ pub fn run(
         let result = match cache.get(&point.key) {
             Some(r) => r.clone(),
             None if cancel.load(Ordering::Relaxed) => return None,
-            None => run_guarded(point),
+            None => run_guarded(point, library),
         };
         progress(Progress::SceneDone {
             index: point.index,
@@ -162,8 +165,8 @@ pub fn in_shard(index: usize, shard: Option<(usize, usize)>) -> bool {
 }
 
 /// One scene, with a panic in the core recorded as a failure instead of ending the sweep.
-fn run_guarded(point: &ScenePoint) -> Result<SceneResult, String> {
-    std::panic::catch_unwind(|| sim::run(&point.scene))
+fn run_guarded(point: &ScenePoint, library: &Library) -> Result<SceneResult, String> {
+    std::panic::catch_unwind(|| sim::run(&point.scene, library))
         .map_err(|panic| {
             let msg = panic
                 .downcast_ref::<&str>()

@@ -567,6 +567,9 @@ impl App {
         let Check::Ok(points) = &self.check else {
             return;
         };
+        let Ok(library) = crate::excitation::library::global() else {
+            return;
+        };
         if points.is_empty() {
             return;
         }
@@ -579,7 +582,7 @@ impl App {
         std::thread::spawn(move || {
             let started = Instant::now();
             for p in &sample {
-                let _ = sim::run(&p.scene);
+                let _ = sim::run(&p.scene, library);
             }
             let _ = tx.send(started.elapsed().as_secs_f64() / sample.len() as f64);
         });
@@ -1018,6 +1021,10 @@ impl App {
             self.complain("a sweep is already running (c cancels it)");
             return;
         }
+        let library = match crate::excitation::library::global() {
+            Ok(library) => library,
+            Err(e) => return self.complain(format!("cannot run: {e}")),
+        };
         let points = match &self.check {
             Check::Ok(points) => points.clone(),
             Check::Invalid(msg) => {
@@ -1063,8 +1070,10 @@ impl App {
                 }
             };
             // The study itself goes along so that spectra and maps know its quantities and axes.
-            let results = sweep::run_study(&study, &opts, &thread_cancel, &progress)
-                .unwrap_or_else(|_| sweep::run(&thread_points, &opts, &thread_cancel, &progress));
+            let results = sweep::run_study(&study, &opts, library, &thread_cancel, &progress)
+                .unwrap_or_else(|_| {
+                    sweep::run(&thread_points, &opts, library, &thread_cancel, &progress)
+                });
             let _ = tx.send(RunMsg::Done(Box::new(results)));
         });
         self.calibration = None;
@@ -1203,10 +1212,14 @@ impl App {
             self.complain("no scene under the cursor");
             return;
         };
+        let library = match crate::excitation::library::global() {
+            Ok(library) => library,
+            Err(e) => return self.complain(format!("cannot open the scene: {e}")),
+        };
         let (tx, rx) = channel();
         let scene = point.scene.clone();
         std::thread::spawn(move || {
-            let outcome = sim::run_with_history(&scene, true).map_err(|e| e.to_string());
+            let outcome = sim::run_with_history(&scene, library, true).map_err(|e| e.to_string());
             let _ = tx.send(outcome);
         });
         self.scene = Some(SceneView {
