@@ -26,14 +26,14 @@ pub struct Scene {
     #[serde(default)]
     pub stop_when_settled: bool,
     /// Advance the full-contact phase of a flexible structure with a linear device (none, or a
-    /// rigidly coupled inerter) under a record in closed form, exactly, instead of with the
-    /// integrator (`false` forces the integrator; `stats.exact_steps` counts closed-form
-    /// intervals).
-    #[serde(default = "default_exact_contact")]
-    pub exact_contact: bool,
+    /// rigidly coupled inerter) under a record in closed form instead of with the integrator
+    /// (`false` forces the integrator; `stats.closed_form_steps` counts closed-form
+    /// intervals). Serialized as `exact_contact` (study and scene files keep their names).
+    #[serde(default = "default_closed_form_contact", rename = "exact_contact")]
+    pub closed_form_contact: bool,
 }
 
-pub fn default_exact_contact() -> bool {
+pub fn default_closed_form_contact() -> bool {
     true
 }
 

@@ -28,7 +28,7 @@ fn flexible(alpha: f64, device: Device, record: &str, duration: f64) -> Scene {
         rtol: default_rtol(),
         initial_rotation: 0.0,
         stop_when_settled: false,
-        exact_contact: true,
+        closed_form_contact: true,
     }
 }
 
@@ -44,7 +44,7 @@ fn rigid_inerter() -> Device {
 fn both(scene: &Scene, rtol: f64) -> (SceneResult, SceneResult) {
     let exact = sim::run(scene, rocklab::excitation::library::global().unwrap()).unwrap();
     let mut integrated = scene.clone();
-    integrated.exact_contact = false;
+    integrated.closed_form_contact = false;
     integrated.rtol = rtol;
     (
         exact,
@@ -113,9 +113,9 @@ fn in_full_contact_the_closed_form_matches_the_tight_integrator() {
             "{device:?}: the base must stay down"
         );
         assert_eq!(integrated.counters.uplifts, 0);
-        assert!(exact.stats.exact_steps > 2000, "{:?}", exact.stats);
+        assert!(exact.stats.closed_form_steps > 2000, "{:?}", exact.stats);
         assert_eq!((exact.stats.steps, exact.stats.rhs_evals), (0, 0));
-        assert_eq!(integrated.stats.exact_steps, 0);
+        assert_eq!(integrated.stats.closed_form_steps, 0);
         let pairs = [
             (exact.peaks.deformation, integrated.peaks.deformation),
             (exact.peaks.drift, integrated.peaks.drift),
@@ -167,7 +167,7 @@ fn with_uplift_the_hand_over_keeps_the_integrator_peaks() {
         assert!(exact.counters.uplifts > 5, "{tag}: {:?}", exact.counters);
         assert_eq!(exact.counters, integrated.counters, "{tag}");
         assert!(
-            exact.stats.exact_steps > 0 && exact.stats.steps > 0,
+            exact.stats.closed_form_steps > 0 && exact.stats.steps > 0,
             "{tag}"
         );
         let pairs = [
@@ -222,7 +222,7 @@ fn uplift_is_located_where_the_integrator_finds_it_and_history_keeps_every_sampl
     };
     let (t_exact, rows) = first_uplift(&scene);
     let mut integrated = scene.clone();
-    integrated.exact_contact = false;
+    integrated.closed_form_contact = false;
     let (t_integrated, _) = first_uplift(&integrated);
     assert!(
         (t_exact - t_integrated).abs() < 1e-9,
@@ -249,7 +249,7 @@ fn closed_form_only_where_it_is_exact() {
         sim::run(s, rocklab::excitation::library::global().unwrap())
             .unwrap()
             .stats
-            .exact_steps
+            .closed_form_steps
     };
     let short = |device| flexible(0.2, device, "northridge", 3.0);
     assert!(counts(&short(Device::None)) > 0);
@@ -260,7 +260,7 @@ fn closed_form_only_where_it_is_exact() {
         0
     );
     let mut forced = short(Device::None);
-    forced.exact_contact = false;
+    forced.closed_form_contact = false;
     assert_eq!(counts(&forced), 0);
     let mut pulse = short(Device::None);
     pulse.excitation = Excitation::Pulse {
@@ -280,7 +280,7 @@ fn closed_form_only_where_it_is_exact() {
     let without = text.replace(",exact_contact:true", "");
     assert_ne!(text, without, "the option is serialised: {text}");
     let parsed: Scene = ron::from_str(&without).unwrap();
-    assert!(parsed.exact_contact);
+    assert!(parsed.closed_form_contact);
 }
 
 /// The settled-tail cut works on the closed-form path as on the integrator's: same peaks, an

@@ -38,7 +38,7 @@ fn scene(structure: Structure, device: Device, excitation: Excitation, duration:
         rtol: 1e-8,
         initial_rotation: 0.0,
         stop_when_settled: false,
-        exact_contact: true,
+        closed_form_contact: true,
     }
 }
 

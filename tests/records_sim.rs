@@ -22,7 +22,7 @@ fn scene(excitation: Excitation, device: Device, rtol: f64) -> Scene {
         rtol,
         initial_rotation: 0.0,
         stop_when_settled: false,
-        exact_contact: true,
+        closed_form_contact: true,
     }
 }
 

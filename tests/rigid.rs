@@ -38,7 +38,7 @@ fn fig8(device: Device) -> Scene {
         rtol: 1e-8,
         initial_rotation: 0.0,
         stop_when_settled: false,
-        exact_contact: true,
+        closed_form_contact: true,
     }
 }
 
@@ -120,7 +120,7 @@ fn slender_free_rocking_matches_closed_form() {
         rtol: 1e-11,
         initial_rotation: theta0,
         stop_when_settled: false,
-        exact_contact: true,
+        closed_form_contact: true,
     };
     let (result, history) = sim::run_with_history(
         &scene,

@@ -93,7 +93,7 @@ pub fn rigid_fig8(device: Device) -> Scene {
         rtol: default_rtol(),
         initial_rotation: 0.0,
         stop_when_settled: false,
-        exact_contact: true,
+        closed_form_contact: true,
     }
 }
 
@@ -120,7 +120,7 @@ pub fn flexible_fig14(device: Device) -> Scene {
         rtol: default_rtol(),
         initial_rotation: 0.0,
         stop_when_settled: false,
-        exact_contact: true,
+        closed_form_contact: true,
     }
 }
 
@@ -384,7 +384,7 @@ fn print_exact_contact_table(args: &BenchArgs) -> anyhow::Result<()> {
         "| scene | RHS evals off → on | exact steps | time (ms) off → on | speed-up | err θmax off / on | err umax off / on | err accel off / on | energy residual off / on |"
     );
     println!("|---|---|---|---|---|---|---|---|---|");
-    let integrate = |s: &mut Scene| s.exact_contact = false;
+    let integrate = |s: &mut Scene| s.closed_form_contact = false;
     for bench in scenes() {
         let applies = matches!(bench.scene.structure, Structure::Flexible(_))
             && matches!(bench.scene.excitation, Excitation::Record { .. })
@@ -409,14 +409,14 @@ fn print_exact_contact_table(args: &BenchArgs) -> anyhow::Result<()> {
         let (reference, _) = timed(&off, args.reference, 1)?;
         let want = peaks(&reference);
         let [(off, t_off), (on, t_on)] =
-            compare_option(&off, |s| s.exact_contact = true, args.repeats)?;
+            compare_option(&off, |s| s.closed_form_contact = true, args.repeats)?;
         let err = |r: &SceneResult, i: usize| relative_error(peaks(r)[i], want[i]);
         println!(
             "| {} | {} → {} | {} | {:.3} → {:.3} | {:.2}× | {:.1e} / {:.1e} | {:.1e} / {:.1e} | {:.1e} / {:.1e} | {:.1e} / {:.1e} |",
             bench.name,
             off.stats.rhs_evals,
             on.stats.rhs_evals,
-            on.stats.exact_steps,
+            on.stats.closed_form_steps,
             t_off * 1e3,
             t_on * 1e3,
             t_off / t_on,

@@ -349,7 +349,7 @@ impl SimulateArgs {
             rtol: self.rtol,
             initial_rotation: self.theta0,
             stop_when_settled: self.stop_when_settled,
-            exact_contact: !self.integrate_contact,
+            closed_form_contact: !self.integrate_contact,
         };
         scene.validate().map_err(UsageError::from_invalid)?;
         Ok(scene)
@@ -597,7 +597,7 @@ pub fn result_json(scene: &Scene, r: &SceneResult) -> serde_json::Value {
         "steps": r.stats.steps,
         "rejected_steps": r.stats.rejected,
         "rhs_evals": r.stats.rhs_evals,
-        "exact_steps": r.stats.exact_steps,
+        "exact_steps": r.stats.closed_form_steps,
         "wall_seconds": r.wall_seconds,
         "form_used": r.form_used,
         "scene": scene,
@@ -666,7 +666,7 @@ pub fn summary(scene: &Scene, r: &SceneResult) -> String {
         r.stats.steps,
         r.stats.rejected,
         r.stats.rhs_evals,
-        r.stats.exact_steps,
+        r.stats.closed_form_steps,
         r.wall_seconds * 1e3,
     )
 }

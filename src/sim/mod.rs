@@ -151,7 +151,7 @@ pub fn run_with_history(
             let p = scene.structure.p();
             let device = DeviceModel::new(&scene.device, flex.mass, p);
             let mut model = FlexibleModel::new(flex, device, &motion, scene.initial_rotation)
-                .with_closed_form_contact(scene.exact_contact);
+                .with_closed_form_contact(scene.closed_form_contact);
             let h = history.as_mut();
             match model.state_len() {
                 8 => drive::<8, _>(&mut model, &motion, scene, h),
@@ -198,7 +198,7 @@ fn drive<const N: usize, M: SimModel<N>>(
     let e0 = model.energy(&y);
     let initial_stored = e0.structure + e0.inerter;
     let mut energy_scale = initial_stored.abs();
-    let mut exact_steps = 0;
+    let mut closed_form_steps = 0;
     model.observe_point(t, &y);
     if let Some(h) = history.as_deref_mut() {
         h.columns = model.history_columns();
@@ -226,7 +226,8 @@ fn drive<const N: usize, M: SimModel<N>>(
                     history: history.as_deref_mut(),
                     energy_scale: &mut energy_scale,
                 };
-                if let Some(next) = run.advance_exactly(&mut t, &mut y, &mut exact_steps) {
+                if let Some(next) = run.advance_closed_form(&mut t, &mut y, &mut closed_form_steps)
+                {
                     action = next;
                     continue;
                 }
@@ -286,7 +287,7 @@ fn drive<const N: usize, M: SimModel<N>>(
         energy,
         energy_residual: imbalance.abs() / scale,
         stats: Stats {
-            exact_steps,
+            closed_form_steps,
             ..integ.stats
         },
         wall_seconds: 0.0,
@@ -327,7 +328,7 @@ impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
     /// Advance in closed form while the model offers it, with the integrator path's stops
     /// (duration, rest, settled) and a history row per interval. `None` when the model has no
     /// closed form in its current phase: the integrator takes over at (t, y).
-    fn advance_exactly(
+    fn advance_closed_form(
         &mut self,
         t: &mut f64,
         y: &mut [f64; N],

@@ -57,8 +57,11 @@ pub struct Study {
     pub stop_when_settled: bool,
     /// Advance full contact of a flexible structure with a linear device under a record in
     /// closed form (exact) instead of with the integrator; `false` forces the integrator.
-    #[serde(default = "crate::scene::default_exact_contact")]
-    pub exact_contact: bool,
+    #[serde(
+        default = "crate::scene::default_closed_form_contact",
+        rename = "exact_contact"
+    )]
+    pub closed_form_contact: bool,
 }
 
 fn yes() -> bool {
