@@ -5,6 +5,7 @@
 
 pub mod cli;
 pub mod excitation;
+pub mod fsutil;
 pub mod model;
 pub mod report;
 pub mod scene;
@@ -13,3 +14,6 @@ pub mod solver;
 pub mod study;
 pub mod sweep;
 pub mod tui;
+
+#[cfg(test)]
+mod layering;

@@ -4,6 +4,10 @@
 
 use crate::sim::{self, SceneResult};
 use crate::study::{ScenePoint, Study, StudyError};
+mod store;
+
+pub use store::{RESULTS_FORMAT, load_results, results_file_json};
+
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -118,7 +122,7 @@ pub fn run(
     let cache = opts
         .cache
         .as_ref()
-        .and_then(|path| crate::report::load_results(path).ok())
+        .and_then(|path| load_results(path).ok())
         .filter(reusable)
         .map(cache_by_key)
         .unwrap_or_default();
