@@ -96,3 +96,22 @@ pub fn load_results(path: &Path) -> anyhow::Result<SweepResults> {
         build: stored.build,
     })
 }
+
+/// The study hash and name of a results file, read without building its results.
+pub fn results_identity(path: &Path) -> anyhow::Result<(String, Option<String>)> {
+    #[derive(Deserialize)]
+    struct Named {
+        name: String,
+    }
+    #[derive(Deserialize)]
+    struct Identity {
+        study_hash: String,
+        #[serde(default)]
+        study: Option<Named>,
+    }
+    let file = std::fs::File::open(path)
+        .with_context(|| format!("cannot read results file {}", path.display()))?;
+    let id: Identity = serde_json::from_reader(std::io::BufReader::new(file))
+        .with_context(|| format!("{} is not a rocklab results file", path.display()))?;
+    Ok((id.study_hash, id.study.map(|s| s.name)))
+}
