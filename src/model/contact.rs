@@ -22,6 +22,9 @@ pub struct ClosedFormContact {
     /// The closed form's basis at the nodes of the last few interval lengths.
     nodes: [Option<IntervalNodes>; 4],
     nodes_next: usize,
+    /// State indices of the input-work and column-damping integrals.
+    input: usize,
+    damping: usize,
 }
 
 /// The closed form's basis (e^{−στ}, cos ωd τ, sin ωd τ) at the interior quarter points, the
@@ -67,9 +70,10 @@ impl Sample {
 }
 
 impl ClosedFormContact {
-    /// The contact oscillator of `column` with coupled mass `mc`; None for a critically damped
-    /// or overdamped column (the integrator handles those).
-    pub fn new(column: &Column, mc: f64) -> Option<Self> {
+    /// The contact oscillator of `column` with coupled mass `mc`, for a state laid out by
+    /// `layout`; None for a critically damped or overdamped column (the integrator handles
+    /// those).
+    pub fn new(column: &Column, mc: f64, layout: Layout) -> Option<Self> {
         let total = column.m + mc;
         let omega = (column.k / total).sqrt();
         let zeta = column.c / (2.0 * (column.k * total).sqrt());
@@ -79,6 +83,8 @@ impl ClosedFormContact {
             max_interval: 0.5 / osc.omega_d(),
             nodes: [None; 4],
             nodes_next: 0,
+            input: layout.accumulator(Accumulator::Input),
+            damping: layout.accumulator(Accumulator::Own),
         })
     }
 
@@ -89,7 +95,6 @@ impl ClosedFormContact {
     pub fn advance(
         &mut self,
         column: &Column,
-        layout: Layout,
         record: &RecordMotion,
         peaks: &mut Peaks,
         t: f64,
@@ -132,10 +137,7 @@ impl ClosedFormContact {
             }
         };
         observe_segment(column, peaks, &seg, &samples, &ground);
-        let (input, damping) = (
-            layout.accumulator(Accumulator::Input),
-            layout.accumulator(Accumulator::Own),
-        );
+        let (input, damping) = (self.input, self.damping);
         for (basis, w) in gauss {
             let (_, v) = seg.state_at(&basis);
             y[input] -= w * column.m * ground(basis.tau) * v;

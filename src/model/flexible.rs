@@ -91,7 +91,7 @@ impl<'m> FlexibleModel<'m> {
         if !enabled || !matches!(self.mode.motion, Motion::Record(_)) {
             return self;
         }
-        self.body.contact = ClosedFormContact::new(&self.body.col, mc);
+        self.body.contact = ClosedFormContact::new(&self.body.col, mc, self.mode.layout);
         self
     }
 
@@ -367,7 +367,7 @@ impl Body for FlexibleBody {
         let Motion::Record(record) = m.motion else {
             return None;
         };
-        contact.advance(&self.col, m.layout, record, peaks, t, t_stop, y)
+        contact.advance(&self.col, record, peaks, t, t_stop, y)
     }
 }
 

@@ -53,7 +53,7 @@ impl Layout {
     }
 
     /// Number of state components.
-    pub fn len(&self) -> usize {
+    pub fn state_len(&self) -> usize {
         self.coordinates + 2 * self.flywheels + 4
     }
 
@@ -303,7 +303,7 @@ impl<'m, B: Body> Rocking<'m, B> {
 
     /// Number of state components this model needs.
     pub fn state_len(&self) -> usize {
-        self.mode.layout.len()
+        self.mode.layout.state_len()
     }
 
     fn x_xdot(&self, y: &[f64]) -> (f64, f64) {
