@@ -9,6 +9,7 @@
 
 mod error;
 mod expand;
+pub mod fields;
 mod values;
 
 pub use error::StudyError;
