@@ -156,10 +156,13 @@ impl StudyScreen {
     /// (once: the scenes go to the app with the study). A refused edit says why: under the
     /// editor, or on the status line for edits without one (deletions).
     fn apply_document(&mut self, doc: &str, from_editor: bool) -> Action {
-        let checked = Study::parse_ron(doc, "edit").and_then(|study| {
-            let points = study.expand().map_err(|e| e.located(doc, "edit"))?;
-            Ok((study, points))
-        });
+        let checked = match Study::parse_ron(doc, "edit") {
+            Ok(study) => match study.expand() {
+                Ok(points) => Ok((study, points)),
+                Err(e) => Err(e.located(doc, "edit")),
+            },
+            Err(e) => Err(e),
+        };
         match checked {
             Ok((study, points)) => {
                 self.edit = None;
