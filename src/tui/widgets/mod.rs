@@ -92,29 +92,8 @@ pub fn scroll_offset(cursor: usize, len: usize, height: usize) -> usize {
 
 // ----- text -----
 
-pub fn fmt_num(v: f64) -> String {
-    if !v.is_finite() {
-        return "–".into();
-    }
-    let a = v.abs();
-    if a != 0.0 && !(0.01..10_000.0).contains(&a) {
-        format!("{v:.2e}")
-    } else {
-        let decimals = if a >= 100.0 {
-            0
-        } else if a >= 10.0 {
-            1
-        } else {
-            3
-        };
-        let s = format!("{v:.decimals$}");
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
-    }
-}
+/// Numbers read as in study labels and reports: one formatter for the whole program.
+pub use crate::study::fmt_num;
 
 pub fn fmt_duration(s: f64) -> String {
     if s < 1.0 {
@@ -185,15 +164,5 @@ mod tests {
         assert_eq!(shown(&line), "[1.0, 2.0,");
         line.cursor = 5;
         assert_eq!(shown(&line), "[1.0, 2.0,");
-    }
-
-    #[test]
-    fn numbers_read_well_at_every_magnitude() {
-        assert_eq!(fmt_num(0.0), "0");
-        assert_eq!(fmt_num(0.5), "0.5");
-        assert_eq!(fmt_num(12.34), "12.3");
-        assert_eq!(fmt_num(1234.0), "1234");
-        assert_eq!(fmt_num(1e-5), "1.00e-5");
-        assert_eq!(fmt_num(f64::NAN), "–");
     }
 }

@@ -98,7 +98,7 @@ pub fn series_lines(
     style: Style,
     layout: &Bars,
 ) -> Vec<Line<'static>> {
-    let max = values.iter().flatten().copied().fold(f64::NAN, f64::max);
+    let max = values.iter().flatten().copied().reduce(f64::max);
     let theme = layout.theme;
     bar_rows(values, style, layout)
         .into_iter()
@@ -112,7 +112,8 @@ pub fn series_lines(
             spans.push(Span::raw(" "));
             spans.extend(bars);
             if r == 0 {
-                spans.push(Span::styled(format!(" max {}", fmt_num(max)), theme.dim()));
+                let max = max.map_or("–".into(), fmt_num);
+                spans.push(Span::styled(format!(" max {max}"), theme.dim()));
             }
             Line::from(spans)
         })
