@@ -225,6 +225,66 @@ fn results_screens_draw_fixed_results() {
     snap_text_and_styles(&app, "results_compare");
 }
 
+/// The Scene screen draws a fixed scene: the result of a point of the fixed results and
+/// histories from closed forms (a decaying rocking motion, its flywheels, clutch forces and
+/// energies), not a rerun, so the snapshot changes only when the drawing does.
+#[test]
+fn scene_screen_draws_a_fixed_scene() {
+    let mut app = new_app();
+    small_map_study(&mut app);
+    let results = fixed_results();
+    let outcome = results
+        .outcomes
+        .iter()
+        .find(|o| {
+            o.point.group == "mechanistic"
+                && o.point.coord("ωg/p") == Some(4.0)
+                && o.point.coord("A/(g·α)") == Some(2.0)
+        })
+        .expect("the fixed results hold the point");
+    let decay = |t: f64| (-0.3 * t).exp();
+    let w = std::f64::consts::PI;
+    let history = rocklab::sim::History {
+        columns: vec![
+            "t",
+            "theta",
+            "flywheel_a_vel",
+            "flywheel_b_vel",
+            "clutch_force_a",
+            "clutch_force_b",
+            "e_kinetic",
+            "e_dissipated",
+        ],
+        rows: (0..=800)
+            .map(|i| {
+                let t = i as f64 * 0.01;
+                let theta = 0.09 * decay(t) * (w * t).sin();
+                let rate = 0.09 * decay(t) * w * (w * t).cos();
+                vec![
+                    t,
+                    theta,
+                    rate.max(0.0) * 1.5,
+                    rate.min(0.0) * 1.5,
+                    2.0 * rate.max(0.0),
+                    -2.0 * rate.min(0.0),
+                    0.5 * rate * rate,
+                    0.3 * (1.0 - decay(t)),
+                ]
+            })
+            .collect(),
+        events: Vec::new(),
+    };
+    app.scene.show(
+        outcome.point.clone(),
+        outcome.result.clone().unwrap(),
+        history,
+    );
+    key(&mut app, KeyCode::Char('4'));
+    assert_eq!(app.screen, Screen::Scene);
+    assert!(app.wait_idle(Duration::from_secs(1)), "nothing runs");
+    snap_text(&app, "scene");
+}
+
 #[test]
 fn study_screen_shows_the_default_study_and_its_scene_count() {
     let mut app = new_app();
@@ -478,7 +538,6 @@ fn edit_run_and_read_results_by_keys() {
         }
         _ => panic!("the scene did not finish"),
     }
-    snap_text(&app, "scene");
     key(&mut app, Esc);
     assert_eq!(app.screen, Screen::Results);
     // Editing the study afterwards marks the results as stale.

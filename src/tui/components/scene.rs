@@ -47,6 +47,16 @@ impl SceneScreen {
         });
     }
 
+    /// Show a scene computed elsewhere (no rerun): results opened from a file, or tests that
+    /// draw fixed data.
+    pub fn show(&mut self, point: ScenePoint, result: SceneResult, history: History) {
+        self.job.abandon();
+        self.view = Some(SceneView {
+            point,
+            state: SceneState::Done(Box::new(result), history),
+        });
+    }
+
     pub fn is_running(&self) -> bool {
         self.job.is_busy()
     }
