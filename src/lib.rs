@@ -6,6 +6,7 @@
 pub mod cli;
 pub mod excitation;
 pub mod model;
+pub mod presets;
 pub mod report;
 pub mod scene;
 pub mod sim;
