@@ -286,14 +286,17 @@ say "   (single run: $(($(date +%s) - t0)) s on $cpus CPUs)"
 submit "$big" "$work/b" --tasks 2
 victim="${array_id}_1"
 victim_log() { ls "$work"/b/slurm/logs/array-"${array_id}"_1.log 2>/dev/null; }
-# Mid-run: running, and rocklab has reported progress past its first line (≥ 5 s in).
+# Mid-run: rocklab has reported progress past its first line, or has run for 6 s.
+running_since=""
 has_progressed() {
   job_ended "$victim" && fail "task $victim ended ($(job_state "$victim")) before it could be stopped mid-run"
-  [ "$(job_state "$victim")" = RUNNING ] && [ -n "$(victim_log)" ] &&
-    grep -qE '^progress: [1-9][0-9]*/' "$(victim_log)"
+  [ "$(job_state "$victim")" = RUNNING ] || return 1
+  running_since=${running_since:-$(date +%s)}
+  { [ -n "$(victim_log)" ] && grep -qE '^progress: [1-9][0-9]*/' "$(victim_log)"; } ||
+    [ $(($(date +%s) - running_since)) -ge 6 ]
 }
 wait_for 300 "task $victim to be running and past its first scenes" has_progressed
-say "task $victim is mid-run: $(grep '^progress:' "$(victim_log)" | tail -1)"
+say "task $victim is mid-run: $(grep '^progress:' "$(victim_log)" | tail -1 || true)"
 say "\$ scancel --batch --signal=TERM $victim   (what --signal=B:TERM@60 sends before the time limit)"
 timeout 20 scancel --batch --signal=TERM "$victim" || fail "scancel failed"
 requeued() {

@@ -103,10 +103,7 @@ pub fn parse_time(text: &str) -> Result<u64, String> {
         Some((d, rest)) => (Some(number(d)?), rest),
         None => (None, text),
     };
-    let parts = rest
-        .split(':')
-        .map(number)
-        .collect::<Result<Vec<_>, _>>()?;
+    let parts = rest.split(':').map(number).collect::<Result<Vec<_>, _>>()?;
     let seconds = match (days, parts.as_slice()) {
         (None, [m]) => m * 60,
         (None, [m, s]) => m * 60 + s,
@@ -156,6 +153,20 @@ impl Plan {
         self.scripts_dir().join("logs")
     }
 
+    /// `4 tasks of 150 scenes`, `7 tasks of 85–86 scenes`.
+    pub fn tasks_text(&self) -> String {
+        let (fewest, most) = self.scenes_per_task();
+        let tasks = match self.tasks {
+            1 => "1 task".to_string(),
+            n => format!("{n} tasks"),
+        };
+        match (fewest == most, most) {
+            (true, 1) => format!("{tasks} of 1 scene"),
+            (true, n) => format!("{tasks} of {n} scenes"),
+            (false, _) => format!("{tasks} of {fewest}–{most} scenes"),
+        }
+    }
+
     /// (fewest, most) scenes per task.
     pub fn scenes_per_task(&self) -> (usize, usize) {
         (
@@ -190,12 +201,14 @@ impl Plan {
     /// The job array: task i runs shard i/N; on SIGTERM it stops, then requeues itself.
     pub fn array_script(&self) -> String {
         let n = self.tasks;
-        let (fewest, most) = self.scenes_per_task();
         let mut s = String::from("#!/bin/bash\n");
         let _ = writeln!(
             s,
-            "# Written by `rocklab slurm` for study {} (hash {}): {} scenes in {n} tasks of {fewest}–{most}.",
-            self.study_name, self.study_hash, self.scenes
+            "# Written by `rocklab slurm` for study {} (hash {}): {} scenes in {}.",
+            self.study_name,
+            self.study_hash,
+            self.scenes,
+            self.tasks_text()
         );
         s.push_str(
             "# Task i runs shard i/N into the output directory; rerun, it reuses the scenes it finished.\n",
@@ -216,20 +229,18 @@ task="${{SLURM_ARRAY_JOB_ID}}_${{SLURM_ARRAY_TASK_ID}}"
 restarts="${{SLURM_RESTART_COUNT:-0}}"
 echo "rocklab: task $task, shard ${{SLURM_ARRAY_TASK_ID}}/{n}, restart $restarts, on $(hostname) at $(date -Is)"
 # rocklab runs as a child so that this shell can requeue the task once rocklab has stopped.
-# SIGTERM ({STOP_WARNING_SECONDS} s before the time limit, or `scancel --signal=TERM --full`) is passed on:
-# rocklab stops starting scenes and keeps the finished ones.
+# SIGTERM ({STOP_WARNING_SECONDS} s before the time limit, or `scancel --batch --signal=TERM`) is passed
+# on to rocklab, which stops; run again, it resumes from the shard's files in the output directory.
 stopped=0
 {rocklab} run {study} --out {out} --quiet \
     --jobs "${{SLURM_CPUS_PER_TASK:-1}}" --shard "${{SLURM_ARRAY_TASK_ID}}/{n}" &
 pid=$!
 trap 'stopped=1; kill -TERM "$pid" 2>/dev/null' TERM
-status=0
-wait "$pid" || status=$?
-# A trapped signal ends `wait` early: wait until rocklab has really exited.
-while kill -0 "$pid" 2>/dev/null; do
-    status=0
-    wait "$pid" || status=$?
-done
+wait "$pid"
+# A trapped signal ends `wait` early: wait until rocklab has exited, then take its own status.
+while kill -0 "$pid" 2>/dev/null; do wait "$pid"; done
+wait "$pid"
+status=$?
 if [ "$stopped" = 1 ]; then
     state=$(squeue -h -j "$task" -o %T 2>/dev/null || true)
     # Requeue only a task that is still running: a cancelled or timed-out task stays ended.
@@ -346,8 +357,12 @@ pub fn run(args: &SlurmArgs) -> anyhow::Result<()> {
             let cost = seconds_per_scene(&points).unwrap_or(0.0);
             let tasks = default_tasks(points.len(), cost, args.cpus_per_task, args.time);
             eprintln!(
-                "sizing: ~{:.1} ms per scene (timed on a sample) → {tasks} tasks (--tasks to choose)",
-                cost * 1e3
+                "sizing: ~{:.1} ms per scene (timed on a sample) → {tasks} task(s) of about {} each (--tasks to choose)",
+                cost * 1e3,
+                format_time(
+                    (cost * shard_scenes(points.len(), tasks, 0) as f64).ceil() as u64
+                        / args.cpus_per_task as u64
+                )
             );
             tasks
         }
@@ -383,18 +398,17 @@ pub fn run(args: &SlurmArgs) -> anyhow::Result<()> {
         workdir: std::env::current_dir()?,
     };
     let logs = plan.logs_dir();
-    std::fs::create_dir_all(&logs)
-        .with_context(|| format!("cannot create {}", logs.display()))?;
+    std::fs::create_dir_all(&logs).with_context(|| format!("cannot create {}", logs.display()))?;
     let array = plan.scripts_dir().join("array.sh");
     let merge = plan.scripts_dir().join("merge.sh");
     crate::report::write_atomic(&array, plan.array_script().as_bytes())?;
     crate::report::write_atomic(&merge, plan.merge_script().as_bytes())?;
-    let (fewest, most) = plan.scenes_per_task();
     println!(
-        "study {} (hash {}): {} scenes in {tasks} tasks of {fewest}–{most} scenes, {} CPU(s) and {} each",
+        "study {} (hash {}): {} scenes in {}, {} CPU(s) and {} each",
         plan.study_name,
         plan.study_hash,
         plan.scenes,
+        plan.tasks_text(),
         plan.cpus_per_task,
         format_time(plan.time_seconds)
     );
@@ -455,7 +469,12 @@ fn sbatch(flags: &[String], script: &Path) -> anyhow::Result<String> {
         );
     }
     // `--parsable` prints `id` or `id;cluster`.
-    let id = stdout.trim().split(';').next().unwrap_or_default().to_string();
+    let id = stdout
+        .trim()
+        .split(';')
+        .next()
+        .unwrap_or_default()
+        .to_string();
     if id.is_empty() || !id.chars().all(|c| c.is_ascii_digit()) {
         anyhow::bail!("sbatch printed no job id: {:?}", stdout.trim());
     }
