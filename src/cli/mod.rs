@@ -7,6 +7,7 @@ pub mod records;
 pub mod run;
 pub mod simulate;
 pub mod slurm;
+pub mod status;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -39,6 +40,8 @@ pub enum Command {
     Merge(run::MergeArgs),
     /// Write (and with --submit submit) a Slurm job array and its merge job for a study.
     Slurm(slurm::SlurmArgs),
+    /// Scenes done, failed, missing and running per shard of an output directory.
+    Status(status::StatusArgs),
     /// Side-by-side spectra of two device variants and their ratio per point.
     Compare(compare::CompareArgs),
     /// Figures from a results file: spectra, overturning maps, a scene's histories.
@@ -111,6 +114,7 @@ pub fn main() -> ExitCode {
         Some(Command::Run(args)) => run::run(&args),
         Some(Command::Merge(args)) => run::merge(&args),
         Some(Command::Slurm(args)) => slurm::run(&args),
+        Some(Command::Status(args)) => status::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Plot(args)) => plot::run(&args),
         Some(Command::Tui(args)) => tui(&args),
