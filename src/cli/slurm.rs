@@ -230,7 +230,7 @@ restarts="${{SLURM_RESTART_COUNT:-0}}"
 echo "rocklab: task $task, shard ${{SLURM_ARRAY_TASK_ID}}/{n}, restart $restarts, on $(hostname) at $(date -Is)"
 # rocklab runs as a child so that this shell can requeue the task once rocklab has stopped.
 # SIGTERM ({STOP_WARNING_SECONDS} s before the time limit, or `scancel --batch --signal=TERM`) is passed
-# on to rocklab, which stops; run again, it resumes from the shard's files in the output directory.
+# on to rocklab, which stops starting scenes; run again, it resumes from the shard's journal.
 stopped=0
 {rocklab} run {study} --out {out} --quiet \
     --jobs "${{SLURM_CPUS_PER_TASK:-1}}" --shard "${{SLURM_ARRAY_TASK_ID}}/{n}" &
@@ -438,6 +438,11 @@ pub fn run(args: &SlurmArgs) -> anyhow::Result<()> {
     println!("follow:  squeue -j {array_id},{merge_id}");
     println!(
         "         sacct -j {array_id},{merge_id} --format=JobID,JobName,State,Elapsed,ExitCode"
+    );
+    println!(
+        "         {} status {}",
+        quote(&plan.rocklab.display().to_string()),
+        quote(&plan.out.display().to_string())
     );
     println!("logs:    {}", logs.display());
     println!(
