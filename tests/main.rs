@@ -11,6 +11,7 @@ mod hard_cases;
 mod records_cli;
 mod records_sim;
 mod rigid;
+mod studies;
 mod study;
 mod sweep;
 mod tui;
