@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod compare;
+pub mod paper;
 pub mod plot;
 pub mod records;
 pub mod run;
@@ -38,6 +39,8 @@ pub enum Command {
     Merge(run::MergeArgs),
     /// Side-by-side spectra of two device variants and their ratio per point.
     Compare(compare::CompareArgs),
+    /// The paper's results-section claims rerun against rocklab: the PAPER.md table.
+    Paper(paper::PaperArgs),
     /// Figures from a results file: spectra, overturning maps, a scene's histories.
     Plot(plot::PlotArgs),
     /// Open the terminal workbench on a saved study (default: the built-in study).
@@ -109,6 +112,7 @@ pub fn main() -> ExitCode {
         Some(Command::Merge(args)) => run::merge(&args),
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Plot(args)) => plot::run(&args),
+        Some(Command::Paper(args)) => paper::run(&args),
         Some(Command::Tui(args)) => tui(&args),
         None => tui(&TuiArgs {
             study: None,
