@@ -1,8 +1,8 @@
 //! The paper's results-section claims, one test per claim, named after its figure. Each check
-//! (rocklab::cli::paper, which also writes PAPER.md through `rocklab paper`) states its margin
+//! (rocklab::paper, which also writes PAPER.md through `rocklab paper`) states its margin
 //! in its claim text; a test fails with the paper's statement and rocklab's measurement.
 
-use rocklab::cli::paper::{self, Claim, Verdict};
+use rocklab::paper::{self, Claim, Verdict};
 
 fn assert_agrees(check: fn() -> anyhow::Result<Claim>) {
     let c = check().expect("the check's scenes run");
