@@ -12,6 +12,7 @@ mod paper;
 mod records_cli;
 mod records_sim;
 mod rigid;
+mod slurm;
 mod studies;
 mod study;
 mod sweep;
