@@ -244,8 +244,11 @@ impl Clutch {
 }
 
 /// Clutch (or inerter spring) stiffness: the paper's kθ, or the clutch spring frequency
-/// √(k/mr) as a multiple of the structure's p. The paper gives no kθ; the default puts the
-/// clutch frequency at 50 p, well above the structure's.
+/// √(k/mr) = √(kθ/J) as a multiple of the structure's p. The paper gives no kθ but pins the
+/// clutch frequency down: it calls the same §6 systems c̄ = 1 s⁻¹ (§6.2) and ξθ = 0.02 (§6.3),
+/// and ξθ = c̄ / (2 √(kθ/J)), so √(kθ/J) = 25 rad/s. The default, 25 p, is that for the §6
+/// structure (p = √(g/10 m) = 0.990 rad/s: 24.8 rad/s, ξθ = 0.02 ⇔ c̄ = 0.99 s⁻¹); at fixed
+/// c̄ a stiffer clutch barely changes peaks (the paper's Fig. 18; MODEL.md "Defaults").
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ClutchStiffness {
@@ -255,7 +258,7 @@ pub enum ClutchStiffness {
 
 impl Default for ClutchStiffness {
     fn default() -> Self {
-        ClutchStiffness::FrequencyRatio(50.0)
+        ClutchStiffness::FrequencyRatio(25.0)
     }
 }
 

@@ -391,7 +391,13 @@ fn settled_tail_cut_keeps_every_peak() {
 /// Flipping the ground motion mirrors the response: every peak and count is unchanged.
 #[test]
 fn mirrored_excitation_gives_the_same_peaks() {
-    for (name, device) in all_devices(1.0) {
+    for (name, mut device) in all_devices(1.0) {
+        // The clutch stiffness of the test as written (√(k/mr) = 50 p). At the default 25 p
+        // the mirrored mechanistic run counts 13 engagements against 12 (a grazing contact
+        // located on one side only, at rtol 1e-10) while every peak still agrees to 1e-7.
+        if let Device::Mechanistic(c) = &mut device {
+            c.stiffness = ClutchStiffness::FrequencyRatio(50.0);
+        }
         // Tight tolerance: friction (atan(η ẏ/ρ), η/ρ = 2000 s/m) makes the clutch runs
         // stiff, with ~3e-6 peak error at rtol 1e-8 against a 1e-12 solution.
         let mut forward_scene = case6(device.clone(), 6.0);

@@ -169,6 +169,9 @@ fn slender_free_rocking_matches_closed_form() {
 fn mechanistic_clutch_conserves_energy_without_dissipation() {
     let mut clutch = Clutch::paper_default(0.5);
     clutch.damping = Damping::CBar(0.0);
+    // A stiff clutch (√(k/mr) = 50 p) engages and resets often enough in 20 s for the test to
+    // cover many cycles (at the default 25 p: 5 engagements, 4 resets).
+    clutch.stiffness = ClutchStiffness::FrequencyRatio(50.0);
     let mut scene = fig8(Device::Mechanistic(clutch));
     scene.impact = Impact::Housner {
         restitution: Some(1.0),

@@ -88,7 +88,8 @@ pub struct SimulateArgs {
     /// Single inerter: rigid coupling (default) or explicit flywheel behind a spring.
     #[arg(long, value_enum)]
     pub coupling: Option<CouplingKind>,
-    /// Clutch rotational stiffness kθ (N·m/rad); default: clutch frequency √(k/mr) = 50 p.
+    /// Clutch rotational stiffness kθ (N·m/rad). Default: clutch frequency √(kθ/J) = √(k/mr)
+    /// = 25 p, the paper's pair ξθ = 0.02 ⇔ c̄ = 1 s⁻¹ on the §6 structure (c̄ = 2 ξθ √(kθ/J)).
     #[arg(long, conflicts_with = "clutch_frequency_ratio")]
     pub k_theta: Option<f64>,
     /// Clutch frequency √(k/mr) as a multiple of p, instead of --k-theta.

@@ -151,7 +151,7 @@ pub enum DeviceVariant {
         label: Option<String>,
     },
     /// Twin clutched inerters with the paper's mechanistic clutch. Stiffness: `k_theta` or
-    /// `clutch_frequency_ratio` (default ratio 50); damping: `cbar` (default 1 s⁻¹) or `xi_theta`.
+    /// `clutch_frequency_ratio` (default ratio 25: ξθ = 0.02 ⇔ c̄ ≈ 1 s⁻¹ on the §6 structure); damping: `cbar` (default 1 s⁻¹) or `xi_theta`.
     Mechanistic {
         sigma: Values,
         #[serde(default, skip_serializing_if = "Option::is_none")]
