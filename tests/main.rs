@@ -3,14 +3,17 @@
 
 mod util;
 
+mod checkpoint;
 mod cli_simulate;
 mod exact_contact;
 mod excitation;
 mod flexible;
+mod fuzz;
 mod hard_cases;
 mod records_cli;
 mod records_sim;
 mod rigid;
+mod robustness;
 mod study;
 mod sweep;
 mod tui;
