@@ -14,6 +14,7 @@ mod records_cli;
 mod records_sim;
 mod rigid;
 mod robustness;
+mod slurm;
 mod study;
 mod sweep;
 mod tui;
