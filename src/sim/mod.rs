@@ -143,7 +143,7 @@ impl Watch<'_> {
         // Reading the clock costs ~20 ns; every 64th check (the first included) is plenty.
         let n = self.checks.get();
         self.checks.set(n + 1);
-        if n % 64 == 0 {
+        if n.is_multiple_of(64) {
             if self
                 .bounds
                 .cancel
