@@ -11,6 +11,7 @@ mod error;
 mod expand;
 pub mod fields;
 mod quantity;
+mod strict;
 mod values;
 
 pub use error::StudyError;
@@ -326,6 +327,7 @@ impl Study {
 
     /// Parse and validate.
     pub fn from_ron_str(text: &str, origin: &str) -> Result<Study, StudyError> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let study = Study::parse_ron(text, origin)?;
         study.validate().map_err(|e| e.located(text, origin))?;
         Ok(study)
@@ -333,6 +335,9 @@ impl Study {
 
     /// Parse only (schema errors), without the physical validation of [`Study::validate`].
     pub fn parse_ron(text: &str, origin: &str) -> Result<Study, StudyError> {
+        // A byte-order mark (some Windows editors write one) is no part of the study.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        strict::check_names(text, origin)?;
         ron_options()
             .from_str(text)
             .map_err(|e| StudyError::from_ron(e, origin))
