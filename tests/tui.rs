@@ -432,7 +432,7 @@ fn edit_run_and_read_results_by_keys() {
     let (expected, x) = {
         let view = app.results.as_ref().unwrap();
         let b = view.rows()[view.cmp_b];
-        assert!(b.group.contains("mechanistic"), "{}", b.group);
+        assert!(b.label.contains("mechanistic"), "{}", b.label);
         (b.ys[view.x], b.xs[view.x])
     };
     let expected = expected.expect("B survives at the cursor");

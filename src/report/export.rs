@@ -175,7 +175,7 @@ pub fn summary(results: &SweepResults) -> String {
     });
     let width = spectra
         .iter()
-        .map(|sp| sp.group.chars().count())
+        .map(|sp| sp.label.chars().count())
         .max()
         .unwrap_or(0);
     let mut last_q = None;
@@ -204,7 +204,7 @@ pub fn summary(results: &SweepResults) -> String {
         let _ = writeln!(
             s,
             "  {:width$}  {}  {peak}",
-            sp.group,
+            sp.label,
             sparkline(&sp.ys),
             width = width
         );
@@ -228,7 +228,7 @@ pub fn summary(results: &SweepResults) -> String {
         let _ = writeln!(
             s,
             "\noverturning map, {}: {} (→) × {} (↑); █ overturned, · safe, ? missing",
-            m.group, m.x_axis, m.y_axis
+            m.label, m.x_axis, m.y_axis
         );
         for (iy, row) in m.cells.iter().enumerate().rev() {
             let line: String = row

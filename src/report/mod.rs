@@ -2,11 +2,14 @@
 //! (spectra, overturning maps, comparisons).
 
 mod aggregate;
+pub mod compare;
 mod export;
 mod plot;
+pub mod select;
 
 pub use aggregate::{
-    OverturningMap, Quantity, Spectrum, compare, maps, quantities, sparkline, spectra,
+    Group, OverturningMap, PointState, Quantity, Setting, Spectrum, compare, maps, quantities,
+    sparkline, spectra,
 };
 pub use export::{load_results, results_csv, results_json, save_results, summary};
 pub use plot::{ImageFormat, plot_history, plot_maps, plot_spectra, scene_title};

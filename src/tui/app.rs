@@ -330,36 +330,13 @@ impl ResultsView {
         view
     }
 
-    /// Start the comparison on two device variants with the same other parameters (the
-    /// spectra names differ only in their first word): sequential vs mechanistic if there,
-    /// else the pair with the most points where both survive; else the first two spectra.
+    /// Start the comparison on two device variants paired by meaning (same record,
+    /// structure and excitation): sequential vs mechanistic if there, else the pair with the
+    /// most points where both survive; else the first two spectra.
     fn default_comparison(&mut self) {
         let rows = self.rows();
-        let split = |g: &str| -> (String, String) {
-            let g = g.to_lowercase();
-            match g.split_once(' ') {
-                Some((device, rest)) => (device.to_string(), rest.to_string()),
-                None => (g, String::new()),
-            }
-        };
-        let mut best: Option<((bool, usize), usize, usize)> = None;
-        for (a, sa) in rows.iter().enumerate() {
-            for (b, sb) in rows.iter().enumerate().skip(a + 1) {
-                let ((da, ra), (db, rb)) = (split(&sa.group), split(&sb.group));
-                if da == db || ra != rb {
-                    continue;
-                }
-                let classic = da.contains("sequential") && db.contains("mechanistic");
-                let score = (classic, report::compare(sa, sb).iter().flatten().count());
-                if best.as_ref().is_none_or(|(s, _, _)| score > *s) {
-                    best = Some((score, a, b));
-                }
-            }
-        }
-        (self.cmp_a, self.cmp_b) = match best {
-            Some((_, a, b)) => (a, b),
-            None => (0, rows.len().saturating_sub(1).min(1)),
-        };
+        (self.cmp_a, self.cmp_b) = report::compare::default_pair(&rows)
+            .unwrap_or((0, rows.len().saturating_sub(1).min(1)));
     }
 
     pub fn current_quantity(&self) -> Option<Quantity> {
@@ -381,7 +358,7 @@ impl ResultsView {
 
     /// The scene behind the spectrum point under the cursor.
     pub fn point_at_cursor(&self) -> Option<&ScenePoint> {
-        match self.tab {
+        let outcome = match self.tab {
             ResultsTab::Spectra | ResultsTab::Compare => {
                 let rows = self.rows();
                 let idx = if self.tab == ResultsTab::Compare {
@@ -389,45 +366,14 @@ impl ResultsView {
                 } else {
                     self.row
                 };
-                let s = rows.get(idx)?;
-                let x = *s.xs.get(self.x)?;
-                self.find_point(&s.group, &[(&s.axis, x)])
+                *rows.get(idx)?.outcomes.get(self.x)?
             }
             ResultsTab::Maps => {
                 let m = self.maps.get(self.map)?;
-                let x = *m.xs.get(self.cell.0)?;
-                let y = *m.ys.get(self.cell.1)?;
-                self.find_point(&m.group, &[(&m.x_axis, x), (&m.y_axis, y)])
+                (*m.outcomes.get(self.cell.1)?.get(self.cell.0)?)?
             }
-        }
-    }
-
-    /// The point of a spectrum or map. A spectrum of a study with a map is named after its
-    /// group and the other map axis (`"{group} {label}={value}"`): match that too.
-    fn find_point(&self, group: &str, coords: &[(&String, f64)]) -> Option<&ScenePoint> {
-        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1e-300);
-        let same_group = |p: &ScenePoint| {
-            if p.group == group {
-                return true;
-            }
-            let Some(rest) = group
-                .strip_prefix(p.group.as_str())
-                .and_then(|r| r.strip_prefix(' '))
-            else {
-                return false;
-            };
-            rest.rsplit_once('=').is_some_and(|(label, value)| {
-                p.coord(label).map(crate::study::fmt_num).as_deref() == Some(value)
-            })
         };
-        self.results.outcomes.iter().map(|o| &o.point).find(|p| {
-            same_group(p)
-                && coords.iter().all(|(axis, v)| {
-                    p.coords
-                        .iter()
-                        .any(|(name, value)| name == *axis && close(*value, *v))
-                })
-        })
+        self.results.outcomes.get(outcome).map(|o| &o.point)
     }
 }
 

@@ -675,7 +675,7 @@ fn axis_line(xs: &[f64], st: &Strip, indent: usize, axis: &str) -> Line<'static>
 fn label_width(rows: &[&Spectrum], extra: usize, area: Rect) -> usize {
     let longest = rows
         .iter()
-        .map(|s| s.group.chars().count() + extra)
+        .map(|s| s.label.chars().count() + extra)
         .max()
         .unwrap_or(0);
     longest.clamp(8, (area.width as usize / 3).max(8))
@@ -701,7 +701,7 @@ fn draw_spectra(view: &ResultsView, theme: Theme, frame: &mut Frame, area: Rect)
     for (i, s) in rows.iter().enumerate().skip(offset).take(visible) {
         let selected = i == view.row;
         let label = Span::styled(
-            pad(&truncate(&s.group, label_width), label_width),
+            pad(&truncate(&s.label, label_width), label_width),
             if selected {
                 theme.selected()
             } else {
@@ -729,7 +729,7 @@ fn draw_spectra(view: &ResultsView, theme: Theme, frame: &mut Frame, area: Rect)
             "{} = {}  {}: {}",
             sel.axis,
             at.map_or("–".into(), fmt_num),
-            sel.group,
+            sel.label,
             value.map_or("overturned/failed".into(), fmt_num)
         )),
         Span::styled("  Enter: open scene", theme.dim()),
@@ -738,7 +738,7 @@ fn draw_spectra(view: &ResultsView, theme: Theme, frame: &mut Frame, area: Rect)
         .iter()
         .map(|s| {
             let v = s.ys.get(view.x).copied().flatten();
-            format!("{} {}", s.group, v.map_or("×".into(), fmt_num))
+            format!("{} {}", s.label, v.map_or("×".into(), fmt_num))
         })
         .collect();
     // Every variant's value at the cursor, when that fits in two lines.
@@ -778,8 +778,8 @@ fn draw_compare(view: &ResultsView, theme: Theme, frame: &mut Frame, area: Rect)
         );
         series_lines(label, label_width, values, style, &layout)
     };
-    lines.extend(block(format!("A {}", a.group), &a.ys, theme.series(0)));
-    lines.extend(block(format!("B {}", b.group), &b.ys, theme.series(1)));
+    lines.extend(block(format!("A {}", a.label), &a.ys, theme.series(0)));
+    lines.extend(block(format!("B {}", b.label), &b.ys, theme.series(1)));
     lines.extend(block("B/A".into(), &ratio, theme.warn()));
     lines.push(axis_line(&a.xs, &st, label_width + 1, &a.axis));
     lines.push(Line::raw(""));
@@ -819,7 +819,7 @@ fn draw_map(view: &ResultsView, theme: Theme, frame: &mut Frame, area: Rect) {
     };
     let mut lines = vec![Line::from(vec![
         Span::styled("[ ] ", theme.key()),
-        Span::styled(map.group.clone(), theme.title()),
+        Span::styled(map.label.clone(), theme.title()),
         Span::styled(
             format!("  (map {}/{})", view.map + 1, view.maps.len()),
             theme.dim(),
