@@ -156,7 +156,7 @@ fn sort_pairs(pairs: &mut [SpectrumPair], by: SortBy) {
 
 const LEGEND: &str = "  mean, median, min–max: pointwise B/A over the points where both survive (n); \
 peak: max B / max A over those points;\n  A↯: A overturns where B survives, B↯: the reverse, \
-both↯: both overturn; failed and not-run points counted apart, never as overturned\n";
+both↯: both overturn; A=0: both survive but A is zero (no ratio);\n  failed and not-run points counted apart, never as overturned\n";
 
 fn pct(r: Option<f64>) -> String {
     r.map_or("—".into(), |r| format!("{:+.1}%", 100.0 * (r - 1.0)))
@@ -192,7 +192,7 @@ fn pairs_text(q: Quantity, pairs: &[SpectrumPair], details: bool) -> String {
         .max(1);
     let _ = writeln!(
         s,
-        "  {:wa$}  {:wb$}  {:>3}  {:>6} {:>7}  {:>6}  {:>13}  {:>6} {:>7}  {:>3} {:>3} {:>5}  {:>6} {:>7}",
+        "  {:wa$}  {:wb$}  {:>3}  {:>6} {:>7}  {:>6}  {:>13}  {:>6} {:>7}  {:>3} {:>3} {:>5} {:>3}  {:>6} {:>7}",
         "A",
         "B",
         "n",
@@ -205,6 +205,7 @@ fn pairs_text(q: Quantity, pairs: &[SpectrumPair], details: bool) -> String {
         "A↯",
         "B↯",
         "both↯",
+        "A=0",
         "failed",
         "not run"
     );
@@ -212,7 +213,7 @@ fn pairs_text(q: Quantity, pairs: &[SpectrumPair], details: bool) -> String {
         let st = &p.stats;
         let _ = writeln!(
             s,
-            "  {:wa$}  {:wb$}  {:>3}  {:>6} {:>7}  {:>6}  {:>13}  {:>6} {:>7}  {:>3} {:>3} {:>5}  {:>6} {:>7}",
+            "  {:wa$}  {:wb$}  {:>3}  {:>6} {:>7}  {:>6}  {:>13}  {:>6} {:>7}  {:>3} {:>3} {:>5} {:>3}  {:>6} {:>7}",
             p.a,
             p.b,
             st.ratio_points,
@@ -228,6 +229,7 @@ fn pairs_text(q: Quantity, pairs: &[SpectrumPair], details: bool) -> String {
             st.a_overturns_b_survives,
             st.b_overturns_a_survives,
             st.both_overturn,
+            st.zero_a,
             st.failed,
             st.not_run,
         );

@@ -588,3 +588,43 @@ pub fn compare_suites(
         })
         .collect())
 }
+
+/// The record-suite spectra as summary text: per quantity and variant, sparklines of the mean
+/// and of the CV over records, the CV averaged over the axis and the overturned record points.
+/// Empty unless the results hold more than one record.
+pub fn suite_summary(results: &SweepResults, spectra: &[Spectrum]) -> String {
+    use std::fmt::Write as _;
+    let suites = suite_spectra(results, spectra);
+    let mut s = String::new();
+    let Some(first) = suites.first() else {
+        return s;
+    };
+    let _ = writeln!(
+        s,
+        "\nrecord suite ({} records: {}): mean over the records that survive, CV = sample std / mean over them",
+        first.records.len(),
+        first.records.join(", ")
+    );
+    let width = suites
+        .iter()
+        .map(|x| x.label.chars().count())
+        .max()
+        .unwrap_or(0);
+    let mut last = None;
+    for suite in &suites {
+        if last != Some(suite.quantity) {
+            let _ = writeln!(s, "{} over {}", suite.quantity.label(), suite.axis);
+            last = Some(suite.quantity);
+        }
+        let _ = writeln!(
+            s,
+            "  {:width$}  mean {}  CV {}  mean CV {}, {} record points overturned",
+            suite.label,
+            super::sparkline(&suite.mean),
+            super::sparkline(&suite.cv),
+            suite.mean_cv().map_or("—".into(), |c| format!("{c:.3}")),
+            suite.overturned_total(),
+        );
+    }
+    s
+}

@@ -215,6 +215,10 @@ pub fn summary(results: &SweepResults) -> String {
             "  … {hidden} more spectra in results.csv / results.json (`rocklab plot` draws them all)"
         );
     }
+    s.push_str(&super::compare::suite_summary(
+        results,
+        &super::aggregate::spectra(results),
+    ));
     let maps = maps(results);
     const MAPS_SHOWN: usize = 6;
     if maps.len() > MAPS_SHOWN {
