@@ -5,15 +5,18 @@
 
 use super::aggregate::{Group, OverturningMap, PointState, Quantity, Spectrum};
 use super::select::{SelectError, Selector, select};
+use crate::study::Part;
 use crate::sweep::SweepResults;
 use serde::Serialize;
 
 /// Whether groups `a` and `b` describe the same situation apart from their devices: every
-/// setting both have, that varies in the study and that no selector names (`free`), agrees.
-/// Settings only one side has (a clutch grid) leave that side a grid.
+/// setting both have and that varies in the study agrees, except device settings a selector
+/// names (`free`: `--a 'mechanistic(play: 0)' --b mechanistic` compares play 0 with every
+/// play). Structure and excitation settings (record, amplitude, …) always agree. Settings
+/// only one side has (a clutch grid) leave that side a grid.
 pub fn same_situation(a: &Group, b: &Group, free: &[&str]) -> bool {
     a.settings.iter().all(|sa| {
-        free.contains(&sa.id.as_str())
+        (sa.part == Part::Device && free.contains(&sa.id.as_str()))
             || match b.setting(&sa.id) {
                 Some(sb) => {
                     (!sa.varies && !sb.varies) || (sa.value == sb.value && sa.name == sb.name)
