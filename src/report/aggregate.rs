@@ -286,7 +286,8 @@ pub fn spectra(results: &SweepResults) -> Vec<Spectrum> {
         .map(|(_, _, s)| vec![*s])
         .unwrap_or_default();
     // (key, axis, points (x, outcome index)) in order of first appearance.
-    let mut series: Vec<(GroupKey, String, Vec<(f64, usize)>)> = Vec::new();
+    type Series = (GroupKey, String, Vec<(f64, usize)>);
+    let mut series: Vec<Series> = Vec::new();
     let mut index: HashMap<GroupKey, usize> = HashMap::new();
     for (i, o) in results.outcomes.iter().enumerate() {
         let Some((axis, x)) = o.point.coords.first() else {
