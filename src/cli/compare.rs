@@ -107,12 +107,12 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             text.push_str(&compare::map_text(m));
         }
     }
+    // A closed pipe (`compare … | head`) ends the output quietly.
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&all)?);
+        super::run::print_out(&format!("{}\n", serde_json::to_string_pretty(&all)?))
     } else {
-        print!("{text}");
+        super::run::print_out(&text)
     }
-    Ok(())
 }
 
 fn selected_quantities(args: &CompareArgs, study: &[Quantity]) -> anyhow::Result<Vec<Quantity>> {

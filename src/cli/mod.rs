@@ -6,6 +6,7 @@ pub mod plot;
 pub mod records;
 pub mod run;
 pub mod simulate;
+pub mod status;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -36,6 +37,8 @@ pub enum Command {
     Run(run::RunArgs),
     /// Combine the results of `run --shard i/N` into one.
     Merge(run::MergeArgs),
+    /// Scenes done, failed, missing and running per shard of an output directory.
+    Status(status::StatusArgs),
     /// Side-by-side spectra of two device variants and their ratio per point.
     Compare(compare::CompareArgs),
     /// Figures from a results file: spectra, overturning maps, a scene's histories.
@@ -107,6 +110,7 @@ pub fn main() -> ExitCode {
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Run(args)) => run::run(&args),
         Some(Command::Merge(args)) => run::merge(&args),
+        Some(Command::Status(args)) => status::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Plot(args)) => plot::run(&args),
         Some(Command::Tui(args)) => tui(&args),

@@ -3,9 +3,10 @@
 //! side, and record-suite mean and dispersion spectra. Used by `rocklab compare`, the summary
 //! and the workbench.
 
-use super::aggregate::{Group, OverturningMap, PointState, Quantity, Spectrum};
+use super::aggregate::{Group, OverturningMap, PointState, Spectrum};
 use super::select::{SelectError, Selector, select};
 use crate::study::Part;
+use crate::study::Quantity;
 use crate::sweep::SweepResults;
 use serde::Serialize;
 
