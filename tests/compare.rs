@@ -127,6 +127,7 @@ fn groups_carry_their_parameters_and_outcomes() {
     assert_eq!(s.group.variant, 1);
     assert_eq!(s.group.setting("k_theta").unwrap().value, 3.0);
     assert_eq!(s.group.setting("alpha").unwrap().value, 0.2);
+    assert_eq!(s.group.setting("alpha").unwrap().text, "0.2");
     assert_eq!(s.group.setting("sigma").unwrap().value, 0.5);
     assert!(!s.group.setting("sigma").unwrap().varies);
     assert!(
@@ -280,6 +281,7 @@ fn labels_tell_near_equal_values_apart() {
     let results = synthetic(&s, |_| Fake::Peak(1.0));
     let spectra = report::spectra(&results);
     assert_eq!(spectra.len(), 10, "5 plays × 2 α, none merged");
+    assert_eq!(spectra[3].group.setting("play").unwrap().text, "5.623e-5");
     assert!(spectra.iter().all(|s| s.xs.len() == 3));
     let s = study("devices: [mechanistic(sigma: 0.5, k_theta: [1.0, 1.00000001])]");
     let labels = groups(&s);

@@ -19,6 +19,9 @@ pub struct Setting {
     /// The record's name, for the `record` setting.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
+    /// The value as labels show it (the record's name, or the number with as many digits as
+    /// tell the study's values of this parameter apart): for filters and pickers.
+    pub text: String,
     /// Whether the study gives this parameter more than one value.
     pub varies: bool,
 }
@@ -179,6 +182,7 @@ impl Grouping {
                         label: p.label.clone(),
                         value: p.values[i],
                         name: p.names.as_ref().map(|n| n[i].clone()),
+                        text: layout.value_text(p, i),
                         varies: p.varies(),
                     })
                     .collect();
