@@ -12,6 +12,7 @@ mod hard_cases;
 mod records_cli;
 mod records_sim;
 mod rigid;
+mod slurm;
 mod study;
 mod sweep;
 mod tui;
