@@ -5,6 +5,7 @@ mod util;
 
 mod checkpoint;
 mod cli_simulate;
+mod compare;
 mod exact_contact;
 mod excitation;
 mod flexible;

@@ -15,7 +15,9 @@ mod strict;
 mod values;
 
 pub use error::StudyError;
-pub use expand::{device_label, fmt_num};
+pub use expand::{
+    DeviceKind, Layout, Parameter, Part, VariantLayout, device_label, fmt_digits, fmt_num,
+};
 pub use quantity::Quantity;
 pub use values::Values;
 
@@ -277,7 +279,9 @@ pub struct ScenePoint {
     /// Position in the study's expansion order.
     pub index: usize,
     pub scene: Scene,
-    /// Variant label: the device plus every varying parameter that is not an axis.
+    /// Display label of the scene's group: the device, every parameter that varies in the
+    /// study and is not an axis, and the record. Never parse it: [`Layout::locate`] gives the
+    /// exact parameter values of a point from its index.
     pub group: String,
     /// Axis name → value; the spectrum axis first, then the map's y axis if any, then the
     /// other varying parameters.
@@ -378,6 +382,11 @@ impl Study {
 
     pub fn expand(&self) -> Result<Vec<ScenePoint>, StudyError> {
         expand::expand(self)
+    }
+
+    /// The parameters of each device variant and where its scenes sit in the expansion.
+    pub fn layout(&self) -> Result<Layout, StudyError> {
+        Layout::of(self)
     }
 
     /// Hash of the canonical RON: identifies the study a results file came from.
