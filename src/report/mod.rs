@@ -3,13 +3,18 @@
 
 mod aggregate;
 mod export;
+mod figure;
 mod plot;
 
 pub use aggregate::{
     OverturningMap, Quantity, Spectrum, compare, maps, quantities, sparkline, spectra,
 };
-pub use export::{load_results, results_csv, results_json, save_results, summary};
-pub use plot::{ImageFormat, plot_history, plot_maps, plot_spectra, scene_title};
+pub use export::{
+    CsvLayout, Parameter, load_results, parameter, results_columns_csv, results_csv,
+    results_csv_layout, results_json, save_results, summary,
+};
+pub use figure::{FigureOptions, FigureSize, ImageFormat};
+pub use plot::{MAX_SERIES, PlotChoice, plot_history, plot_maps, plot_spectra, scene_title};
 
 use crate::sim::History;
 use anyhow::Context;
