@@ -6,6 +6,7 @@ pub mod plot;
 pub mod records;
 pub mod run;
 pub mod simulate;
+pub mod table;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -40,6 +41,8 @@ pub enum Command {
     Compare(compare::CompareArgs),
     /// Figures from a results file: spectra, overturning maps, a scene's histories.
     Plot(plot::PlotArgs),
+    /// The results as CSV, long (tidy) or wide, with ASCII column names.
+    Table(table::TableArgs),
     /// Open the terminal workbench on a saved study (default: the built-in study).
     Tui(TuiArgs),
 }
@@ -109,6 +112,7 @@ pub fn main() -> ExitCode {
         Some(Command::Merge(args)) => run::merge(&args),
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Plot(args)) => plot::run(&args),
+        Some(Command::Table(args)) => table::run(&args),
         Some(Command::Tui(args)) => tui(&args),
         None => tui(&TuiArgs {
             study: None,

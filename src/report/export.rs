@@ -409,6 +409,7 @@ pub fn summary(results: &SweepResults) -> String {
         );
     }
     let maps = maps(results);
+    let maps_empty = maps.is_empty();
     const MAPS_SHOWN: usize = 6;
     if maps.len() > MAPS_SHOWN {
         let _ = writeln!(
@@ -435,7 +436,44 @@ pub fn summary(results: &SweepResults) -> String {
             let _ = writeln!(s, "  {:>8} {line}", fmt_num(m.ys[iy]));
         }
     }
+    let _ = writeln!(
+        s,
+        "\n{}",
+        plot_note(spectra_per_quantity(results), !maps_empty)
+    );
+
     s
+}
+
+/// Series per quantity: what one panel of `rocklab plot` would hold.
+fn spectra_per_quantity(results: &SweepResults) -> usize {
+    let spectra = spectra(results);
+    let first = spectra.first().map(|s| s.quantity);
+    spectra.iter().filter(|s| Some(s.quantity) == first).count()
+}
+
+/// What `rocklab plot` draws from these results, in the summary's words.
+fn plot_note(series: usize, has_maps: bool) -> String {
+    let max = super::plot::MAX_SERIES;
+    let spectra = if series == 0 {
+        "no spectra".to_string()
+    } else if series <= max {
+        format!("the spectra as one figure, a panel per quantity ({series} series each)")
+    } else {
+        format!(
+            "no spectra unless chosen: {series} series per quantity is more than {max} per \
+             panel (pick with --select, split with --facet)"
+        )
+    };
+    let maps = if has_maps {
+        " and the overturning maps"
+    } else {
+        ""
+    };
+    format!(
+        "figures: `rocklab plot DIR --png FIGS` draws {spectra}{maps}; results.csv has every \
+         scene (`rocklab table DIR --wide`: one column per quantity)"
+    )
 }
 
 fn fmt_sig(v: f64) -> String {
