@@ -1,6 +1,6 @@
 //! `rocklab simulate`: the JSON contract and the handling of bad input.
 
-use std::process::Command;
+use crate::util::rocklab;
 
 const BASE: &[&str] = &[
     "simulate",
@@ -15,13 +15,6 @@ const BASE: &[&str] = &[
     "--duration",
     "10",
 ];
-
-fn rocklab(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_rocklab"))
-        .args(args)
-        .output()
-        .expect("binary runs")
-}
 
 fn with(extra: &[&str]) -> Vec<&'static str> {
     let mut v: Vec<&str> = BASE.to_vec();

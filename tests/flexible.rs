@@ -2,13 +2,13 @@
 //! fixed-base response, the rigid point-mass limit, energy balance, mirror symmetry, the
 //! paper's Fig. 14 ordering, and the CLI contract.
 
+use crate::util::rocklab;
 use rocklab::excitation::{G, PulseShape};
 use rocklab::scene::{
     Amplitude, Clutch, ClutchStiffness, Coupling, Damping, Device, Excitation, FlexibleStructure,
     Frequency, Impact, ResetRule, RigidBlock, Scene, Structure,
 };
 use rocklab::sim::{self, SceneResult};
-use std::process::Command;
 
 fn flexible(r0: f64, alpha: f64, xi: f64, omega_ratio: f64) -> Structure {
     Structure::Flexible(FlexibleStructure {
@@ -45,12 +45,11 @@ fn scene(structure: Structure, device: Device, excitation: Excitation, duration:
 /// MODEL.md public case 6 (paper Fig. 14): R0 = 10 m, α = 0.2, ξ = 0.02, ωn/p = 8,
 /// one-sine A/(g tan α) = 1.5, ωg/p = 8.
 fn case6(device: Device, duration: f64) -> Scene {
-    scene(
-        flexible(10.0, 0.2, 0.02, 8.0),
-        device,
-        sine(Amplitude::TanAlphaRatio(1.5), Frequency::Ratio(8.0)),
+    Scene {
         duration,
-    )
+        rtol: 1e-8,
+        ..rocklab::presets::flexible_fig14(device)
+    }
 }
 
 fn flywheel_inerter(sigma: f64, cbar: f64) -> Device {
@@ -551,13 +550,6 @@ fn strong_pulse_overturns_and_stops_at_the_pivot() {
         r.peaks.rotation
     );
     assert!(r.energy_residual < 1e-5);
-}
-
-fn rocklab(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_rocklab"))
-        .args(args)
-        .output()
-        .expect("rocklab runs")
 }
 
 const CASE6_FLAGS: [&str; 14] = [

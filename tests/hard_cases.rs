@@ -3,8 +3,8 @@
 //! finish without NaN inside the step budget, close its energy balance, and converge as the
 //! tolerance tightens.
 
-use rocklab::cli::bench::rigid_fig8;
 use rocklab::excitation::PulseShape;
+use rocklab::presets::{flexible_fig14, rigid_fig8};
 use rocklab::scene::*;
 use rocklab::sim::{self, SceneResult};
 
@@ -265,7 +265,6 @@ fn long_record_chattering_to_rest() {
 /// both reset rules, strong friction, a fast pulse.
 #[test]
 fn flexible_hard_cases() {
-    use rocklab::cli::bench::flexible_fig14;
     let cases: Vec<(&str, Scene)> = vec![
         (
             "flexible, clutch frequency 1e3 p",

@@ -1,10 +1,10 @@
 //! `rocklab records` and `rocklab simulate --record`.
 
-use std::process::Command;
+use crate::util::rocklab_command;
 
-fn rocklab(args: &[&str], dir: &std::path::Path) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_rocklab"))
-        .args(args)
+/// Run `rocklab args` in `dir` without ROCKLAB_RECORDS: (exit code, stdout, stderr).
+fn run_in(args: &[&str], dir: &std::path::Path) -> (i32, String, String) {
+    let out = rocklab_command(args)
         .current_dir(dir)
         .env_remove("ROCKLAB_RECORDS")
         .output()
@@ -28,7 +28,7 @@ fn records_json_lists_every_record_with_its_source() {
         (crate_dir(), "file"),
         (elsewhere.path().to_path_buf(), "embedded"),
     ] {
-        let (code, out, err) = rocklab(&["records", "--json"], &dir);
+        let (code, out, err) = run_in(&["records", "--json"], &dir);
         assert_eq!(code, 0, "{err}");
         let list: Vec<serde_json::Value> = serde_json::from_str(&out).unwrap();
         assert_eq!(list.len(), 6);
@@ -45,7 +45,7 @@ fn records_json_lists_every_record_with_its_source() {
             }
         }
     }
-    let (code, out, _) = rocklab(&["records"], &crate_dir());
+    let (code, out, _) = run_in(&["records"], &crate_dir());
     assert_eq!(code, 0);
     assert!(out.contains("stand-in: MP pulse Tp 5.9 s, PGV 0.6 m/s"));
     assert!(out.contains("landers") && out.contains('█'));
@@ -60,7 +60,7 @@ fn simulate_runs_a_record_by_name_number_or_path() {
     for record in ["northridge", "2", path.to_str().unwrap()] {
         let mut args = base.to_vec();
         args.extend(["--record", record, "--scale", "0.5"]);
-        let (code, out, err) = rocklab(&args, &dir);
+        let (code, out, err) = run_in(&args, &dir);
         assert_eq!(code, 0, "{err}");
         let v: serde_json::Value = serde_json::from_str(&out).unwrap();
         // Default duration: the record's 19.9 s plus 10 s of free rocking (or less, at rest).
@@ -104,7 +104,7 @@ fn simulate_record_usage_errors_exit_2() {
     ] {
         let mut args = base.to_vec();
         args.extend(extra);
-        let (code, _, err) = rocklab(&args, &dir);
+        let (code, _, err) = run_in(&args, &dir);
         assert_eq!(code, 2, "{args:?}: {err}");
         assert!(err.contains(message), "{args:?}: {err}");
     }
@@ -149,7 +149,7 @@ fn simulate_accepts_the_new_pulse_families() {
     ] {
         let mut args = base.to_vec();
         args.extend(extra);
-        let (code, out, err) = rocklab(&args, &dir);
+        let (code, out, err) = run_in(&args, &dir);
         assert_eq!(code, 0, "{args:?}: {err}");
         let v: serde_json::Value = serde_json::from_str(&out).unwrap();
         assert!(v["peak_rotation"].as_f64().unwrap() > 0.0, "{args:?}");
@@ -170,14 +170,13 @@ fn a_records_directory_from_the_environment_or_flag_replaces_a_stand_in() {
     )
     .unwrap();
     let elsewhere = tempfile::tempdir().unwrap();
-    let by_env = Command::new(env!("CARGO_BIN_EXE_rocklab"))
-        .args(["records", "--json"])
+    let by_env = rocklab_command(&["records", "--json"])
         .current_dir(elsewhere.path())
         .env("ROCKLAB_RECORDS", tmp.path())
         .output()
         .unwrap();
     let dir = tmp.path().to_str().unwrap();
-    let (code, by_flag, err) = rocklab(
+    let (code, by_flag, err) = run_in(
         &["records", "--json", "--records-dir", dir],
         elsewhere.path(),
     );

@@ -22,23 +22,12 @@ fn pulse(amplitude: Amplitude, ratio: f64) -> Excitation {
     }
 }
 
-/// The paper's Fig. 8 scene: α = 10°, p = 2 rad/s, one-sine A/(gα) = 1.5, ωg/p = 4, 10 s.
+/// The paper's Fig. 8 scene (α = 10°, p = 2 rad/s, one-sine A/(gα) = 1.5, ωg/p = 4, 10 s)
+/// at rtol 1e-8.
 fn fig8(device: Device) -> Scene {
     Scene {
-        structure: Structure::Rigid(RigidBlock {
-            size: size_for_p(2.0),
-            alpha: ALPHA_10,
-            mass: 1.0,
-            form: Form::Exact,
-        }),
-        device,
-        impact: Impact::default(),
-        excitation: pulse(Amplitude::AlphaRatio(1.5), 4.0),
-        duration: 10.0,
         rtol: 1e-8,
-        initial_rotation: 0.0,
-        stop_when_settled: false,
-        exact_contact: true,
+        ..rocklab::presets::rigid_fig8(device)
     }
 }
 

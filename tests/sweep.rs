@@ -2,11 +2,11 @@
 //! shard + merge equal to one run, cancel keeps what finished, reruns reuse cached scenes,
 //! failures are recorded; and the `run`/`merge`/`compare`/`plot` commands end to end.
 
+use crate::util::{rocklab, rocklab_command};
 use rocklab::report;
 use rocklab::study::Study;
 use rocklab::sweep::{self, Progress, SceneOutcome, SweepOptions, SweepResults};
 use std::path::Path;
-use std::process::Command;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 const SMALL: &str = r#"(
@@ -102,30 +102,29 @@ fn the_simulate_command_agrees_with_the_sweep() {
         .iter()
         .find(|o| o.point.group == "mechanistic kθ=3" && o.point.coords[0].1 == 4.0)
         .unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_rocklab"))
-        .args([
-            "simulate",
-            "--alpha",
-            "0.17453292519943295",
-            "--p",
-            "2",
-            "--device",
-            "mechanistic",
-            "--sigma",
-            "0.5",
-            "--k-theta",
-            "3",
-            "--amplitude-alpha",
-            "1.5",
-            "--frequency-ratio",
-            "4",
-            "--duration",
-            "8",
-            "--stop-when-settled",
-            "--json",
-        ])
-        .output()
-        .unwrap();
+    let out = rocklab_command(&[
+        "simulate",
+        "--alpha",
+        "0.17453292519943295",
+        "--p",
+        "2",
+        "--device",
+        "mechanistic",
+        "--sigma",
+        "0.5",
+        "--k-theta",
+        "3",
+        "--amplitude-alpha",
+        "1.5",
+        "--frequency-ratio",
+        "4",
+        "--duration",
+        "8",
+        "--stop-when-settled",
+        "--json",
+    ])
+    .output()
+    .unwrap();
     assert!(
         out.status.success(),
         "{}",
@@ -319,13 +318,6 @@ fn spectra_and_maps_are_the_scene_results_rearranged() {
     let bare = &maps[0];
     let column: Vec<bool> = bare.cells.iter().map(|row| row[0].unwrap()).collect();
     assert!(column.windows(2).all(|w| w[0] <= w[1]), "{column:?}");
-}
-
-fn rocklab(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_rocklab"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 fn write_small(dir: &Path) -> String {

@@ -1,5 +1,6 @@
 //! Runs tests/tui_smoke.sh: the real binary under tmux (skipped with a notice if tmux is absent).
 
+use crate::util::rocklab_command;
 use std::process::Command;
 
 #[test]
@@ -33,11 +34,7 @@ fn a_missing_or_bad_study_file_is_a_usage_error_before_the_terminal_is_touched()
     )
     .unwrap();
     for path in [dir.path().join("missing.ron"), bad.clone()] {
-        let out = Command::new(env!("CARGO_BIN_EXE_rocklab"))
-            .arg("tui")
-            .arg(&path)
-            .output()
-            .unwrap();
+        let out = rocklab_command(&["tui"]).arg(&path).output().unwrap();
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{stderr}");
         let name = path.file_name().unwrap().to_str().unwrap();
@@ -49,7 +46,7 @@ fn a_missing_or_bad_study_file_is_a_usage_error_before_the_terminal_is_touched()
 
 #[test]
 fn without_a_terminal_the_workbench_points_to_batch_runs() {
-    let out = Command::new(env!("CARGO_BIN_EXE_rocklab"))
+    let out = rocklab_command(&[])
         .stdin(std::process::Stdio::null())
         .output()
         .unwrap();

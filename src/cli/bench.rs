@@ -2,7 +2,11 @@
 //! relative error of every peak against a tight reference, with wall time, steps and RHS
 //! evaluations. Times are medians over repeats, measured in one run so ratios are meaningful.
 
-use crate::excitation::{G, PulseShape};
+use crate::excitation::PulseShape;
+use crate::presets::{
+    flexible_fig14, flexible_landers, flexible_northridge, flexible_wide_landers, inerter,
+    mechanistic, mechanistic_xi_theta, rigid_fig8, rigid_northridge, sequential,
+};
 use crate::scene::*;
 use crate::sim::{self, SceneResult};
 use clap::Args;
@@ -65,124 +69,10 @@ pub fn sweep_throughput(
     Ok((points.len(), best))
 }
 
-/// A named scene for benchmarks.
+/// A named scene for benchmarks (scenes from [`crate::presets`]).
 pub struct BenchScene {
     pub name: &'static str,
     pub scene: Scene,
-}
-
-/// The rigid block of the paper's Fig. 8: α = 10°, p = 2 rad/s, one-sine A/(gα) = 1.5,
-/// ωg/p = 4, 10 s.
-pub fn rigid_fig8(device: Device) -> Scene {
-    Scene {
-        structure: Structure::Rigid(RigidBlock {
-            size: 3.0 * G / (4.0 * 4.0),
-            alpha: 10f64.to_radians(),
-            mass: 1.0,
-            form: Form::Exact,
-        }),
-        device,
-        impact: Impact::default(),
-        excitation: Excitation::Pulse {
-            shape: PulseShape::Sine,
-            amplitude: Amplitude::AlphaRatio(1.5),
-            frequency: Frequency::Ratio(4.0),
-        },
-        duration: 10.0,
-        rtol: default_rtol(),
-        initial_rotation: 0.0,
-        stop_when_settled: false,
-        exact_contact: true,
-    }
-}
-
-/// The flexible structure of the paper's Fig. 14 (MODEL.md case 6): R0 = 10 m, α = 0.2,
-/// ξ = 0.02, ωn/p = 8, one-sine A/(g tan α) = 1.5, ωg/p = 8, 30 s.
-pub fn flexible_fig14(device: Device) -> Scene {
-    let r0 = 10.0;
-    Scene {
-        structure: Structure::Flexible(FlexibleStructure {
-            r0,
-            alpha: 0.2,
-            mass: 1.0,
-            xi: 0.02,
-            omega_n: 8.0 * (G / r0).sqrt(),
-        }),
-        device,
-        impact: Impact::default(),
-        excitation: Excitation::Pulse {
-            shape: PulseShape::Sine,
-            amplitude: Amplitude::TanAlphaRatio(1.5),
-            frequency: Frequency::Ratio(8.0),
-        },
-        duration: 30.0,
-        rtol: default_rtol(),
-        initial_rotation: 0.0,
-        stop_when_settled: false,
-        exact_contact: true,
-    }
-}
-
-/// A shipped record at its natural scale.
-fn record_excitation(name: &str) -> Excitation {
-    Excitation::Record {
-        name: name.into(),
-        scale: RecordScale::Factor(1.0),
-        baseline: false,
-        kinks: Default::default(),
-    }
-}
-
-/// The Fig. 24 structure (R0 = 10 m, α = 0.2, ξ = ξθ = 0.02, ωn = 12 rad/s) under the
-/// Landers–Lucerne fault-normal record (48 s record + 10 s).
-pub fn flexible_landers(device: Device) -> Scene {
-    let mut s = flexible_fig14(device);
-    if let Structure::Flexible(f) = &mut s.structure {
-        f.omega_n = 12.0;
-    }
-    s.excitation = record_excitation("landers");
-    s.duration = 58.0;
-    s
-}
-
-/// The Fig. 24 structure under the Northridge–Rinaldi fault-normal record (20 s + 10 s).
-pub fn flexible_northridge(device: Device) -> Scene {
-    let mut s = flexible_landers(device);
-    s.excitation = record_excitation("northridge");
-    s.duration = 30.0;
-    s
-}
-
-/// The Fig. 24 column on a base wide enough (α = 1.3) never to lift under Landers: the whole
-/// run is full contact.
-pub fn flexible_wide_landers(device: Device) -> Scene {
-    let mut s = flexible_landers(device);
-    if let Structure::Flexible(f) = &mut s.structure {
-        f.alpha = 1.3;
-    }
-    s
-}
-
-fn rigid_inerter() -> Device {
-    Device::Inerter {
-        sigma: 0.5,
-        coupling: Coupling::Rigid,
-    }
-}
-
-/// A rigid block R = 5 m, α = 0.2 under the Northridge–Rinaldi fault-normal record (30 s).
-pub fn rigid_northridge(device: Device) -> Scene {
-    Scene {
-        structure: Structure::Rigid(RigidBlock {
-            size: 5.0,
-            alpha: 0.2,
-            mass: 1.0,
-            form: Form::Exact,
-        }),
-        excitation: record_excitation("northridge"),
-        duration: 30.0,
-        ..rigid_fig8(device)
-    }
 }
 
 pub fn scenes() -> Vec<BenchScene> {
@@ -193,11 +83,11 @@ pub fn scenes() -> Vec<BenchScene> {
         },
         BenchScene {
             name: "rigid sequential, sine pulse",
-            scene: rigid_fig8(Device::Sequential { sigma: 0.5 }),
+            scene: rigid_fig8(sequential()),
         },
         BenchScene {
             name: "rigid mechanistic, sine pulse",
-            scene: rigid_fig8(Device::Mechanistic(Clutch::paper_default(0.5))),
+            scene: rigid_fig8(mechanistic()),
         },
         BenchScene {
             name: "rigid bare, Northridge record",
@@ -205,15 +95,15 @@ pub fn scenes() -> Vec<BenchScene> {
         },
         BenchScene {
             name: "rigid mechanistic, Northridge record",
-            scene: rigid_northridge(Device::Mechanistic(Clutch::paper_default(0.5))),
+            scene: rigid_northridge(mechanistic()),
         },
         BenchScene {
             name: "flexible sequential, Fig. 14",
-            scene: flexible_fig14(Device::Sequential { sigma: 0.5 }),
+            scene: flexible_fig14(sequential()),
         },
         BenchScene {
             name: "flexible mechanistic, Fig. 14",
-            scene: flexible_fig14(Device::Mechanistic(Clutch::paper_default(0.5))),
+            scene: flexible_fig14(mechanistic()),
         },
         BenchScene {
             name: "flexible bare, Landers record",
@@ -221,7 +111,7 @@ pub fn scenes() -> Vec<BenchScene> {
         },
         BenchScene {
             name: "flexible inerter, Landers record",
-            scene: flexible_landers(rigid_inerter()),
+            scene: flexible_landers(inerter()),
         },
         BenchScene {
             name: "flexible bare, Northridge record",
@@ -229,7 +119,7 @@ pub fn scenes() -> Vec<BenchScene> {
         },
         BenchScene {
             name: "flexible inerter, Northridge record",
-            scene: flexible_northridge(rigid_inerter()),
+            scene: flexible_northridge(inerter()),
         },
         BenchScene {
             name: "flexible bare, wide base, Landers record",
@@ -237,14 +127,11 @@ pub fn scenes() -> Vec<BenchScene> {
         },
         BenchScene {
             name: "flexible sequential, Landers record",
-            scene: flexible_landers(Device::Sequential { sigma: 0.5 }),
+            scene: flexible_landers(sequential()),
         },
         BenchScene {
             name: "flexible mechanistic, Landers record",
-            scene: flexible_landers(Device::Mechanistic(Clutch {
-                damping: Damping::XiTheta(0.02),
-                ..Clutch::paper_default(0.5)
-            })),
+            scene: flexible_landers(mechanistic_xi_theta(0.02)),
         },
     ]
 }

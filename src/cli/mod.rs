@@ -6,6 +6,8 @@ pub mod plot;
 pub mod records;
 pub mod run;
 pub mod simulate;
+pub mod slurm;
+pub mod status;
 pub mod table;
 
 use clap::{Parser, Subcommand};
@@ -37,6 +39,10 @@ pub enum Command {
     Run(run::RunArgs),
     /// Combine the results of `run --shard i/N` into one.
     Merge(run::MergeArgs),
+    /// Write (and with --submit submit) a Slurm job array and its merge job for a study.
+    Slurm(slurm::SlurmArgs),
+    /// Scenes done, failed, missing and running per shard of an output directory.
+    Status(status::StatusArgs),
     /// Side-by-side spectra of two device variants and their ratio per point.
     Compare(compare::CompareArgs),
     /// Figures from a results file: spectra, overturning maps, a scene's histories.
@@ -110,6 +116,8 @@ pub fn main() -> ExitCode {
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Run(args)) => run::run(&args),
         Some(Command::Merge(args)) => run::merge(&args),
+        Some(Command::Slurm(args)) => slurm::run(&args),
+        Some(Command::Status(args)) => status::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Plot(args)) => plot::run(&args),
         Some(Command::Table(args)) => table::run(&args),

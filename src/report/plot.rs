@@ -3,13 +3,14 @@
 //! paper's Figs. 8/9/14 with the energy partition as a stacked area (Fig. 15). Looks (size,
 //! font, styles, ticks, legend) live in `figure.rs`.
 
-use super::aggregate::{OverturningMap, Quantity, Spectrum};
+use super::aggregate::{OverturningMap, Spectrum};
 use super::export::parameter;
 use super::figure::{
     Axes, Canvas, Dash, FigureOptions, FigureSize, LINE_PT, LegendEntry, Marker, SeriesStyle,
     Swatch, build_chart, draw_line, draw_markers, err, render, split_figure,
 };
 use crate::sim::History;
+use crate::study::Quantity;
 use crate::study::fmt_num;
 use crate::sweep::{SceneOutcome, SweepResults};
 use plotters::coord::Shift;

@@ -9,14 +9,15 @@
 
 mod error;
 mod expand;
+mod quantity;
 mod values;
 
 pub use error::StudyError;
 pub use expand::{device_label, fmt_num};
+pub use quantity::Quantity;
 pub use values::Values;
 
 use crate::excitation::{KinkPolicy, PulseShape};
-use crate::report::Quantity;
 use crate::scene::{Coupling, Form, Impact, ResetRule, Scene};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
@@ -357,7 +358,7 @@ impl Study {
     }
 
     pub fn save(&self, path: &Path) -> anyhow::Result<()> {
-        crate::report::write_atomic(path, self.to_ron_string().as_bytes())
+        crate::fsutil::write_atomic(path, self.to_ron_string().as_bytes())
     }
 
     /// Physical and structural validity. Errors name the field (as a path) with a hint; the

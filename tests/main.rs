@@ -1,0 +1,19 @@
+//! The one integration-test binary (as ripgrep does): each tests/<name>.rs is a module, so the
+//! library is linked once. `util` holds the helpers they share.
+
+mod util;
+
+mod cli_simulate;
+mod exact_contact;
+mod excitation;
+mod figures;
+mod flexible;
+mod hard_cases;
+mod records_cli;
+mod records_sim;
+mod rigid;
+mod slurm;
+mod study;
+mod sweep;
+mod tui;
+mod tui_smoke;
