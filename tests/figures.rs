@@ -119,7 +119,7 @@ fn every_shipped_study_draws_with_every_series_and_units_on_every_axis() {
                 assert!(texts.contains(&study.description), "{name}: {texts:?}");
                 // Every series is in the legend: its group label, or its record and device.
                 for s in &spectra {
-                    let named = texts.iter().any(|t| *t == s.group)
+                    let named = texts.contains(&s.group)
                         || s.group.split_once(" · ").is_some_and(|(record, device)| {
                             texts.iter().any(|t| t == record) && texts.iter().any(|t| t == device)
                         });

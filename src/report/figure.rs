@@ -532,7 +532,7 @@ pub fn draw_legend<DB: DrawingBackend>(
                         None => area.draw(&PathElement::new(path, line)).map_err(err)?,
                         Some((d, g)) => area
                             .draw(&DashedPathElement::new(
-                                path.into_iter(),
+                                path,
                                 canvas.px(d),
                                 canvas.px(g),
                                 line,

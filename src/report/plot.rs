@@ -219,7 +219,7 @@ struct Drawn {
     overturned: Vec<f64>,
     style: SeriesStyle,
     /// Mean ± s.d. band: (x, low, high).
-    band: Vec<(f64, f64, f64)>,
+    band: Vec<BandPoint>,
 }
 
 struct Panel {
@@ -241,12 +241,15 @@ fn segments(xs: &[f64], ys: &[Option<f64>]) -> Vec<Vec<(f64, f64)>> {
     out
 }
 
+/// (x, low, high) of a band.
+type BandPoint = (f64, f64, f64);
+
 /// Mean and standard deviation over records per x (records that did not overturn there).
-fn band_of(members: &[&Curve]) -> (Vec<Option<f64>>, Vec<(f64, f64, f64)>) {
+fn band_of(members: &[&Curve]) -> (Vec<Option<f64>>, Vec<BandPoint>) {
     let xs = &members[0].spectrum.xs;
     let mut mean = Vec::new();
     let mut band = Vec::new();
-    for (i, x) in xs.iter().enumerate() {
+    for x in xs {
         let v: Vec<f64> = members
             .iter()
             .filter_map(|c| {
@@ -254,7 +257,6 @@ fn band_of(members: &[&Curve]) -> (Vec<Option<f64>>, Vec<(f64, f64, f64)>) {
                 c.spectrum.ys[j]
             })
             .collect();
-        let _ = i;
         if v.is_empty() {
             mean.push(None);
             continue;
@@ -354,10 +356,8 @@ pub fn plot_spectra(
     let mut records: Vec<String> = Vec::new();
     let mut variants: Vec<String> = Vec::new();
     for c in &chosen {
-        if let Some(r) = &c.record {
-            if !records.contains(r) {
-                records.push(r.clone());
-            }
+        if let Some(r) = c.record.as_ref().filter(|r| !records.contains(r)) {
+            records.push(r.clone());
         }
         let v = variant_of(c);
         if !variants.contains(&v) {
