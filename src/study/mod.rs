@@ -9,6 +9,7 @@
 
 mod error;
 mod expand;
+pub mod fields;
 mod quantity;
 mod values;
 
