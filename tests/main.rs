@@ -8,6 +8,7 @@ mod cli_simulate;
 mod compare;
 mod exact_contact;
 mod excitation;
+mod figures;
 mod flexible;
 mod fuzz;
 mod hard_cases;

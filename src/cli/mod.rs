@@ -9,6 +9,7 @@ pub mod run;
 pub mod simulate;
 pub mod slurm;
 pub mod status;
+pub mod table;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -49,6 +50,8 @@ pub enum Command {
     Paper(paper::PaperArgs),
     /// Figures from a results file: spectra, overturning maps, a scene's histories.
     Plot(plot::PlotArgs),
+    /// The results as CSV, long (tidy) or wide, with ASCII column names.
+    Table(table::TableArgs),
     /// Open the terminal workbench on a saved study (default: the built-in study).
     Tui(TuiArgs),
 }
@@ -165,6 +168,7 @@ pub fn main() -> ExitCode {
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Plot(args)) => plot::run(&args),
         Some(Command::Paper(args)) => paper::run(&args),
+        Some(Command::Table(args)) => table::run(&args),
         Some(Command::Tui(args)) => tui(&args),
         None => tui(&TuiArgs {
             study: None,

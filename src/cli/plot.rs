@@ -1,7 +1,7 @@
-//! `rocklab plot`: figures from a results file.
+//! `rocklab plot`: the paper's figures from a results file.
 
 use super::UsageError;
-use crate::report::{self, ImageFormat};
+use crate::report::{self, FigureOptions, FigureSize, ImageFormat, PlotChoice};
 use anyhow::Context;
 use clap::Args;
 use std::path::PathBuf;
@@ -11,63 +11,126 @@ pub struct PlotArgs {
     /// Results file (results.json) or the directory holding it.
     pub results: PathBuf,
     /// Write SVG figures into this directory.
-    #[arg(long, conflicts_with = "png", required_unless_present = "png")]
+    #[arg(long, required_unless_present = "png")]
     pub svg: Option<PathBuf>,
-    /// Write PNG figures into this directory.
+    /// Write PNG figures into this directory (both --svg and --png: both formats).
     #[arg(long)]
     pub png: Option<PathBuf>,
+    /// Figure size WIDTHxHEIGHT with a unit: 160x80mm, 6.3x3.2in, 16x8cm, 1200x600px
+    /// (default: a size that suits the figure's panels).
+    #[arg(long, value_parser = FigureSize::parse)]
+    pub size: Option<FigureSize>,
+    /// PNG resolution in dots per inch (SVG is resolution independent).
+    #[arg(long, default_value_t = 300.0, value_parser = parse_dpi)]
+    pub dpi: f64,
+    /// Draw only the series that match: a device kind or label (`mechanistic`, `bare`), a
+    /// record (`landers`) and/or parameters (`play=0.005`, `kθ=3`), all of which must match;
+    /// the study's RON form works too: `mechanistic(k_theta: 3.0, play: 0.005)`. Repeat for
+    /// more series.
+    #[arg(long, value_name = "SELECTOR")]
+    pub select: Vec<String>,
+    /// One row of panels per value of this parameter (study field, CSV name or label:
+    /// `play`, `k_theta`, `kθ`).
+    #[arg(long, value_name = "PARAM")]
+    pub facet: Option<String>,
+    /// Record suites: each device's mean ± one standard deviation over the records (a band)
+    /// instead of one line per record.
+    #[arg(long)]
+    pub band: bool,
+    /// Most series in one panel.
+    #[arg(long, default_value_t = report::MAX_SERIES)]
+    pub max_series: usize,
     /// Also plot the histories of this scene (its index in the study; rerun from its stored
     /// scene).
     #[arg(long)]
     pub scene: Option<usize>,
 }
 
+fn parse_dpi(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if (30.0..=2400.0).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "--dpi {text}: give a number between 30 and 2400, e.g. 300"
+        )),
+    }
+}
+
 pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
     let results = report::load_results(&super::compare::resolve_results(&args.results))?;
-    let (dir, format) = match (&args.svg, &args.png) {
-        (Some(d), _) => (d.clone(), ImageFormat::Svg),
-        (None, Some(d)) => (d.clone(), ImageFormat::Png),
-        (None, None) => return Err(UsageError::new("give --svg DIR or --png DIR").into()),
+    let mut targets = Vec::new();
+    if let Some(d) = &args.svg {
+        targets.push((d.clone(), ImageFormat::Svg));
+    }
+    if let Some(d) = &args.png {
+        targets.push((d.clone(), ImageFormat::Png));
+    }
+    if targets.is_empty() {
+        return Err(UsageError::new("give --svg DIR and/or --png DIR").into());
+    }
+    let choice = PlotChoice {
+        select: args.select.clone(),
+        facet: args.facet.clone(),
+        band: args.band,
+        max_series: args.max_series,
     };
-    std::fs::create_dir_all(&dir)
-        .with_context(|| format!("cannot create output directory {}", dir.display()))?;
-    let name = results
-        .study
-        .as_ref()
-        .map_or("results", |s| s.name.as_str());
-    let mut written = report::plot_spectra(&dir, format, name, &report::spectra(&results))?;
-    written.extend(report::plot_maps(&dir, format, &report::maps(&results))?);
-    if let Some(index) = args.scene {
-        let outcome = results
-            .outcomes
-            .iter()
-            .find(|o| o.point.index == index)
-            .ok_or_else(|| {
-                UsageError::new(format!(
-                    "--scene {index}: no such scene in this results file ({} scenes, indices {}…{})",
-                    results.outcomes.len(),
-                    results.outcomes.first().map_or(0, |o| o.point.index),
-                    results.outcomes.last().map_or(0, |o| o.point.index)
-                ))
-            })?;
-        // Under the sweep's guard: a scene that panics fails here as it did in the sweep.
-        let library = crate::excitation::library::global()?;
-        let (_, history) = crate::sweep::guarded(|| {
-            crate::sim::run_with_history(&outcome.point.scene, library, true)
-        })
-        .map_err(|e| anyhow::anyhow!("scene {index} failed: {e}"))?;
-        let history = history.context("no history recorded")?;
-        let path = dir.join(format!(
-            "scene-{index}.{}",
-            if format == ImageFormat::Svg {
-                "svg"
-            } else {
-                "png"
+    let spectra = report::spectra(&results);
+    let maps = report::maps(&results);
+    // Rerun the scene once, whatever the number of formats.
+    let scene = match args.scene {
+        None => None,
+        Some(index) => {
+            let outcome = results
+                .outcomes
+                .iter()
+                .find(|o| o.point.index == index)
+                .ok_or_else(|| {
+                    UsageError::new(format!(
+                        "--scene {index}: no such scene in this results file ({} scenes, indices {}…{})",
+                        results.outcomes.len(),
+                        results.outcomes.first().map_or(0, |o| o.point.index),
+                        results.outcomes.last().map_or(0, |o| o.point.index)
+                    ))
+                })?;
+            // The whole history, not just until no peak can change, and sampled finely enough
+            // for smooth curves: a tighter tolerance gives more (accepted) steps; the peaks
+            // agree with the stored result within its tolerance.
+            let mut scene = outcome.point.scene.clone();
+            scene.stop_when_settled = false;
+            scene.rtol = scene.rtol.min(1e-8);
+            // Under the sweep's guard: a scene that panics fails here as it did in the sweep.
+            let library = crate::excitation::library::global()?;
+            let (result, history) =
+                crate::sweep::guarded(|| crate::sim::run_with_history(&scene, library, true))
+                    .map_err(|e| anyhow::anyhow!("scene {index} failed: {e}"))?;
+            let history = history.context("no history recorded")?;
+            let mut title = report::scene_title(index, &outcome.point.group, &outcome.point.coords);
+            if result.overturned {
+                title.push_str(" (overturned)");
             }
-        ));
-        let title = report::scene_title(index, &outcome.point.group, &outcome.point.coords);
-        report::plot_history(&path, format, &title, &history)?;
-        written.push(path);
+            Some((index, scene, title, history))
+        }
+    };
+    let mut written = Vec::new();
+    for (dir, format) in targets {
+        std::fs::create_dir_all(&dir)
+            .with_context(|| format!("cannot create output directory {}", dir.display()))?;
+        let options = FigureOptions {
+            format,
+            size: args.size,
+            dpi: args.dpi,
+        };
+        written.extend(report::plot_spectra(
+            &dir, &options, &results, &spectra, &choice,
+        )?);
+        written.extend(report::plot_maps(&dir, &options, &results, &maps, &choice)?);
+        if let Some((index, scene, title, history)) = &scene {
+            let path = dir.join(format!("scene-{index}.{}", format.extension()));
+            report::plot_history(&path, &options, title, scene, history)?;
+            written.push(path);
+        }
+    }
+    if written.is_empty() {
+        anyhow::bail!("no figure written (see the messages above)");
     }
     for path in &written {
         println!("{}", path.display());

@@ -272,6 +272,10 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
 fn write_tables(out: &Path, study: &Study, results: &SweepResults) -> anyhow::Result<()> {
     report::write_atomic(&out.join("results.csv"), &report::results_csv(results)?)?;
     report::write_atomic(
+        &out.join("results.columns.csv"),
+        &report::results_columns_csv(results)?,
+    )?;
+    report::write_atomic(
         &out.join("summary.txt"),
         report::summary(results).as_bytes(),
     )?;

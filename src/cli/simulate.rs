@@ -63,8 +63,9 @@ pub struct SimulateArgs {
     /// Frequency parameter p (rad/s) instead of --size.
     #[arg(long)]
     pub p: Option<f64>,
-    /// Slenderness α (rad).
-    #[arg(long)]
+    /// Slenderness α in radians (`0.1745`, `0.1745rad`) or degrees (`10deg`, `10°`); always
+    /// recorded in radians.
+    #[arg(long, value_parser = parse_angle, allow_hyphen_values = true)]
     pub alpha: Option<f64>,
     #[arg(long, default_value_t = 1.0)]
     pub mass: f64,
@@ -681,4 +682,45 @@ pub fn summary(scene: &Scene, r: &SceneResult) -> String {
         r.stats.closed_form_steps,
         r.wall_seconds * 1e3,
     )
+}
+
+/// An angle in radians: a bare number or `…rad`, or degrees as `…deg` / `…°`.
+pub fn parse_angle(text: &str) -> Result<f64, String> {
+    let t = text.trim();
+    let (number, to_rad) = if let Some(n) = t.strip_suffix("deg").or_else(|| t.strip_suffix('°')) {
+        (n, std::f64::consts::PI / 180.0)
+    } else {
+        (t.strip_suffix("rad").unwrap_or(t), 1.0)
+    };
+    number
+        .trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .map(|v| v * to_rad)
+        .ok_or_else(|| {
+            format!("`{text}` is not an angle: give radians (0.1745) or degrees (10deg)")
+        })
+}
+
+#[cfg(test)]
+mod angle_tests {
+    use super::parse_angle;
+
+    #[test]
+    fn angles_in_degrees_become_radians() {
+        let ten = 10f64.to_radians();
+        for text in [
+            "10deg",
+            "10 deg",
+            "10°",
+            "0.17453292519943295",
+            "0.17453292519943295rad",
+        ] {
+            assert!((parse_angle(text).unwrap() - ten).abs() < 1e-15, "{text}");
+        }
+        for bad in ["deg", "10 degrees", "ten", "NaNdeg", ""] {
+            assert!(parse_angle(bad).is_err(), "{bad}");
+        }
+    }
 }

@@ -27,8 +27,94 @@ pub fn save_results(path: &Path, results: &SweepResults) -> anyhow::Result<()> {
     super::write_atomic(path, &results_json(results)?)
 }
 
-/// Tidy long CSV: one row per scene and quantity, one column per varying axis.
-pub fn results_csv(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
+/// A coordinate of the study in files other tools read: an ASCII identifier (valid in MATLAB,
+/// pandas and R without renaming), the study file's field name and the unit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Parameter {
+    pub name: String,
+    pub field: &'static str,
+    pub unit: &'static str,
+}
+
+/// The ASCII name, study field and unit of a coordinate label (`ωg/p`, `kθ`, `up`, …).
+pub fn parameter(label: &str) -> Parameter {
+    let (name, field, unit) = match label {
+        "ωg/p" => ("omega_g_over_p", "frequency", ""),
+        "ωg" => ("omega_g", "frequency", "rad/s"),
+        "A/g" => ("a_over_g", "amplitude", ""),
+        "A/(g·tanα)" => ("a_over_g_tan_alpha", "amplitude", ""),
+        "A/(g·α)" => ("a_over_g_alpha", "amplitude", ""),
+        "scale" => ("scale", "scale", ""),
+        "R" => ("size", "size", "m"),
+        "p" => ("p", "p", "rad/s"),
+        "α" => ("alpha", "alpha", "rad"),
+        "m" => ("mass", "mass", "kg"),
+        "R0" => ("r0", "r0", "m"),
+        "ξ" => ("xi", "xi", ""),
+        "ωn" => ("omega_n", "omega_n", "rad/s"),
+        "ωn/p" => ("omega_n_over_p", "omega_ratio", ""),
+        "σ" => ("sigma", "sigma", ""),
+        "kθ" => ("k_theta", "k_theta", "N·m/rad"),
+        "ωc/p" => ("omega_c_over_p", "clutch_frequency_ratio", ""),
+        "ξθ" => ("xi_theta", "xi_theta", ""),
+        "c̄" => ("cbar", "cbar", "1/s"),
+        "fμ" => ("f_mu", "friction", "mr·g"),
+        "η" => ("eta", "eta", "s/rad"),
+        "up" => ("play", "play", "m"),
+        "ε" => ("epsilon", "epsilon", ""),
+        "ρ" => ("rho", "rho", "m"),
+        _ => {
+            return Parameter {
+                name: ascii_identifier(label),
+                field: "",
+                unit: "",
+            };
+        }
+    };
+    Parameter {
+        name: name.into(),
+        field,
+        unit,
+    }
+}
+
+/// A fallback ASCII identifier for a label no table knows: Greek letters spelt out, anything
+/// else an underscore, never starting with a digit.
+fn ascii_identifier(label: &str) -> String {
+    let mut out = String::new();
+    for c in label.chars() {
+        let spelt = match c {
+            'α' => "alpha",
+            'θ' => "theta",
+            'ω' => "omega",
+            'ξ' => "xi",
+            'μ' => "mu",
+            'σ' => "sigma",
+            'ρ' => "rho",
+            'ε' => "epsilon",
+            'η' => "eta",
+            c if c.is_ascii_alphanumeric() => {
+                out.push(c.to_ascii_lowercase());
+                continue;
+            }
+            _ => "_",
+        };
+        if spelt != "_" && !out.is_empty() && !out.ends_with('_') {
+            out.push('_');
+        }
+        out.push_str(spelt);
+    }
+    let trimmed: Vec<&str> = out.split('_').filter(|p| !p.is_empty()).collect();
+    let s = trimmed.join("_");
+    if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) {
+        format!("x_{s}")
+    } else {
+        s
+    }
+}
+
+/// The varying coordinates of the results, in order of first appearance.
+fn axes_of(results: &SweepResults) -> Vec<String> {
     let mut axes: Vec<String> = Vec::new();
     for o in &results.outcomes {
         for (name, _) in &o.point.coords {
@@ -37,44 +123,151 @@ pub fn results_csv(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
             }
         }
     }
-    let mut w = csv::Writer::from_writer(Vec::new());
-    let mut header: Vec<String> = ["scene", "key", "group", "device", "excitation"]
-        .map(String::from)
-        .to_vec();
-    header.extend(axes.iter().cloned());
-    header.extend(["quantity", "value", "overturned", "status"].map(String::from));
-    w.write_record(&header)?;
+    axes
+}
+
+/// Column layout of the results CSV.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum CsvLayout {
+    /// Tidy: one row per scene and quantity (`quantity`, `value`).
+    #[default]
+    Long,
+    /// One row per scene, one column per quantity.
+    Wide,
+}
+
+const ID_COLUMNS: [(&str, &str, &str); 5] = [
+    ("scene", "index of the scene in the study's expansion", ""),
+    (
+        "key",
+        "cache key: hash of the scene and solver settings",
+        "",
+    ),
+    (
+        "group",
+        "variant label (device and grid parameters, paper notation)",
+        "",
+    ),
+    ("device", "device kind", ""),
+    ("excitation", "record name or pulse shape", ""),
+];
+
+const STATUS_COLUMNS: [(&str, &str, &str); 2] = [
+    (
+        "overturned",
+        "whether the structure overturned (its peaks are then left empty)",
+        "",
+    ),
+    ("status", "ok, or failed: reason", ""),
+];
+
+fn quantity_unit(q: crate::report::Quantity) -> &'static str {
+    use crate::report::Quantity;
+    match q {
+        Quantity::PeakRotation => "rad",
+        Quantity::PeakDeformation => "m",
+        Quantity::PeakAbsAcceleration => "g",
+        Quantity::PeakRotationRatio | Quantity::PeakDrift => "",
+    }
+}
+
+/// The results CSV: ASCII identifier column names only (a MATLAB `readtable`, pandas
+/// `read_csv` or R `read.csv` reads it with no option or renaming); the paper's Unicode
+/// labels and units are in [`results_columns_csv`].
+pub fn results_csv(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
+    results_csv_layout(results, CsvLayout::Long)
+}
+
+pub fn results_csv_layout(results: &SweepResults, layout: CsvLayout) -> anyhow::Result<Vec<u8>> {
+    let axes = axes_of(results);
     let quantities = quantities(results);
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let mut header: Vec<String> = ID_COLUMNS.iter().map(|c| c.0.to_string()).collect();
+    header.extend(axes.iter().map(|a| parameter(a).name));
+    match layout {
+        CsvLayout::Long => header.extend(["quantity", "value"].map(String::from)),
+        CsvLayout::Wide => header.extend(quantities.iter().map(|q| q.name().to_string())),
+    }
+    header.extend(STATUS_COLUMNS.iter().map(|c| c.0.to_string()));
+    w.write_record(&header)?;
     for o in &results.outcomes {
-        for q in &quantities {
-            let mut row = vec![
-                o.point.index.to_string(),
-                o.point.key.clone(),
-                o.point.group.clone(),
-                o.point.scene.device.name().to_string(),
-                excitation_name(&o.point.scene.excitation),
-            ];
-            for axis in &axes {
-                row.push(
-                    o.point
-                        .coord(axis)
-                        .map(|v| format!("{v}"))
-                        .unwrap_or_default(),
-                );
-            }
-            row.push(q.name().to_string());
-            match &o.result {
-                Ok(r) => {
-                    row.push(q.of(r).map(|v| format!("{v:.9e}")).unwrap_or_default());
-                    row.push(r.overturned.to_string());
-                    row.push("ok".into());
-                }
-                Err(reason) => {
-                    row.extend([String::new(), String::new(), format!("failed: {reason}")]);
-                }
-            }
-            w.write_record(&row)?;
+        let mut ids = vec![
+            o.point.index.to_string(),
+            o.point.key.clone(),
+            o.point.group.clone(),
+            o.point.scene.device.name().to_string(),
+            excitation_name(&o.point.scene.excitation),
+        ];
+        for axis in &axes {
+            ids.push(
+                o.point
+                    .coord(axis)
+                    .map(|v| format!("{v}"))
+                    .unwrap_or_default(),
+            );
         }
+        let value = |q: &crate::report::Quantity| match &o.result {
+            Ok(r) => q.of(r).map(|v| format!("{v:.9e}")).unwrap_or_default(),
+            Err(_) => String::new(),
+        };
+        let status = match &o.result {
+            Ok(r) => vec![r.overturned.to_string(), "ok".into()],
+            Err(reason) => vec![String::new(), format!("failed: {reason}")],
+        };
+        match layout {
+            CsvLayout::Long => {
+                for q in &quantities {
+                    let mut row = ids.clone();
+                    row.extend([q.name().to_string(), value(q)]);
+                    row.extend(status.iter().cloned());
+                    w.write_record(&row)?;
+                }
+            }
+            CsvLayout::Wide => {
+                let mut row = ids;
+                row.extend(quantities.iter().map(value));
+                row.extend(status);
+                w.write_record(&row)?;
+            }
+        }
+    }
+    Ok(w.into_inner()?)
+}
+
+/// The metadata of the results CSV's columns, itself a CSV any tool reads: `name` (the column
+/// in results.csv), `label` (the paper's notation), `unit`, `description`.
+pub fn results_columns_csv(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(["name", "label", "unit", "description"])?;
+    for (name, description, unit) in ID_COLUMNS {
+        w.write_record([name, name, unit, description])?;
+    }
+    for axis in axes_of(results) {
+        let p = parameter(&axis);
+        let description = if p.field.is_empty() {
+            "study coordinate".to_string()
+        } else {
+            format!("study coordinate (field `{}` in the study file)", p.field)
+        };
+        w.write_record([p.name.as_str(), axis.as_str(), p.unit, description.as_str()])?;
+    }
+    w.write_record([
+        "quantity",
+        "quantity",
+        "",
+        "response quantity (long layout)",
+    ])?;
+    w.write_record([
+        "value",
+        "value",
+        "",
+        "the quantity's value (long layout; unit below)",
+    ])?;
+    for q in quantities(results) {
+        w.write_record([q.name(), q.label(), quantity_unit(q), "response quantity"])?;
+    }
+    for (name, description, unit) in STATUS_COLUMNS {
+        w.write_record([name, name, unit, description])?;
     }
     Ok(w.into_inner()?)
 }
@@ -181,7 +374,7 @@ pub fn summary(results: &SweepResults) -> String {
     if hidden > 0 {
         let _ = writeln!(
             s,
-            "  … {hidden} more spectra in results.csv / results.json (`rocklab plot` draws them all)"
+            "  … {hidden} more spectra in results.csv / results.json (`rocklab plot` draws up to 12 per panel; pick with --select, split with --facet)"
         );
     }
     s.push_str(&super::compare::suite_summary(
@@ -189,11 +382,12 @@ pub fn summary(results: &SweepResults) -> String {
         &super::aggregate::spectra(results),
     ));
     let maps = maps(results);
+    let maps_empty = maps.is_empty();
     const MAPS_SHOWN: usize = 6;
     if maps.len() > MAPS_SHOWN {
         let _ = writeln!(
             s,
-            "\n{} overturning maps; the first {MAPS_SHOWN} follow (`rocklab plot` draws them all)",
+            "\n{} overturning maps; the first {MAPS_SHOWN} follow (`rocklab plot` draws up to 12 in one figure; pick with --select)",
             maps.len()
         );
     }
@@ -215,7 +409,44 @@ pub fn summary(results: &SweepResults) -> String {
             let _ = writeln!(s, "  {:>8} {line}", fmt_num(m.ys[iy]));
         }
     }
+    let _ = writeln!(
+        s,
+        "\n{}",
+        plot_note(spectra_per_quantity(results), !maps_empty)
+    );
+
     s
+}
+
+/// Series per quantity: what one panel of `rocklab plot` would hold.
+fn spectra_per_quantity(results: &SweepResults) -> usize {
+    let spectra = spectra(results);
+    let first = spectra.first().map(|s| s.quantity);
+    spectra.iter().filter(|s| Some(s.quantity) == first).count()
+}
+
+/// What `rocklab plot` draws from these results, in the summary's words.
+fn plot_note(series: usize, has_maps: bool) -> String {
+    let max = super::plot::MAX_SERIES;
+    let spectra = if series == 0 {
+        "no spectra".to_string()
+    } else if series <= max {
+        format!("the spectra as one figure, a panel per quantity ({series} series each)")
+    } else {
+        format!(
+            "no spectra unless chosen: {series} series per quantity is more than {max} per \
+             panel (pick with --select, split with --facet)"
+        )
+    };
+    let maps = if has_maps {
+        " and the overturning maps"
+    } else {
+        ""
+    };
+    format!(
+        "figures: `rocklab plot DIR --png FIGS` draws {spectra}{maps}; results.csv has every \
+         scene (`rocklab table DIR --wide`: one column per quantity)"
+    )
 }
 
 fn fmt_sig(v: f64) -> String {

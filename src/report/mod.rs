@@ -4,6 +4,7 @@
 mod aggregate;
 pub mod compare;
 mod export;
+mod figure;
 mod plot;
 pub mod select;
 
@@ -14,8 +15,12 @@ pub use aggregate::{
     Group, OverturningMap, PointState, Setting, Spectrum, compare, maps, quantities, sparkline,
     spectra,
 };
-pub use export::{results_csv, results_json, save_results, summary};
-pub use plot::{ImageFormat, plot_history, plot_maps, plot_spectra, scene_title};
+pub use export::{
+    CsvLayout, Parameter, parameter, results_columns_csv, results_csv, results_csv_layout,
+    results_json, save_results, summary,
+};
+pub use figure::{FigureOptions, FigureSize, ImageFormat};
+pub use plot::{MAX_SERIES, PlotChoice, plot_history, plot_maps, plot_spectra, scene_title};
 
 use crate::sim::History;
 use std::path::Path;

@@ -1,99 +1,617 @@
-//! Figures (plotters): spectra, overturning maps and a scene's histories, as SVG or PNG.
-//! Text uses DejaVu Sans Mono shipped in `assets/fonts` (the machines have no system fonts).
+//! The paper's figures from sweep results: spectra with one panel per quantity (and per facet
+//! value), overturning maps with one panel per group, and a scene's histories stacked like the
+//! paper's Figs. 8/9/14 with the energy partition as a stacked area (Fig. 15). Looks (size,
+//! font, styles, ticks, legend) live in `figure.rs`.
 
-use super::aggregate::{OverturningMap, Spectrum};
+use super::aggregate::{OverturningMap, PointState, Spectrum};
+use super::export::parameter;
+use super::figure::{
+    Axes, Canvas, Dash, FigureOptions, FigureSize, LINE_PT, LegendEntry, Marker, SeriesStyle,
+    Swatch, build_chart, draw_line, draw_markers, err, render, split_figure,
+};
 use crate::sim::History;
+use crate::study::Quantity;
 use crate::study::fmt_num;
-use anyhow::{Context, anyhow};
+use crate::sweep::{SceneOutcome, SweepResults};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
-use std::sync::Once;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ImageFormat {
-    Svg,
-    Png,
+/// What to draw: which series (selectors), one panel row per value of a parameter (facet),
+/// record suites as mean ± one standard deviation (band), and the most series in one panel.
+#[derive(Clone, Debug, Default)]
+pub struct PlotChoice {
+    /// A series is drawn if it matches any selector (all if none given).
+    pub select: Vec<String>,
+    pub facet: Option<String>,
+    pub band: bool,
+    pub max_series: usize,
 }
 
-impl ImageFormat {
-    fn extension(self) -> &'static str {
-        match self {
-            ImageFormat::Svg => "svg",
-            ImageFormat::Png => "png",
+/// Most series in one panel unless `--max-series` says otherwise.
+pub const MAX_SERIES: usize = 12;
+
+/// A spectrum with what the figure needs to select, facet and style it.
+struct Curve<'a> {
+    spectrum: &'a Spectrum,
+    /// `none`, `inerter`, `sequential`, `mechanistic`.
+    kind: String,
+    record: Option<String>,
+    /// The group without its record: the device label and its grid parameters.
+    variant: String,
+    /// Grid parameters of the group (coordinate label, value).
+    params: Vec<(String, f64)>,
+    /// Per x: whether the structure overturned there.
+    overturned: Vec<bool>,
+}
+
+fn record_of(o: &SceneOutcome) -> Option<String> {
+    match &o.point.scene.excitation {
+        crate::scene::Excitation::Record { name, .. } => Some(name.clone()),
+        _ => None,
+    }
+}
+
+fn curves<'a>(results: &SweepResults, spectra: &'a [Spectrum]) -> Vec<Curve<'a>> {
+    spectra
+        .iter()
+        .map(|s| {
+            // A spectrum carries the indices of its outcomes: nothing here parses a label.
+            let first = s.outcomes.first().and_then(|&i| results.outcomes.get(i));
+            let record = s
+                .group
+                .record()
+                .map(str::to_string)
+                .or_else(|| first.and_then(record_of));
+            let variant = match &record {
+                Some(r) => s
+                    .label
+                    .strip_suffix(&format!(" · {r}"))
+                    .unwrap_or(&s.label)
+                    .to_string(),
+                None => s.label.clone(),
+            };
+            let params = first.map_or(vec![], |o| o.point.coords.iter().skip(1).cloned().collect());
+            let overturned = s
+                .states
+                .iter()
+                .map(|st| *st == PointState::Overturned)
+                .collect();
+            Curve {
+                spectrum: s,
+                kind: first.map_or(String::new(), |o| o.point.scene.device.name().to_string()),
+                record,
+                variant,
+                params,
+                overturned,
+            }
+        })
+        .collect()
+}
+
+/// Whether a parameter name given by the user (study field `play`, CSV name `play`, or the
+/// coordinate label `up`) names coordinate `label`.
+fn names_parameter(given: &str, label: &str) -> bool {
+    let p = parameter(label);
+    given == label || given == p.name || given == p.field
+}
+
+/// One selector term: `kind` / device label / record name, or `name=value`.
+fn term_matches(term: &str, c: &Curve) -> bool {
+    match term.split_once('=') {
+        Some((name, value)) => {
+            let Ok(v) = value.parse::<f64>() else {
+                // `device=mechanistic`, `record=landers`
+                return match name {
+                    "device" | "kind" => {
+                        c.kind == value || c.variant.split(' ').next() == Some(value)
+                    }
+                    "record" => c.record.as_deref() == Some(value),
+                    _ => false,
+                };
+            };
+            c.params.iter().any(|(label, x)| {
+                names_parameter(name, label) && (x - v).abs() <= 1e-9 * v.abs().max(1.0)
+            })
+        }
+        None => {
+            term == c.kind
+                || c.variant.split(' ').next() == Some(term)
+                || c.record.as_deref() == Some(term)
+                || term == c.spectrum.label
+                || (term == "bare" && c.kind == "none")
         }
     }
 }
 
-const FONT: &str = "sans-serif";
-const SIZE: (u32, u32) = (900, 600);
-/// Most series drawn in one spectra figure.
-const MAX_SERIES: usize = 16;
-
-fn register_font() {
-    static ONCE: Once = Once::new();
-    ONCE.call_once(|| {
-        let bytes = include_bytes!("../../assets/fonts/DejaVuSansMono.ttf");
-        for style in [FontStyle::Normal, FontStyle::Bold] {
-            // The font is compiled in and known to parse; a failure would only lose text.
-            let _ = plotters::style::register_font(FONT, style, bytes);
+/// The selector's terms. Accepts `mechanistic play=0.005`, `mechanistic,play=0.005` and the
+/// study's RON form `mechanistic(play: 0.005)`; every term must match.
+///
+/// Deliberately tiny: `compare`'s selector module (report/select.rs) is the real selector
+/// language; this function is the one place to swap for it.
+fn selector_terms(selector: &str) -> Vec<String> {
+    let spaced: String = selector
+        .chars()
+        .map(|c| match c {
+            '(' | ')' | ',' => ' ',
+            ':' => '=',
+            c => c,
+        })
+        .collect();
+    // Join `name = value` written with spaces.
+    let mut terms: Vec<String> = Vec::new();
+    for tok in spaced.split_whitespace() {
+        match terms.last_mut() {
+            Some(last) if last.ends_with('=') || tok.starts_with('=') => last.push_str(tok),
+            _ => terms.push(tok.to_string()),
         }
-    });
+    }
+    terms
 }
 
-/// Draw with `draw` into `path` (atomically: a temporary file in the same directory, then
-/// rename).
-fn render(
-    path: &Path,
-    format: ImageFormat,
-    size: (u32, u32),
-    draw: impl Fn(DrawingArea<SVGBackend, Shift>) -> anyhow::Result<()>,
-    draw_png: impl Fn(DrawingArea<BitMapBackend, Shift>) -> anyhow::Result<()>,
-) -> anyhow::Result<()> {
-    register_font();
-    match format {
-        ImageFormat::Svg => {
-            let mut svg = String::new();
-            {
-                let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-                draw(root)?;
-            }
-            super::write_atomic(path, svg.as_bytes())
-        }
-        ImageFormat::Png => {
-            let dir = path.parent().unwrap_or(Path::new("."));
-            let tmp = tempfile::Builder::new()
-                .suffix(".png")
-                .tempfile_in(dir)
-                .with_context(|| format!("cannot create a file in {}", dir.display()))?;
-            {
-                let root = BitMapBackend::new(tmp.path(), size).into_drawing_area();
-                draw_png(root)?;
-            }
-            super::readable_by_all(tmp.as_file())?;
-            tmp.persist(path)
-                .with_context(|| format!("cannot write {}", path.display()))?;
-            Ok(())
-        }
+fn selected(choice: &PlotChoice, c: &Curve) -> bool {
+    choice.select.is_empty()
+        || choice
+            .select
+            .iter()
+            .any(|s| selector_terms(s).iter().all(|t| term_matches(t, c)))
+}
+
+/// The label of a quantity's axis, with its symbol and unit.
+fn quantity_axis(q: Quantity) -> &'static str {
+    match q {
+        Quantity::PeakRotation => "θmax [rad]",
+        Quantity::PeakRotationRatio => "θmax/α",
+        Quantity::PeakDeformation => "umax [m]",
+        Quantity::PeakDrift => "drift |X|max/H",
+        Quantity::PeakAbsAcceleration => "ẍmax [g]",
     }
 }
 
-fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
-    anyhow!("drawing failed: {e:?}")
+/// A coordinate's axis label with its unit, e.g. `ωn [rad/s]`.
+fn coordinate_axis(label: &str) -> String {
+    let unit = parameter(label).unit;
+    if unit.is_empty() {
+        label.to_string()
+    } else {
+        format!("{label} [{unit}]")
+    }
 }
 
-fn palette(i: usize) -> RGBColor {
-    const COLORS: [RGBColor; 8] = [
-        RGBColor(0, 0, 0),
-        RGBColor(31, 119, 180),
-        RGBColor(214, 39, 40),
-        RGBColor(44, 160, 44),
-        RGBColor(255, 127, 14),
-        RGBColor(148, 103, 189),
-        RGBColor(140, 86, 75),
-        RGBColor(23, 190, 207),
-    ];
-    COLORS[i % COLORS.len()]
+fn figure_title(results: &SweepResults) -> String {
+    results.study.as_ref().map_or("results".into(), |s| {
+        if s.description.is_empty() {
+            s.name.clone()
+        } else {
+            s.description.clone()
+        }
+    })
+}
+
+fn panel_letter(i: usize) -> char {
+    (b'a' + (i % 26) as u8) as char
+}
+
+/// A drawn series of one panel: points (gaps break the line), overturned xs, style.
+struct Drawn {
+    segments: Vec<Vec<(f64, f64)>>,
+    overturned: Vec<f64>,
+    style: SeriesStyle,
+    /// Mean ± s.d. band: (x, low, high).
+    band: Vec<BandPoint>,
+}
+
+struct Panel {
+    title: String,
+    x_label: String,
+    y_label: String,
+    series: Vec<Drawn>,
+}
+
+fn segments(xs: &[f64], ys: &[Option<f64>]) -> Vec<Vec<(f64, f64)>> {
+    let mut out: Vec<Vec<(f64, f64)>> = vec![vec![]];
+    for (x, y) in xs.iter().zip(ys) {
+        match y {
+            Some(y) if y.is_finite() => out.last_mut().expect("non-empty").push((*x, *y)),
+            _ => out.push(vec![]),
+        }
+    }
+    out.retain(|s| !s.is_empty());
+    out
+}
+
+/// (x, low, high) of a band.
+type BandPoint = (f64, f64, f64);
+
+/// Mean and standard deviation over records per x (records that did not overturn there).
+fn band_of(members: &[&Curve]) -> (Vec<Option<f64>>, Vec<BandPoint>) {
+    let xs = &members[0].spectrum.xs;
+    let mut mean = Vec::new();
+    let mut band = Vec::new();
+    for x in xs {
+        let v: Vec<f64> = members
+            .iter()
+            .filter_map(|c| {
+                let j = c.spectrum.xs.iter().position(|cx| cx == x)?;
+                c.spectrum.ys[j]
+            })
+            .collect();
+        if v.is_empty() {
+            mean.push(None);
+            continue;
+        }
+        let m = v.iter().sum::<f64>() / v.len() as f64;
+        let sd = if v.len() > 1 {
+            (v.iter().map(|y| (y - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64).sqrt()
+        } else {
+            0.0
+        };
+        mean.push(Some(m));
+        // Every quantity is a magnitude: the band stops at zero.
+        band.push((*x, (m - sd).max(0.0), m + sd));
+    }
+    (mean, band)
+}
+
+/// Spectra as one figure: a panel per quantity (columns) and per facet value (rows). Returns
+/// the file written, or None with a message when nothing matched or a panel would hold too
+/// many series.
+pub fn plot_spectra(
+    dir: &Path,
+    options: &FigureOptions,
+    results: &SweepResults,
+    spectra: &[Spectrum],
+    choice: &PlotChoice,
+) -> anyhow::Result<Option<PathBuf>> {
+    let all = curves(results, spectra);
+    let chosen: Vec<&Curve> = all.iter().filter(|c| selected(choice, c)).collect();
+    if chosen.is_empty() {
+        if !choice.select.is_empty() {
+            eprintln!(
+                "no spectra match --select {}; series here: {}",
+                choice.select.join(" / "),
+                list_variants(&all)
+            );
+        }
+        return Ok(None);
+    }
+    let mut quantities: Vec<Quantity> = Vec::new();
+    for c in &chosen {
+        if !quantities.contains(&c.spectrum.quantity) {
+            quantities.push(c.spectrum.quantity);
+        }
+    }
+    // Facet rows.
+    let facet_label: Option<String> = match &choice.facet {
+        None => None,
+        Some(name) => {
+            let labels: Vec<&String> = chosen
+                .iter()
+                .flat_map(|c| c.params.iter().map(|(l, _)| l))
+                .collect();
+            match labels.iter().find(|l| names_parameter(name, l)) {
+                Some(l) => Some((*l).clone()),
+                None => anyhow::bail!(
+                    "--facet {name}: no such parameter among the chosen spectra (parameters: {})",
+                    parameter_names(&chosen)
+                ),
+            }
+        }
+    };
+    let facet_of = |c: &Curve| -> Option<f64> {
+        let l = facet_label.as_ref()?;
+        c.params.iter().find(|(n, _)| n == l).map(|(_, v)| *v)
+    };
+    let mut facets: Vec<Option<f64>> = Vec::new();
+    for c in &chosen {
+        let f = facet_of(c);
+        if !facets.contains(&f) {
+            facets.push(f);
+        }
+    }
+    facets.sort_by(|a, b| a.unwrap_or(f64::NAN).total_cmp(&b.unwrap_or(f64::NAN)));
+    const MAX_FACETS: usize = 8;
+    if facets.len() > MAX_FACETS {
+        anyhow::bail!(
+            "--facet {}: {} values, more than {MAX_FACETS} rows of panels; narrow it with \
+             --select (e.g. --select '{}')",
+            choice.facet.as_deref().unwrap_or(""),
+            facets.len(),
+            example_selector(&chosen)
+        );
+    }
+    // Series identity without the facet parameter, so a series keeps its style across rows.
+    let facet_token = |c: &Curve| -> String {
+        match (&facet_label, facet_of(c)) {
+            (Some(l), Some(v)) => format!("{l}={}", fmt_num(v)),
+            _ => String::new(),
+        }
+    };
+    let variant_of = |c: &Curve| -> String {
+        let t = facet_token(c);
+        let v: Vec<&str> = c.variant.split(' ').filter(|w| *w != t).collect();
+        v.join(" ")
+    };
+    let mut records: Vec<String> = Vec::new();
+    let mut variants: Vec<String> = Vec::new();
+    for c in &chosen {
+        if let Some(r) = c.record.as_ref().filter(|r| !records.contains(r)) {
+            records.push(r.clone());
+        }
+        let v = variant_of(c);
+        if !variants.contains(&v) {
+            variants.push(v);
+        }
+    }
+    let suite = records.len() > 1;
+    let band = choice.band && suite;
+    let two_way = suite && variants.len() > 1 && !band;
+    // Too many series in one panel: say how to choose.
+    let per_panel = chosen
+        .iter()
+        .filter(|c| c.spectrum.quantity == quantities[0] && facet_of(c) == facets[0])
+        .count();
+    // A record suite drawn two-way (colour: record, line style: device) needs one legend key
+    // per record and per device, not per line.
+    let per_panel = if band {
+        variants.len()
+    } else if two_way {
+        variants.len().max(records.len())
+    } else {
+        per_panel
+    };
+    let max = if choice.max_series == 0 {
+        MAX_SERIES
+    } else {
+        choice.max_series
+    };
+    if per_panel > max {
+        eprintln!(
+            "{}: {per_panel} spectra per panel, more than {max}: spectra skipped (the maps \
+             and results.csv have them all). Choose with --select, e.g. --select '{}' or \
+             --select '{}' (device kind or label, record, name=value or the study's RON \
+             form; all terms must match; repeat --select for more series), split with \
+             --facet PARAM (parameters: {}), or raise --max-series.",
+            figure_title(results),
+            example_selector(&chosen),
+            example_plain(&chosen),
+            parameter_names(&chosen),
+        );
+        return Ok(None);
+    }
+    let style_of = |c: &Curve| -> SeriesStyle {
+        let v = variants
+            .iter()
+            .position(|x| *x == variant_of(c))
+            .unwrap_or(0);
+        if two_way {
+            let r = c
+                .record
+                .as_ref()
+                .and_then(|r| records.iter().position(|x| x == r))
+                .unwrap_or(0);
+            SeriesStyle {
+                color: super::figure::PALETTE[r % super::figure::PALETTE.len()],
+                ..SeriesStyle::nth(v)
+            }
+        } else if suite && !band && variants.len() == 1 {
+            let r = c
+                .record
+                .as_ref()
+                .and_then(|r| records.iter().position(|x| x == r))
+                .unwrap_or(0);
+            SeriesStyle::nth(r)
+        } else {
+            SeriesStyle::nth(v)
+        }
+    };
+    // Legend.
+    let mut legend: Vec<LegendEntry> = Vec::new();
+    if two_way {
+        for (i, v) in variants.iter().enumerate() {
+            legend.push(LegendEntry {
+                label: v.clone(),
+                swatch: Swatch::Line(SeriesStyle {
+                    color: BLACK,
+                    ..SeriesStyle::nth(i)
+                }),
+            });
+        }
+        for (i, r) in records.iter().enumerate() {
+            legend.push(LegendEntry {
+                label: r.clone(),
+                swatch: Swatch::Line(SeriesStyle {
+                    color: super::figure::PALETTE[i % super::figure::PALETTE.len()],
+                    dash: Dash::Solid,
+                    marker: None,
+                }),
+            });
+        }
+    } else if suite && !band && variants.len() == 1 {
+        for (i, r) in records.iter().enumerate() {
+            legend.push(LegendEntry {
+                label: r.clone(),
+                swatch: Swatch::Line(SeriesStyle::nth(i)),
+            });
+        }
+    } else {
+        for (i, v) in variants.iter().enumerate() {
+            let label = if band {
+                format!("{v}: mean ± 1 s.d. over {} records", records.len())
+            } else {
+                v.clone()
+            };
+            legend.push(LegendEntry {
+                label,
+                swatch: Swatch::Line(SeriesStyle::nth(i)),
+            });
+        }
+    }
+    let any_overturned = chosen.iter().any(|c| c.overturned.iter().any(|o| *o));
+    if any_overturned {
+        legend.push(LegendEntry {
+            label: "overturned (drawn above the data, no peak)".into(),
+            swatch: Swatch::Marker(Marker::Cross, RGBColor(90, 90, 90)),
+        });
+    }
+    // Panels: rows = facets, columns = quantities (4 quantities without facets: 2 × 2).
+    let mut panels: Vec<Panel> = Vec::new();
+    for f in &facets {
+        for q in &quantities {
+            let in_panel: Vec<&&Curve> = chosen
+                .iter()
+                .filter(|c| c.spectrum.quantity == *q && facet_of(c) == *f)
+                .collect();
+            let mut series = Vec::new();
+            if band {
+                for v in &variants {
+                    let members: Vec<&Curve> = in_panel
+                        .iter()
+                        .filter(|c| variant_of(c) == *v)
+                        .map(|c| **c)
+                        .collect();
+                    if members.is_empty() {
+                        continue;
+                    }
+                    let (mean, band) = band_of(&members);
+                    let xs = &members[0].spectrum.xs;
+                    let overturned = xs
+                        .iter()
+                        .filter(|x| {
+                            members.iter().any(|c| {
+                                c.spectrum
+                                    .xs
+                                    .iter()
+                                    .position(|cx| cx == *x)
+                                    .is_some_and(|j| c.overturned[j])
+                            })
+                        })
+                        .copied()
+                        .collect();
+                    series.push(Drawn {
+                        segments: segments(xs, &mean),
+                        overturned,
+                        style: style_of(members[0]),
+                        band,
+                    });
+                }
+            } else {
+                for c in &in_panel {
+                    let s = c.spectrum;
+                    series.push(Drawn {
+                        segments: segments(&s.xs, &s.ys),
+                        overturned: s
+                            .xs
+                            .iter()
+                            .zip(&c.overturned)
+                            .filter(|(_, o)| **o)
+                            .map(|(x, _)| *x)
+                            .collect(),
+                        style: style_of(c),
+                        band: vec![],
+                    });
+                }
+            }
+            let letter = panel_letter(panels.len());
+            let title = match (&facet_label, f) {
+                (Some(l), Some(v)) => format!("({letter}) {l} = {}", with_unit(l, *v)),
+                _ => format!("({letter})"),
+            };
+            panels.push(Panel {
+                title,
+                x_label: coordinate_axis(&in_panel[0].spectrum.axis),
+                y_label: quantity_axis(*q).to_string(),
+                series,
+            });
+        }
+    }
+    let cols = if facets.len() == 1 && quantities.len() == 4 {
+        2
+    } else {
+        quantities.len()
+    };
+    let rows = panels.len().div_ceil(cols);
+    let default = FigureSize::mm(
+        if cols == 1 { 120.0 } else { 85.0 * cols as f64 },
+        62.0 * rows as f64 + 12.0 + 6.0 * (legend.len() as f64 / 3.0).ceil(),
+    );
+    let canvas = options.canvas(default);
+    let title = figure_title(results);
+    let name = match &facet_label {
+        Some(l) => format!("spectra-by-{}", parameter(l).name),
+        None => "spectra".to_string(),
+    };
+    let path = dir.join(format!("{name}.{}", options.format.extension()));
+    render(
+        &path,
+        options,
+        canvas,
+        |r| draw_panels(r, canvas, &title, &legend, &panels, cols),
+        |r| draw_panels(r, canvas, &title, &legend, &panels, cols),
+    )?;
+    Ok(Some(path))
+}
+
+fn with_unit(label: &str, v: f64) -> String {
+    let unit = parameter(label).unit;
+    if unit.is_empty() {
+        fmt_num(v)
+    } else {
+        format!("{} {unit}", fmt_num(v))
+    }
+}
+
+fn list_variants(curves: &[Curve]) -> String {
+    let mut v: Vec<&str> = Vec::new();
+    for c in curves {
+        if !v.contains(&c.spectrum.label.as_str()) {
+            v.push(&c.spectrum.label);
+        }
+    }
+    let n = v.len();
+    let mut s = v.into_iter().take(8).collect::<Vec<_>>().join(", ");
+    if n > 8 {
+        s.push_str(&format!(", … ({n} in all)"));
+    }
+    s
+}
+
+fn parameter_names(curves: &[&Curve]) -> String {
+    let mut names: Vec<String> = Vec::new();
+    for c in curves {
+        for (l, _) in &c.params {
+            let n = format!("{} ({l})", parameter(l).name);
+            if !names.contains(&n) {
+                names.push(n);
+            }
+        }
+    }
+    if names.is_empty() {
+        "none vary".into()
+    } else {
+        names.join(", ")
+    }
+}
+
+fn example_selector(curves: &[&Curve]) -> String {
+    let c = curves[0];
+    let mut s = c.variant.split(' ').next().unwrap_or("").to_string();
+    if let Some((l, v)) = c.params.first() {
+        s = format!("{s}({}: {})", parameter(l).name, fmt_num(*v));
+    }
+    s
+}
+
+fn example_plain(curves: &[&Curve]) -> String {
+    let c = curves[curves.len() - 1];
+    let mut s = c.variant.split(' ').next().unwrap_or("").to_string();
+    if let Some(r) = &c.record {
+        s = format!("{s} {r}");
+    }
+    if let Some((l, v)) = c.params.first() {
+        s = format!("{s} {l}={}", fmt_num(*v));
+    }
+    s
 }
 
 fn range_of(values: impl Iterator<Item = f64>) -> (f64, f64) {
@@ -112,284 +630,599 @@ fn range_of(values: impl Iterator<Item = f64>) -> (f64, f64) {
     }
 }
 
-/// All spectra of one quantity in one chart; gaps (overturned or failed) break the lines.
-fn draw_spectra<DB: DrawingBackend>(
+fn draw_panels<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
+    canvas: Canvas,
     title: &str,
-    spectra: &[&Spectrum],
+    legend: &[LegendEntry],
+    panels: &[Panel],
+    cols: usize,
 ) -> anyhow::Result<()> {
-    root.fill(&WHITE).map_err(err)?;
-    let (x0, x1) = range_of(spectra.iter().flat_map(|s| s.xs.iter().copied()));
-    let (_, y1) = range_of(spectra.iter().flat_map(|s| s.ys.iter().flatten().copied()));
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, (FONT, 20))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(x0..x1, 0.0..y1 * 1.05)
-        .map_err(err)?;
-    let first = spectra.first().ok_or_else(|| anyhow!("no spectra"))?;
-    chart
-        .configure_mesh()
-        .x_desc(first.axis.as_str())
-        .y_desc(first.quantity.label())
-        .label_style((FONT, 14))
-        .draw()
-        .map_err(err)?;
-    for (i, s) in spectra.iter().enumerate() {
-        let color = palette(i);
-        let mut segments: Vec<Vec<(f64, f64)>> = vec![vec![]];
-        for (x, y) in s.xs.iter().zip(&s.ys) {
-            match y {
-                Some(y) => segments.last_mut().expect("non-empty").push((*x, *y)),
-                None => segments.push(vec![]),
-            }
-        }
-        let mut labelled = false;
-        for seg in segments.into_iter().filter(|s| !s.is_empty()) {
-            let series = chart
-                .draw_series(LineSeries::new(seg.clone(), color.stroke_width(2)))
-                .map_err(err)?;
-            if !labelled {
-                series.label(s.label.as_str()).legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
-                });
-                labelled = true;
-            }
+    let (body, _) = split_figure(&root, canvas, title, legend)?;
+    let rows = panels.len().div_ceil(cols);
+    let areas = body.split_evenly((rows, cols));
+    for (area, panel) in areas.iter().zip(panels) {
+        draw_spectrum_panel(area, canvas, panel)?;
+    }
+    root.present().map_err(err)
+}
+
+fn draw_spectrum_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    canvas: Canvas,
+    panel: &Panel,
+) -> anyhow::Result<()> {
+    let points = || {
+        panel
+            .series
+            .iter()
+            .flat_map(|s| s.segments.iter().flatten())
+    };
+    let (x0, x1) = range_of(
+        points().map(|p| p.0).chain(
+            panel
+                .series
+                .iter()
+                .flat_map(|s| s.overturned.iter().copied()),
+        ),
+    );
+    let y_hi = range_of(
+        points()
+            .map(|p| p.1)
+            .chain(panel.series.iter().flat_map(|s| s.band.iter().map(|b| b.2))),
+    )
+    .1
+    .max(0.0);
+    let y_lo = range_of(
+        points()
+            .map(|p| p.1)
+            .chain(panel.series.iter().flat_map(|s| s.band.iter().map(|b| b.1))),
+    )
+    .0
+    .min(0.0);
+    let y_hi = if y_hi > y_lo { y_hi } else { y_lo + 1.0 };
+    // Overturned points sit in a strip above the data, one row per series that has any.
+    let rows_over = panel
+        .series
+        .iter()
+        .filter(|s| !s.overturned.is_empty())
+        .count();
+    let row = 0.045 * (y_hi - y_lo);
+    let top = y_hi + 0.04 * (y_hi - y_lo) + rows_over as f64 * row;
+    let mut chart = build_chart(
+        area,
+        canvas,
+        &Axes {
+            x: (x0, x1),
+            y: (y_lo, top),
+            x_label: &panel.x_label,
+            y_label: &panel.y_label,
+            title: &panel.title,
+            y_labels_below: (rows_over > 0).then_some(y_hi),
+        },
+    )?;
+    if rows_over > 0 {
+        // The strip of overturned marks: no grid, a rule below it.
+        let strip = y_hi + 0.02 * (y_hi - y_lo);
+        chart
+            .draw_series(std::iter::once(Rectangle::new(
+                [(x0, strip), (x1, top)],
+                WHITE.filled(),
+            )))
+            .map_err(err)?;
+        chart
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(x0, strip), (x1, strip)],
+                canvas.line(RGBColor(150, 150, 150), 0.4),
+            )))
+            .map_err(err)?;
+    }
+    for s in &panel.series {
+        if !s.band.is_empty() {
+            let mut poly: Vec<(f64, f64)> = s.band.iter().map(|b| (b.0, b.2)).collect();
+            poly.extend(s.band.iter().rev().map(|b| (b.0, b.1.max(y_lo))));
             chart
-                .draw_series(seg.iter().map(|p| Circle::new(*p, 2, color.filled())))
+                .draw_series(std::iter::once(Polygon::new(
+                    poly,
+                    s.style.color.mix(0.13).filled(),
+                )))
                 .map_err(err)?;
         }
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .label_font((FONT, 13))
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(err)?;
+    let mut grid: Vec<f64> = points().map(|p| p.0).collect();
+    grid.sort_by(f64::total_cmp);
+    grid.dedup();
+    let mut over_row = 0;
+    for (i, s) in panel.series.iter().enumerate() {
+        for seg in &s.segments {
+            if seg.len() == 1 {
+                continue;
+            }
+            draw_line(&mut chart, canvas, seg, s.style, LINE_PT)?;
+        }
+        if let Some(m) = s.style.marker {
+            // About 8 markers per series on a grid of the panel's x values, staggered so
+            // series that coincide (inerter and sequential accelerations) both show.
+            let every = (grid.len() / 8).max(1);
+            let offset = (i * every / panel.series.len().max(1)) % every;
+            let on_grid = |x: f64| grid.iter().position(|g| *g == x).unwrap_or(0);
+            let mut marks: Vec<(f64, f64)> = s
+                .segments
+                .iter()
+                .flatten()
+                .filter(|p| on_grid(p.0) % every == offset)
+                .copied()
+                .collect();
+            // Isolated points (a single x between gaps) always get a marker.
+            marks.extend(s.segments.iter().filter(|g| g.len() == 1).map(|g| g[0]));
+            draw_markers(&mut chart, canvas, &marks, m, s.style.color)?;
+        }
+        if !s.overturned.is_empty() {
+            let y = y_hi + 0.04 * (y_hi - y_lo) + (over_row as f64 + 0.5) * row;
+            over_row += 1;
+            let pts: Vec<(f64, f64)> = s.overturned.iter().map(|x| (*x, y)).collect();
+            draw_markers(&mut chart, canvas, &pts, Marker::Cross, s.style.color)?;
+        }
+    }
+    Ok(())
+}
+
+/// Overturning maps, one panel per group, in one figure.
+pub fn plot_maps(
+    dir: &Path,
+    options: &FigureOptions,
+    results: &SweepResults,
+    maps: &[OverturningMap],
+    choice: &PlotChoice,
+) -> anyhow::Result<Option<PathBuf>> {
+    let chosen: Vec<&OverturningMap> = maps
+        .iter()
+        .filter(|m| {
+            choice.select.is_empty()
+                || m.outcomes.iter().flatten().flatten().any(|&i| {
+                    let Some(o) = results.outcomes.get(i) else {
+                        return false;
+                    };
+                    let pseudo = Spectrum {
+                        quantity: Quantity::PeakRotationRatio,
+                        label: m.label.clone(),
+                        group: m.group.clone(),
+                        axis: String::new(),
+                        xs: vec![],
+                        ys: vec![],
+                        states: vec![],
+                        outcomes: vec![],
+                    };
+                    let c = Curve {
+                        spectrum: &pseudo,
+                        kind: o.point.scene.device.name().to_string(),
+                        record: record_of(o),
+                        variant: m.label.clone(),
+                        params: o.point.coords.clone(),
+                        overturned: vec![],
+                    };
+                    selected(choice, &c)
+                })
+        })
+        .collect();
+    if chosen.is_empty() {
+        return Ok(None);
+    }
+    const MAX_MAPS: usize = 12;
+    if chosen.len() > MAX_MAPS {
+        eprintln!(
+            "{} overturning maps, more than {MAX_MAPS} in one figure: skipped; choose with --select",
+            chosen.len()
+        );
+        return Ok(None);
+    }
+    let cols = chosen.len().min(3);
+    let rows = chosen.len().div_ceil(cols);
+    let legend = vec![
+        LegendEntry {
+            label: "overturned".into(),
+            swatch: Swatch::Fill(OVERTURNED),
+        },
+        LegendEntry {
+            label: "survived".into(),
+            swatch: Swatch::Fill(SURVIVED),
+        },
+        LegendEntry {
+            label: "failed or not run".into(),
+            swatch: Swatch::Fill(WHITE),
+        },
+    ];
+    let canvas = options.canvas(FigureSize::mm(
+        if cols == 1 { 100.0 } else { 65.0 * cols as f64 },
+        60.0 * rows as f64 + 18.0,
+    ));
+    let title = figure_title(results);
+    let path = dir.join(format!("maps.{}", options.format.extension()));
+    render(
+        &path,
+        options,
+        canvas,
+        |r| draw_maps(r, canvas, &title, &legend, &chosen, cols),
+        |r| draw_maps(r, canvas, &title, &legend, &chosen, cols),
+    )?;
+    Ok(Some(path))
+}
+
+const OVERTURNED: RGBColor = RGBColor(213, 94, 0);
+const SURVIVED: RGBColor = RGBColor(232, 232, 232);
+
+fn draw_maps<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    canvas: Canvas,
+    title: &str,
+    legend: &[LegendEntry],
+    maps: &[&OverturningMap],
+    cols: usize,
+) -> anyhow::Result<()> {
+    let (body, _) = split_figure(&root, canvas, title, legend)?;
+    let areas = body.split_evenly((maps.len().div_ceil(cols), cols));
+    for (i, (area, map)) in areas.iter().zip(maps).enumerate() {
+        draw_map(
+            area,
+            canvas,
+            map,
+            &format!("({}) {}", panel_letter(i), map.label),
+        )?;
+    }
     root.present().map_err(err)
 }
 
 fn draw_map<DB: DrawingBackend>(
-    root: DrawingArea<DB, Shift>,
+    area: &DrawingArea<DB, Shift>,
+    canvas: Canvas,
     map: &OverturningMap,
+    title: &str,
 ) -> anyhow::Result<()> {
-    root.fill(&WHITE).map_err(err)?;
     let edges = |v: &[f64]| -> Vec<f64> {
         // Cell edges halfway between grid values.
         let n = v.len();
         if n == 0 {
             return vec![0.0, 1.0];
         }
-        let step = |i: usize| {
-            if n > 1 {
-                v[i.min(n - 1)] - v[i.min(n - 1).saturating_sub(1).min(n - 2)]
-            } else {
-                1.0
-            }
-        };
-        let mut e = vec![v[0] - step(1) / 2.0];
+        if n == 1 {
+            return vec![v[0] - 0.5, v[0] + 0.5];
+        }
+        let mut e = vec![v[0] - (v[1] - v[0]) / 2.0];
         e.extend(v.windows(2).map(|w| (w[0] + w[1]) / 2.0));
-        e.push(v[n - 1] + step(n - 1) / 2.0);
+        e.push(v[n - 1] + (v[n - 1] - v[n - 2]) / 2.0);
         e
     };
     let (ex, ey) = (edges(&map.xs), edges(&map.ys));
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            format!("overturning map: {} (red: overturned)", map.label),
-            (FONT, 20),
-        )
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(ex[0]..ex[ex.len() - 1], ey[0]..ey[ey.len() - 1])
-        .map_err(err)?;
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .x_desc(map.x_axis.as_str())
-        .y_desc(map.y_axis.as_str())
-        .label_style((FONT, 14))
-        .draw()
-        .map_err(err)?;
+    let (x_label, y_label) = (coordinate_axis(&map.x_axis), coordinate_axis(&map.y_axis));
+    let mut chart = build_chart(
+        area,
+        canvas,
+        &Axes {
+            x: (ex[0], ex[ex.len() - 1]),
+            y: (ey[0], ey[ey.len() - 1]),
+            x_label: &x_label,
+            y_label: &y_label,
+            title,
+            y_labels_below: None,
+        },
+    )?;
     let cells = map.cells.iter().enumerate().flat_map(|(iy, row)| {
         let (ex, ey) = (&ex, &ey);
         row.iter().enumerate().map(move |(ix, c)| {
             let color = match c {
-                Some(true) => RGBColor(214, 39, 40),
-                Some(false) => RGBColor(220, 220, 220),
+                Some(true) => OVERTURNED,
+                Some(false) => SURVIVED,
                 None => WHITE,
             };
             Rectangle::new([(ex[ix], ey[iy]), (ex[ix + 1], ey[iy + 1])], color.filled())
         })
     });
     chart.draw_series(cells).map_err(err)?;
-    root.present().map_err(err)
+    Ok(())
 }
 
-/// Histories of one scene: rotation and ground acceleration over time, one panel each.
-fn draw_history<DB: DrawingBackend>(
-    root: DrawingArea<DB, Shift>,
-    title: &str,
-    history: &History,
-    columns: &[&str],
-) -> anyhow::Result<()> {
-    root.fill(&WHITE).map_err(err)?;
-    let t = history
-        .column("t")
-        .ok_or_else(|| anyhow!("the history has no time column"))?;
-    let panels = root.split_evenly((columns.len(), 1));
-    for (i, (panel, name)) in panels.iter().zip(columns).enumerate() {
-        let Some(values) = history.column(name) else {
-            continue;
-        };
-        let (t0, t1) = range_of(t.iter().copied());
-        let (y0, y1) = range_of(values.iter().copied());
-        let mut chart = ChartBuilder::on(panel)
-            .caption(
-                if i == 0 {
-                    title.to_string()
-                } else {
-                    String::new()
-                },
-                (FONT, 18),
-            )
-            .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(70)
-            .build_cartesian_2d(t0..t1, y0..y1)
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc("t (s)")
-            .y_desc(*name)
-            .y_labels(5)
-            .label_style((FONT, 13))
-            .draw()
-            .map_err(err)?;
-        chart
-            .draw_series(LineSeries::new(
-                t.iter().copied().zip(values.iter().copied()),
-                // Width 1: plotters leaves gaps between many short wide segments.
-                palette(i + 1).stroke_width(1),
-            ))
-            .map_err(err)?;
+/// One panel of a scene's histories: lines, or a stacked area with a line on top.
+struct HistoryPanel {
+    y_label: String,
+    lines: Vec<(Vec<f64>, SeriesStyle)>,
+    stack: Vec<(Vec<f64>, RGBColor)>,
+}
+
+/// At most `n` points per series: the min and max of each bucket, so peaks survive.
+fn decimate(t: &[f64], y: &[f64], n: usize) -> Vec<(f64, f64)> {
+    if t.len() <= n {
+        return t.iter().copied().zip(y.iter().copied()).collect();
     }
-    root.present().map_err(err)
-}
-
-fn slug(text: &str) -> String {
-    let s: String = text
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() {
-                c.to_ascii_lowercase()
-            } else {
-                '-'
-            }
-        })
-        .collect();
-    let mut out = String::new();
-    for part in s.split('-').filter(|p| !p.is_empty()) {
-        if !out.is_empty() {
-            out.push('-');
+    let bucket = t.len().div_ceil(n / 2);
+    let mut out = Vec::with_capacity(n + 2);
+    for (tc, yc) in t.chunks(bucket).zip(y.chunks(bucket)) {
+        let (imin, imax) = yc.iter().enumerate().fold((0, 0), |(a, b), (i, v)| {
+            (
+                if *v < yc[a] { i } else { a },
+                if *v > yc[b] { i } else { b },
+            )
+        });
+        for i in if imin <= imax {
+            [imin, imax]
+        } else {
+            [imax, imin]
+        } {
+            out.push((tc[i], yc[i]));
         }
-        out.push_str(part);
     }
     out
 }
 
-/// One spectra figure per quantity; returns the files written.
-pub fn plot_spectra(
-    dir: &Path,
-    format: ImageFormat,
-    study_name: &str,
-    spectra: &[Spectrum],
-) -> anyhow::Result<Vec<PathBuf>> {
-    let mut written = Vec::new();
-    let mut quantities = Vec::new();
-    for s in spectra {
-        if !quantities.contains(&s.quantity) {
-            quantities.push(s.quantity);
-        }
-    }
-    for q in quantities {
-        let of_q: Vec<&Spectrum> = spectra.iter().filter(|s| s.quantity == q).collect();
-        if of_q.len() > MAX_SERIES {
-            // A fine map grid: one spectrum per amplitude would be unreadable; the map says it.
-            eprintln!(
-                "{} spectra of {}: too many for one figure, skipped (see results.csv)",
-                of_q.len(),
-                q.name()
-            );
-            continue;
-        }
-        let path = dir.join(format!("spectrum-{}.{}", q.name(), format.extension()));
-        let title = format!("{study_name}: {} (gaps: overturned or failed)", q.label());
-        render(
-            &path,
-            format,
-            SIZE,
-            |root| draw_spectra(root, &title, &of_q),
-            |root| draw_spectra(root, &title, &of_q),
-        )?;
-        written.push(path);
-    }
-    Ok(written)
-}
-
-pub fn plot_maps(
-    dir: &Path,
-    format: ImageFormat,
-    maps: &[OverturningMap],
-) -> anyhow::Result<Vec<PathBuf>> {
-    let mut written = Vec::new();
-    for (i, map) in maps.iter().enumerate() {
-        let path = dir.join(format!(
-            "map-{i}-{}.{}",
-            slug(&map.label),
-            format.extension()
-        ));
-        render(
-            &path,
-            format,
-            SIZE,
-            |r| draw_map(r, map),
-            |r| draw_map(r, map),
-        )?;
-        written.push(path);
-    }
-    Ok(written)
-}
-
+/// A scene's histories as the paper's Figs. 8/9/14/15: rotation (and deformation), ground
+/// acceleration, flywheel velocities, device force, and the energy partition stacked.
 pub fn plot_history(
     path: &Path,
-    format: ImageFormat,
+    options: &FigureOptions,
     title: &str,
+    scene: &crate::scene::Scene,
     history: &History,
 ) -> anyhow::Result<()> {
-    let wanted = ["theta", "u", "ground_accel", "device_force"];
-    let columns: Vec<&str> = wanted
-        .into_iter()
-        .filter(|c| history.columns.contains(c))
+    let t = history
+        .column("t")
+        .ok_or_else(|| anyhow::anyhow!("the history has no time column"))?;
+    let col = |n: &str| history.column(n);
+    let nonzero = |v: &Option<Vec<f64>>| v.as_ref().is_some_and(|v| v.iter().any(|x| *x != 0.0));
+    let solid = |i: usize| SeriesStyle {
+        marker: None,
+        dash: Dash::Solid,
+        ..SeriesStyle::nth(i)
+    };
+    let mut panels: Vec<HistoryPanel> = Vec::new();
+    let mut legend: Vec<LegendEntry> = Vec::new();
+    let alpha = scene.structure.alpha();
+    let flexible = col("u").is_some();
+    if let Some(theta) = col("theta") {
+        panels.push(if flexible {
+            HistoryPanel {
+                y_label: "θ [rad]".into(),
+                lines: vec![(theta, solid(0))],
+                stack: vec![],
+            }
+        } else {
+            HistoryPanel {
+                y_label: "θ/α".into(),
+                lines: vec![(theta.iter().map(|v| v / alpha).collect(), solid(0))],
+                stack: vec![],
+            }
+        });
+    }
+    if let Some(u) = col("u") {
+        panels.push(HistoryPanel {
+            y_label: "u [m]".into(),
+            lines: vec![(u, solid(0))],
+            stack: vec![],
+        });
+    }
+    if let Some(ag) = col("ground_accel") {
+        panels.push(HistoryPanel {
+            y_label: "ag [g]".into(),
+            lines: vec![(ag.iter().map(|v| v / 9.81).collect(), solid(0))],
+            stack: vec![],
+        });
+    }
+    let (va, vb) = (col("flywheel_a_vel"), col("flywheel_b_vel"));
+    if nonzero(&va) || nonzero(&vb) {
+        let mut lines = Vec::new();
+        let a_style = solid(2);
+        let b_style = SeriesStyle {
+            dash: Dash::Short,
+            ..solid(4)
+        };
+        if let Some(v) = va.filter(|v| v.iter().any(|x| *x != 0.0)) {
+            lines.push((v, a_style));
+            legend.push(LegendEntry {
+                label: "flywheel a".into(),
+                swatch: Swatch::Line(a_style),
+            });
+        }
+        if let Some(v) = vb.filter(|v| v.iter().any(|x| *x != 0.0)) {
+            lines.push((v, b_style));
+            legend.push(LegendEntry {
+                label: "flywheel b".into(),
+                swatch: Swatch::Line(b_style),
+            });
+        }
+        panels.push(HistoryPanel {
+            y_label: "ẏ [m/s]".into(),
+            lines,
+            stack: vec![],
+        });
+    }
+    let fd = col("device_force");
+    if nonzero(&fd) {
+        panels.push(HistoryPanel {
+            y_label: "Fd [N]".into(),
+            lines: vec![(fd.expect("checked"), solid(0))],
+            stack: vec![],
+        });
+    }
+    // Energy partition: every stored or dissipated term stacked, the input work on top.
+    let terms: Vec<&str> = history
+        .columns
+        .iter()
+        .copied()
+        .filter(|c| c.starts_with("e_") && *c != "e_input")
         .collect();
-    let size = (SIZE.0, 80 + 220 * columns.len() as u32);
+    if !terms.is_empty() {
+        let mut stack = Vec::new();
+        for (i, name) in terms.iter().enumerate() {
+            let v = col(name).expect("listed");
+            if v.iter().all(|x| *x == 0.0) {
+                continue;
+            }
+            let color = super::figure::PALETTE[(i + 1) % super::figure::PALETTE.len()];
+            legend.push(LegendEntry {
+                label: energy_label(name),
+                swatch: Swatch::Fill(color.mix(0.55).rgb_blend()),
+            });
+            stack.push((v, color));
+        }
+        let input_style = solid(0);
+        let mut lines = vec![];
+        if let Some(e) = col("e_input") {
+            lines.push((e, input_style));
+            legend.push(LegendEntry {
+                label: "input work".into(),
+                swatch: Swatch::Line(input_style),
+            });
+        }
+        panels.push(HistoryPanel {
+            y_label: "E [J]".into(),
+            lines,
+            stack,
+        });
+    }
+    let canvas = options.canvas(FigureSize::mm(160.0, 32.0 * panels.len() as f64 + 22.0));
     render(
         path,
-        format,
-        size,
-        |r| draw_history(r, title, history, &columns),
-        |r| draw_history(r, title, history, &columns),
+        options,
+        canvas,
+        |r| draw_history(r, canvas, title, &legend, &t, &panels),
+        |r| draw_history(r, canvas, title, &legend, &t, &panels),
     )
+}
+
+trait Blend {
+    fn rgb_blend(&self) -> RGBColor;
+}
+
+impl Blend for RGBAColor {
+    /// The colour of this translucent colour over white, for legend boxes.
+    fn rgb_blend(&self) -> RGBColor {
+        let (r, g, b) = self.rgb();
+        let a = self.alpha();
+        let f = |c: u8| (c as f64 * a + 255.0 * (1.0 - a)).round() as u8;
+        RGBColor(f(r), f(g), f(b))
+    }
+}
+
+fn energy_label(column: &str) -> String {
+    match column {
+        "e_structure" => "structure (kinetic + potential)".into(),
+        "e_inerter" => "flywheels + clutch spring".into(),
+        "e_dissipated" => "dissipated".into(),
+        "e_column_damping" => "column damping".into(),
+        "e_device_damping" => "device damping".into(),
+        "e_friction" => "friction".into(),
+        "e_impact" => "impacts".into(),
+        "e_disengagement" => "disengagement".into(),
+        "e_reset" => "clutch resets".into(),
+        other => other.trim_start_matches("e_").replace('_', " "),
+    }
+}
+
+fn draw_history<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    canvas: Canvas,
+    title: &str,
+    legend: &[LegendEntry],
+    t: &[f64],
+    panels: &[HistoryPanel],
+) -> anyhow::Result<()> {
+    let (body, _) = split_figure(&root, canvas, title, legend)?;
+    let areas = body.split_evenly((panels.len().max(1), 1));
+    let (t0, t1) = range_of(t.iter().copied());
+    const POINTS: usize = 4000;
+    for (i, (area, panel)) in areas.iter().zip(panels).enumerate() {
+        // Cumulative sums of the stack.
+        let mut cumulative: Vec<Vec<f64>> = Vec::new();
+        let mut acc = vec![0.0; t.len()];
+        for (v, _) in &panel.stack {
+            for (a, x) in acc.iter_mut().zip(v) {
+                *a += x;
+            }
+            cumulative.push(acc.clone());
+        }
+        let (y0, y1) = range_of(
+            panel
+                .lines
+                .iter()
+                .flat_map(|(v, _)| v.iter().copied())
+                .chain(cumulative.iter().flatten().copied())
+                .chain(if panel.stack.is_empty() {
+                    None
+                } else {
+                    Some(0.0)
+                }),
+        );
+        let pad = 0.05 * (y1 - y0);
+        let mut chart = build_chart(
+            area,
+            canvas,
+            &Axes {
+                x: (t0, t1),
+                y: (y0 - pad, y1 + pad),
+                x_label: if i + 1 == panels.len() { "t [s]" } else { "" },
+                y_label: &panel.y_label,
+                title: "",
+                y_labels_below: None,
+            },
+        )?;
+        let mut lower = vec![0.0; t.len()];
+        for (upper, (_, color)) in cumulative.iter().zip(&panel.stack) {
+            let top = decimate(t, upper, POINTS);
+            let bottom = decimate(t, &lower, POINTS);
+            let mut poly = top;
+            poly.extend(bottom.into_iter().rev());
+            chart
+                .draw_series(std::iter::once(Polygon::new(
+                    poly,
+                    color.mix(0.55).filled(),
+                )))
+                .map_err(err)?;
+            lower.clone_from(upper);
+        }
+        for (v, style) in &panel.lines {
+            let pts = decimate(t, v, POINTS);
+            // Thin lines: plotters leaves gaps between many short wide segments.
+            draw_line(&mut chart, canvas, &pts, *style, 0.7)?;
+        }
+    }
+    root.present().map_err(err)
 }
 
 /// A readable label for a scene, for history plots.
 pub fn scene_title(index: usize, group: &str, coords: &[(String, f64)]) -> String {
     let c: Vec<String> = coords
         .iter()
-        .map(|(n, v)| format!("{n}={}", fmt_num(*v)))
+        .map(|(n, v)| format!("{n} = {}", fmt_num(*v)))
         .collect();
-    format!("scene {index}: {group} {}", c.join(" "))
+    format!("scene {index}: {group}, {}", c.join(", "))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn selector_terms_accept_plain_and_ron_forms() {
+        assert_eq!(
+            selector_terms("mechanistic(k_theta: 3.0, play: 0.005)"),
+            vec!["mechanistic", "k_theta=3.0", "play=0.005"]
+        );
+        assert_eq!(
+            selector_terms("mechanistic up = 0.005"),
+            vec!["mechanistic", "up=0.005"]
+        );
+        assert_eq!(selector_terms("bare,landers"), vec!["bare", "landers"]);
+    }
+
+    #[test]
+    fn decimation_keeps_the_extremes() {
+        let t: Vec<f64> = (0..10_000).map(|i| i as f64).collect();
+        let y: Vec<f64> = t
+            .iter()
+            .map(|x| (x * 0.01).sin() * if *x == 4321.0 { 5.0 } else { 1.0 })
+            .collect();
+        let d = decimate(&t, &y, 500);
+        assert!(d.len() <= 502, "{}", d.len());
+        let max = d.iter().map(|p| p.1).fold(f64::MIN, f64::max);
+        let true_max = y.iter().copied().fold(f64::MIN, f64::max);
+        assert_eq!(max, true_max);
+    }
 }

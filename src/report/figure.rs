@@ -1,0 +1,719 @@
+//! Paper-figure primitives shared by every rocklab figure: physical size and resolution, a
+//! proportional font, a colour-blind-safe palette with line styles and markers that survive
+//! greyscale printing, clean tick labels, light major grid, and a legend drawn outside the
+//! panels (so it never hides data). Plotters draws; this module decides how it looks.
+
+use anyhow::{Context, anyhow};
+use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use std::path::Path;
+use std::sync::Once;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    Svg,
+    Png,
+}
+
+impl ImageFormat {
+    pub fn extension(self) -> &'static str {
+        match self {
+            ImageFormat::Svg => "svg",
+            ImageFormat::Png => "png",
+        }
+    }
+}
+
+/// The family name plotters knows our bundled DejaVu Sans by; SVG viewers fall back to their
+/// own sans-serif, which keeps the SVG small and editable.
+pub const FONT: &str = "sans-serif";
+
+/// A figure's physical size (mm) and raster resolution (dots per inch; SVG uses CSS's 96).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FigureSize {
+    pub width_mm: f64,
+    pub height_mm: f64,
+}
+
+impl FigureSize {
+    pub fn mm(width_mm: f64, height_mm: f64) -> Self {
+        FigureSize {
+            width_mm,
+            height_mm,
+        }
+    }
+
+    /// Parse `160x80mm`, `6.3x3.2in`, `16x8cm` or `1200x600px` (px at 96 per inch).
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let t = text.trim().to_ascii_lowercase();
+        let (numbers, per_mm) = [("mm", 1.0), ("cm", 10.0), ("in", 25.4), ("px", 25.4 / 96.0)]
+            .into_iter()
+            .find_map(|(unit, f)| t.strip_suffix(unit).map(|n| (n.to_string(), f)))
+            .ok_or_else(|| {
+                format!("--size {text}: give a unit, e.g. 160x80mm, 6.3x3.2in, 16x8cm, 1200x600px")
+            })?;
+        let (w, h) = numbers
+            .split_once(['x', '×'])
+            .ok_or_else(|| format!("--size {text}: expected WIDTHxHEIGHT, e.g. 160x80mm"))?;
+        let parse = |s: &str| -> Result<f64, String> {
+            let v: f64 = s
+                .trim()
+                .parse()
+                .map_err(|_| format!("--size {text}: `{s}` is not a number"))?;
+            // 5 mm … 2 m: anything else is a typo (and a 2 m PNG at 300 dpi is already 24k px).
+            if (5.0..=2000.0).contains(&(v * per_mm)) {
+                Ok(v * per_mm)
+            } else {
+                Err(format!(
+                    "--size {text}: each side must be between 5 mm and 2 m"
+                ))
+            }
+        };
+        Ok(FigureSize::mm(parse(w)?, parse(h)?))
+    }
+}
+
+/// How a figure is written: format, size and resolution.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FigureOptions {
+    pub format: ImageFormat,
+    /// None: each figure picks a size that suits its panels.
+    pub size: Option<FigureSize>,
+    /// PNG resolution; SVG is laid out at 96 px per inch (CSS pixels).
+    pub dpi: f64,
+}
+
+impl FigureOptions {
+    pub fn new(format: ImageFormat) -> Self {
+        FigureOptions {
+            format,
+            size: None,
+            dpi: 300.0,
+        }
+    }
+
+    fn pixels_per_inch(&self) -> f64 {
+        match self.format {
+            ImageFormat::Svg => 96.0,
+            ImageFormat::Png => self.dpi,
+        }
+    }
+
+    /// Pixel size of a figure and the scale from typographic points to pixels.
+    pub fn canvas(&self, default: FigureSize) -> Canvas {
+        let size = self.size.unwrap_or(default);
+        let ppi = self.pixels_per_inch();
+        let px = |mm: f64| ((mm / 25.4 * ppi).round() as u32).max(16);
+        Canvas {
+            size,
+            pixels: (px(size.width_mm), px(size.height_mm)),
+            pt: ppi / 72.0,
+        }
+    }
+}
+
+/// A figure's pixel size and the size of one typographic point in pixels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Canvas {
+    pub size: FigureSize,
+    pub pixels: (u32, u32),
+    pub pt: f64,
+}
+
+impl Canvas {
+    /// `v` points in pixels (at least 1).
+    pub fn px(&self, v: f64) -> u32 {
+        (v * self.pt).round().max(1.0) as u32
+    }
+
+    pub fn font(&self, points: f64) -> TextStyle<'static> {
+        // Plotters' font size is the line height; 1.24 × the em size (see plotters-svg).
+        (FONT, points * self.pt * 1.24).into_font().color(&BLACK)
+    }
+
+    pub fn line(&self, color: RGBColor, points: f64) -> ShapeStyle {
+        color.stroke_width(self.px(points))
+    }
+}
+
+pub fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        let bytes = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+        for style in [FontStyle::Normal, FontStyle::Bold] {
+            // The font is compiled in and known to parse; a failure would only lose text.
+            let _ = plotters::style::register_font(FONT, style, bytes);
+        }
+    });
+}
+
+pub fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+    anyhow!("drawing failed: {e:?}")
+}
+
+/// Draw with `draw` into `path` (atomically: a temporary file in the same directory, then
+/// rename). The two closures are the same drawing for the two backends.
+pub fn render(
+    path: &Path,
+    options: &FigureOptions,
+    canvas: Canvas,
+    draw_svg: impl Fn(DrawingArea<SVGBackend, Shift>) -> anyhow::Result<()>,
+    draw_png: impl Fn(DrawingArea<BitMapBackend, Shift>) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    register_font();
+    match options.format {
+        ImageFormat::Svg => {
+            let mut svg = String::new();
+            {
+                let root = SVGBackend::with_string(&mut svg, canvas.pixels).into_drawing_area();
+                draw_svg(root)?;
+            }
+            super::write_atomic(path, physical_svg_size(&svg, canvas).as_bytes())
+        }
+        ImageFormat::Png => {
+            let dir = match path.parent() {
+                Some(d) if !d.as_os_str().is_empty() => d,
+                _ => Path::new("."),
+            };
+            let tmp = tempfile::Builder::new()
+                .suffix(".png")
+                .tempfile_in(dir)
+                .with_context(|| format!("cannot create a file in {}", dir.display()))?;
+            {
+                let root = BitMapBackend::new(tmp.path(), canvas.pixels).into_drawing_area();
+                draw_png(root)?;
+            }
+            super::readable_by_all(tmp.as_file())?;
+            tmp.persist(path)
+                .with_context(|| format!("cannot write {}", path.display()))?;
+            Ok(())
+        }
+    }
+}
+
+/// Plotters writes `width="W" height="H"` in pixels; a paper figure wants its size in mm
+/// (the viewBox keeps the drawing's pixel coordinates).
+fn physical_svg_size(svg: &str, canvas: Canvas) -> String {
+    let (w, h) = canvas.pixels;
+    let old = format!("width=\"{w}\" height=\"{h}\"");
+    let new = format!(
+        "width=\"{:.2}mm\" height=\"{:.2}mm\"",
+        canvas.size.width_mm, canvas.size.height_mm
+    );
+    svg.replacen(&old, &new, 1)
+}
+
+/// Okabe & Ito's colour-blind-safe palette, ordered so neighbours also differ in lightness
+/// (yellow last: it is faint on white).
+pub const PALETTE: [RGBColor; 8] = [
+    RGBColor(0, 0, 0),
+    RGBColor(230, 159, 0),
+    RGBColor(0, 114, 178),
+    RGBColor(0, 158, 115),
+    RGBColor(213, 94, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(204, 121, 167),
+    RGBColor(240, 228, 66),
+];
+
+pub const GRID: RGBColor = RGBColor(225, 225, 225);
+
+/// Line patterns, as (dash, gap) in points; `None` is solid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Dash {
+    Solid,
+    Long,
+    Short,
+    Dotted,
+}
+
+impl Dash {
+    pub const ALL: [Dash; 4] = [Dash::Solid, Dash::Long, Dash::Short, Dash::Dotted];
+
+    fn pattern(self) -> Option<(f64, f64)> {
+        match self {
+            Dash::Solid => None,
+            Dash::Long => Some((5.0, 2.5)),
+            Dash::Short => Some((2.2, 1.6)),
+            Dash::Dotted => Some((0.9, 1.4)),
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Marker {
+    Circle,
+    Square,
+    Triangle,
+    Diamond,
+    Cross,
+}
+
+impl Marker {
+    pub const ALL: [Marker; 5] = [
+        Marker::Circle,
+        Marker::Square,
+        Marker::Triangle,
+        Marker::Diamond,
+        Marker::Cross,
+    ];
+}
+
+/// How one series looks: colour, line pattern and marker, each enough to tell it apart.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct SeriesStyle {
+    pub color: RGBColor,
+    pub dash: Dash,
+    pub marker: Option<Marker>,
+}
+
+impl SeriesStyle {
+    /// The i-th style of a figure: colour, dash and marker all change with i, and (dash,
+    /// marker) pairs repeat only after 20 series, so greyscale still tells them apart.
+    pub fn nth(i: usize) -> Self {
+        SeriesStyle {
+            color: PALETTE[i % PALETTE.len()],
+            dash: Dash::ALL[i % Dash::ALL.len()],
+            marker: Some(Marker::ALL[i % Marker::ALL.len()]),
+        }
+    }
+}
+
+/// Line width of data series, points.
+pub const LINE_PT: f64 = 1.1;
+/// Marker radius, points.
+pub const MARKER_PT: f64 = 2.2;
+
+pub type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// A polyline in the series' pattern.
+pub fn draw_line<DB: DrawingBackend>(
+    chart: &mut Chart<DB>,
+    canvas: Canvas,
+    points: &[(f64, f64)],
+    style: SeriesStyle,
+    width_pt: f64,
+) -> anyhow::Result<()> {
+    let line = canvas.line(style.color, width_pt);
+    match style.dash.pattern() {
+        None => {
+            chart
+                .draw_series(LineSeries::new(points.iter().copied(), line))
+                .map_err(err)?;
+        }
+        Some((dash, gap)) => {
+            let (dash, gap) = (canvas.px(dash), canvas.px(gap));
+            chart
+                .draw_series(DashedLineSeries::new(
+                    points.iter().copied(),
+                    dash,
+                    gap,
+                    line,
+                ))
+                .map_err(err)?;
+        }
+    }
+    Ok(())
+}
+
+/// Markers at `points` (data coordinates).
+pub fn draw_markers<DB: DrawingBackend>(
+    chart: &mut Chart<DB>,
+    canvas: Canvas,
+    points: &[(f64, f64)],
+    marker: Marker,
+    color: RGBColor,
+) -> anyhow::Result<()> {
+    let r = canvas.px(MARKER_PT) as i32;
+    let fill = color.filled();
+    let stroke = canvas.line(color, 0.8);
+    let pts = points.iter().copied();
+    match marker {
+        Marker::Circle => chart
+            .draw_series(pts.map(|p| EmptyElement::at(p) + Circle::new((0, 0), r, fill)))
+            .map(|_| ()),
+        Marker::Square => chart
+            .draw_series(pts.map(|p| {
+                let s = r * 8 / 10;
+                EmptyElement::at(p) + Rectangle::new([(-s, -s), (s, s)], fill)
+            }))
+            .map(|_| ()),
+        Marker::Triangle => chart
+            .draw_series(pts.map(|p| {
+                EmptyElement::at(p)
+                    + Polygon::new(vec![(0, -r), (r, r * 7 / 10), (-r, r * 7 / 10)], fill)
+            }))
+            .map(|_| ()),
+        Marker::Diamond => chart
+            .draw_series(pts.map(|p| {
+                EmptyElement::at(p) + Polygon::new(vec![(0, -r), (r, 0), (0, r), (-r, 0)], fill)
+            }))
+            .map(|_| ()),
+        Marker::Cross => chart
+            .draw_series(pts.map(|p| EmptyElement::at(p) + Cross::new((0, 0), r, stroke)))
+            .map(|_| ()),
+    }
+    .map_err(err)
+}
+
+/// Tick labels with as many decimals as the tick spacing needs: `0.5`, `1.0`, `1.5`, never
+/// `1.0000001` or a bare `1.`.
+pub fn tick_formatter(lo: f64, hi: f64, ticks: usize) -> impl Fn(&f64) -> String {
+    // The tick spacing plotters will pick: range/ticks rounded up to 1, 2 or 5 × 10^k.
+    let raw = ((hi - lo).abs() / ticks.max(1) as f64).max(f64::MIN_POSITIVE);
+    let decade = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * decade)
+        .find(|s| *s >= raw * (1.0 - 1e-9))
+        .unwrap_or(10.0 * decade);
+    let decimals = (-step.log10().floor()).max(0.0) as usize;
+    let scientific = hi.abs().max(lo.abs()) >= 1e5 || (hi.abs().max(lo.abs()) < 1e-3 && hi != lo);
+    move |v: &f64| {
+        if scientific {
+            return format!("{v:.1e}").replace(".0e", "e");
+        }
+        // One more decimal where a tick is not on the expected grid (never a rounded lie).
+        let mut d = decimals;
+        let mut s = format!("{v:.d$}");
+        while d < 6 && s.parse::<f64>().is_ok_and(|p| (p - v).abs() > step * 1e-6) {
+            d += 1;
+            s = format!("{v:.d$}");
+        }
+        // `-0.0` reads as a sign error on an axis.
+        if s.trim_start_matches('-')
+            .chars()
+            .all(|c| c == '0' || c == '.')
+        {
+            s.trim_start_matches('-').to_string()
+        } else {
+            s
+        }
+    }
+}
+
+/// Number of tick labels for an axis `len_px` long (about one per 14 mm, 3…10).
+pub fn tick_count(len_px: u32, canvas: Canvas) -> usize {
+    let mm = len_px as f64 / canvas.pt / 72.0 * 25.4;
+    ((mm / 14.0).round() as usize).clamp(3, 10)
+}
+
+/// A framed chart with light major grid lines only, axis titles and clean ticks.
+pub struct Axes<'l> {
+    pub x: (f64, f64),
+    pub y: (f64, f64),
+    pub x_label: &'l str,
+    pub y_label: &'l str,
+    pub title: &'l str,
+    /// No tick labels above this value (a strip of marks above the data, e.g. overturned).
+    pub y_labels_below: Option<f64>,
+}
+
+pub fn build_chart<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    canvas: Canvas,
+    axes: &Axes,
+) -> anyhow::Result<Chart<'a, DB>> {
+    let (w, h) = area.dim_in_pixel();
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .margin_top(canvas.px(if axes.title.is_empty() { 4.0 } else { 2.0 }))
+        .margin_right(canvas.px(8.0))
+        .margin_left(canvas.px(2.0))
+        .x_label_area_size(canvas.px(26.0))
+        .y_label_area_size(canvas.px(38.0));
+    if !axes.title.is_empty() {
+        builder.caption(axes.title, canvas.font(8.5));
+    }
+    let mut chart = builder
+        .build_cartesian_2d(axes.x.0..axes.x.1, axes.y.0..axes.y.1)
+        .map_err(err)?;
+    let (nx, ny) = (tick_count(w, canvas), tick_count(h, canvas));
+    let fx = tick_formatter(axes.x.0, axes.x.1, nx);
+    let fy_all = tick_formatter(axes.y.0, axes.y.1, ny);
+    let limit = axes.y_labels_below.unwrap_or(f64::INFINITY);
+    let fy = move |v: &f64| {
+        if *v > limit { String::new() } else { fy_all(v) }
+    };
+    chart
+        .configure_mesh()
+        .x_labels(nx)
+        .y_labels(ny)
+        .max_light_lines(0)
+        .bold_line_style(canvas.line(GRID, 0.5))
+        .axis_style(canvas.line(BLACK, 0.6))
+        .set_all_tick_mark_size(canvas.px(2.5))
+        .label_style(canvas.font(7.5))
+        .axis_desc_style(canvas.font(8.5))
+        .x_label_formatter(&fx)
+        .y_label_formatter(&fy)
+        .x_desc(axes.x_label)
+        .y_desc(axes.y_label)
+        .draw()
+        .map_err(err)?;
+    Ok(chart)
+}
+
+/// How an entry of a legend is drawn.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Swatch {
+    /// A line sample in a series style.
+    Line(SeriesStyle),
+    /// A filled box (map cells, stacked areas, bands).
+    Fill(RGBColor),
+    /// A marker alone (e.g. overturned points).
+    Marker(Marker, RGBColor),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct LegendEntry {
+    pub label: String,
+    pub swatch: Swatch,
+}
+
+const LEGEND_FONT_PT: f64 = 7.5;
+const LEGEND_SAMPLE_PT: f64 = 18.0;
+
+fn entry_width(canvas: Canvas, e: &LegendEntry) -> u32 {
+    let font = canvas.font(LEGEND_FONT_PT);
+    let text = font.font.box_size(&e.label).map(|(w, _)| w).unwrap_or(0);
+    canvas.px(LEGEND_SAMPLE_PT + 4.0 + 10.0) + text
+}
+
+/// Height in pixels the legend needs below panels `width` pixels wide.
+pub fn legend_height(canvas: Canvas, width: u32, entries: &[LegendEntry]) -> u32 {
+    if entries.is_empty() {
+        return 0;
+    }
+    register_font();
+    legend_rows(canvas, width, entries).len() as u32 * canvas.px(11.0) + canvas.px(4.0)
+}
+
+fn legend_rows(canvas: Canvas, width: u32, entries: &[LegendEntry]) -> Vec<Vec<usize>> {
+    let mut rows: Vec<Vec<usize>> = vec![vec![]];
+    let mut used = 0;
+    let avail = width.saturating_sub(canvas.px(10.0));
+    for (i, e) in entries.iter().enumerate() {
+        let w = entry_width(canvas, e);
+        if used + w > avail && !rows.last().is_some_and(Vec::is_empty) {
+            rows.push(vec![]);
+            used = 0;
+        }
+        rows.last_mut().expect("non-empty").push(i);
+        used += w;
+    }
+    rows
+}
+
+/// A legend in rows, centred, in its own strip of the figure.
+pub fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    canvas: Canvas,
+    entries: &[LegendEntry],
+) -> anyhow::Result<()> {
+    let (width, _) = area.dim_in_pixel();
+    let row_h = canvas.px(11.0) as i32;
+    let sample = canvas.px(LEGEND_SAMPLE_PT) as i32;
+    let font = canvas.font(LEGEND_FONT_PT);
+    for (r, row) in legend_rows(canvas, width, entries).iter().enumerate() {
+        let total: u32 = row.iter().map(|&i| entry_width(canvas, &entries[i])).sum();
+        let mut x = (width.saturating_sub(total) / 2) as i32;
+        let y = canvas.px(2.0) as i32 + r as i32 * row_h + row_h / 2;
+        for &i in row {
+            let e = &entries[i];
+            match &e.swatch {
+                Swatch::Line(style) => {
+                    let line = canvas.line(style.color, LINE_PT);
+                    let path = vec![(x, y), (x + sample, y)];
+                    match style.dash.pattern() {
+                        None => area.draw(&PathElement::new(path, line)).map_err(err)?,
+                        Some((d, g)) => area
+                            .draw(&DashedPathElement::new(
+                                path,
+                                canvas.px(d),
+                                canvas.px(g),
+                                line,
+                            ))
+                            .map_err(err)?,
+                    }
+                    if let Some(m) = style.marker {
+                        draw_marker_px(area, canvas, (x + sample / 2, y), m, style.color)?;
+                    }
+                }
+                Swatch::Fill(color) => {
+                    let s = canvas.px(3.5) as i32;
+                    area.draw(&Rectangle::new(
+                        [
+                            (x + sample / 2 - 2 * s, y - s),
+                            (x + sample / 2 + 2 * s, y + s),
+                        ],
+                        color.filled(),
+                    ))
+                    .map_err(err)?;
+                    area.draw(&Rectangle::new(
+                        [
+                            (x + sample / 2 - 2 * s, y - s),
+                            (x + sample / 2 + 2 * s, y + s),
+                        ],
+                        canvas.line(RGBColor(120, 120, 120), 0.4),
+                    ))
+                    .map_err(err)?;
+                }
+                Swatch::Marker(m, color) => {
+                    draw_marker_px(area, canvas, (x + sample / 2, y), *m, *color)?
+                }
+            }
+            area.draw(&Text::new(
+                e.label.clone(),
+                (x + sample + canvas.px(4.0) as i32, y),
+                font.pos(Pos::new(HPos::Left, VPos::Center)),
+            ))
+            .map_err(err)?;
+            x += entry_width(canvas, e) as i32;
+        }
+    }
+    Ok(())
+}
+
+fn draw_marker_px<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    canvas: Canvas,
+    at: (i32, i32),
+    marker: Marker,
+    color: RGBColor,
+) -> anyhow::Result<()> {
+    let r = canvas.px(MARKER_PT) as i32;
+    let (x, y) = at;
+    let fill = color.filled();
+    match marker {
+        Marker::Circle => area.draw(&Circle::new(at, r, fill)),
+        Marker::Square => {
+            let s = r * 8 / 10;
+            area.draw(&Rectangle::new([(x - s, y - s), (x + s, y + s)], fill))
+        }
+        Marker::Triangle => area.draw(&Polygon::new(
+            vec![(x, y - r), (x + r, y + r * 7 / 10), (x - r, y + r * 7 / 10)],
+            fill,
+        )),
+        Marker::Diamond => area.draw(&Polygon::new(
+            vec![(x, y - r), (x + r, y), (x, y + r), (x - r, y)],
+            fill,
+        )),
+        Marker::Cross => area.draw(&Cross::new(at, r, canvas.line(color, 0.8))),
+    }
+    .map_err(err)
+}
+
+/// The figure's title strip, then the panel area and the legend strip below it.
+pub fn split_figure<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    canvas: Canvas,
+    title: &str,
+    legend: &[LegendEntry],
+) -> anyhow::Result<(DrawingArea<DB, Shift>, DrawingArea<DB, Shift>)> {
+    root.fill(&WHITE).map_err(err)?;
+    let (w, h) = root.dim_in_pixel();
+    let body = if title.is_empty() {
+        root.clone()
+    } else {
+        let title_h = canvas.px(14.0);
+        let (top, body) = root.split_vertically(title_h);
+        // Shrink a long title to fit the width (down to 6.5 pt), then cut it.
+        let fits = |pt: f64, text: &str| {
+            canvas
+                .font(pt)
+                .font
+                .box_size(text)
+                .map_or(true, |(tw, _)| tw + canvas.px(6.0) <= w)
+        };
+        let mut pt = 9.5;
+        while pt > 6.5 && !fits(pt, title) {
+            pt -= 0.5;
+        }
+        let mut chars: Vec<char> = title.chars().collect();
+        let mut text = title.to_string();
+        while !fits(pt, &text) && chars.len() > 8 {
+            chars.pop();
+            text = chars.iter().collect::<String>() + "…";
+        }
+        top.draw(&Text::new(
+            text,
+            (w as i32 / 2, title_h as i32 / 2),
+            canvas.font(pt).pos(Pos::new(HPos::Center, VPos::Center)),
+        ))
+        .map_err(err)?;
+        body
+    };
+    let legend_h = legend_height(canvas, w, legend).min(h / 2);
+    let (_, body_h) = body.dim_in_pixel();
+    let (panels, legend_area) = body.split_vertically(body_h - legend_h);
+    draw_legend(&legend_area, canvas, legend)?;
+    Ok((panels, legend_area))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_in_mm_inches_cm_and_px() {
+        assert_eq!(
+            FigureSize::parse("160x80mm").unwrap(),
+            FigureSize::mm(160.0, 80.0)
+        );
+        let s = FigureSize::parse("6.3x3.2in").unwrap();
+        assert!((s.width_mm - 160.02).abs() < 1e-9 && (s.height_mm - 81.28).abs() < 1e-9);
+        assert_eq!(
+            FigureSize::parse("16x8cm").unwrap(),
+            FigureSize::mm(160.0, 80.0)
+        );
+        for bad in ["160x80", "160mm", "ax80mm", "0x80mm", "5000x80mm"] {
+            let e = FigureSize::parse(bad).unwrap_err();
+            assert!(e.contains("--size"), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn canvas_pixels_follow_size_and_dpi() {
+        let mut o = FigureOptions::new(ImageFormat::Png);
+        o.size = Some(FigureSize::mm(160.0, 80.0));
+        o.dpi = 300.0;
+        let c = o.canvas(FigureSize::mm(1.0, 1.0));
+        // 160 mm = 6.299 in → 1890 px at 300 dpi; a point is 300/72 px.
+        assert_eq!(c.pixels, (1890, 945));
+        assert!((c.pt - 300.0 / 72.0).abs() < 1e-12);
+        o.format = ImageFormat::Svg;
+        assert_eq!(o.canvas(FigureSize::mm(1.0, 1.0)).pixels, (605, 302));
+    }
+
+    #[test]
+    fn ticks_have_the_decimals_their_spacing_needs() {
+        let f = tick_formatter(0.0, 10.0, 5);
+        assert_eq!((f(&2.0), f(&10.0)), ("2".to_string(), "10".to_string()));
+        let f = tick_formatter(0.0, 1.05, 5);
+        assert_eq!(
+            (f(&0.5), f(&1.0), f(&-0.0)),
+            ("0.5".into(), "1.0".into(), "0.0".into())
+        );
+        // Off-grid ticks get the decimals they need rather than a rounded label.
+        assert_eq!(f(&0.25), "0.25");
+        let f = tick_formatter(0.0, 6.9, 10);
+        assert_eq!((f(&1.0), f(&6.0)), ("1".into(), "6".into()));
+        let f = tick_formatter(0.0, 0.012, 5);
+        assert_eq!(f(&0.004), "0.004");
+        assert!(!f(&0.004).contains(' '));
+    }
+
+    #[test]
+    fn series_styles_differ_in_dash_or_marker_not_only_colour() {
+        let styles: Vec<SeriesStyle> = (0..20).map(SeriesStyle::nth).collect();
+        for (i, a) in styles.iter().enumerate() {
+            for b in &styles[i + 1..] {
+                assert!((a.dash, a.marker) != (b.dash, b.marker), "{a:?} {b:?}");
+            }
+        }
+    }
+}
