@@ -8,6 +8,7 @@ mod exact_contact;
 mod excitation;
 mod flexible;
 mod hard_cases;
+mod lost_events;
 mod records_cli;
 mod records_sim;
 mod rigid;
