@@ -3,6 +3,7 @@
 
 mod util;
 
+mod angular_acceleration;
 mod cli_simulate;
 mod exact_contact;
 mod excitation;

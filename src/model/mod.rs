@@ -131,6 +131,12 @@ pub struct Peaks {
     pub drift: f64,
     /// |absolute horizontal acceleration| / g, impact jumps excluded.
     pub abs_acceleration_g: f64,
+    /// Rigid block: |θ̈|max / p² (rad), the angular acceleration between impacts (paper §3):
+    /// the instants of Housner's velocity jump are excluded (the one-sided values on either
+    /// side count), a Dirac-delta impact moment is included (it is a finite force, the
+    /// acceleration Fig. 5b shows). None for structures without this measure.
+    #[serde(default)]
+    pub angular_acceleration_p2: Option<f64>,
 }
 
 /// What the simulation driver needs from a structure family.

@@ -155,7 +155,10 @@ impl<'m> RigidModel<'m> {
             rest_rate: (2e-10f64).sqrt() * p2.sqrt() * block.alpha,
             ledger: Ledger::default(),
             counters: Counters::default(),
-            peaks: Peaks::default(),
+            peaks: Peaks {
+                angular_acceleration_p2: Some(0.0),
+                ..Peaks::default()
+            },
         }
     }
 
@@ -469,6 +472,22 @@ impl<'m> RigidModel<'m> {
         xddot + ag
     }
 
+    /// |θ̈| / p² from the equations of motion at (t, y): zero on the ground; the Dirac impact
+    /// moment included.
+    fn angular_acceleration_p2(&self, t: f64, y: &[f64]) -> f64 {
+        if self.phase != Phase::Rocking {
+            return 0.0;
+        }
+        let mut dy = [0.0; 16];
+        let dy = &mut dy[..y.len()];
+        self.rhs_slice(t, y, dy);
+        dy[1].abs() / self.p2
+    }
+
+    fn peak_angular_acceleration_p2(&self) -> f64 {
+        self.peaks.angular_acceleration_p2.unwrap_or(0.0)
+    }
+
     fn drift_of(&self, theta: f64) -> f64 {
         let x = match self.form {
             Equations::Exact => self.r * (self.sin_a - (self.alpha - theta.abs()).sin()),
@@ -663,7 +682,11 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
         let accel = self.r
             * (self.p2 * s_max + force * self.r / self.i0 + (1.0 + 0.75 * sigma) * s_max * rate2)
             / G;
-        reach < self.peaks.rotation && accel < self.peaks.abs_acceleration_g
+        // |θ̈| ≤ p² s_max + |Fd|max R/I0 + ¾σ s_max θ̇²max with the ground at rest.
+        let angular = s_max + (force * self.r / self.i0 + 0.75 * sigma * s_max * rate2) / self.p2;
+        reach < self.peaks.rotation
+            && accel < self.peaks.abs_acceleration_g
+            && angular < self.peak_angular_acceleration_p2()
     }
 
     fn observe_step(&mut self, dense: &Dense<N>, t_end: f64) {
@@ -671,6 +694,10 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
             let rot = extremum_on_step(dense, t_end, 0, 1);
             self.peaks.rotation = self.peaks.rotation.max(rot);
             self.peaks.drift = self.peaks.drift.max(self.drift_of(rot));
+            let floor = self.peak_angular_acceleration_p2();
+            let theta_dd = |t: f64| self.angular_acceleration_p2(t, &dense.state(t));
+            let peak = refined_max(theta_dd, dense.t0, t_end, 4, floor);
+            self.peaks.angular_acceleration_p2 = Some(floor.max(peak));
         }
         let accel_g = |t: f64| {
             self.absolute_acceleration(t, &dense.state(t), &dense.derivative(t))
@@ -688,6 +715,10 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
         self.peaks.drift = self.peaks.drift.max(self.drift_of(y[0]));
         let a = self.absolute_acceleration(t, y, &dy);
         self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a.abs() / G);
+        // After a jump this is the one-sided value just past it (the jump itself excluded).
+        let theta_dd = self.angular_acceleration_p2(t, y);
+        self.peaks.angular_acceleration_p2 =
+            Some(self.peak_angular_acceleration_p2().max(theta_dd));
     }
 
     fn observe_idle(&mut self, t0: f64, t1: f64) {
