@@ -5,7 +5,9 @@
 
 pub mod cli;
 pub mod excitation;
+pub mod fsutil;
 pub mod model;
+pub mod paper;
 pub mod presets;
 pub mod report;
 pub mod scene;
@@ -14,3 +16,6 @@ pub mod solver;
 pub mod study;
 pub mod sweep;
 pub mod tui;
+
+#[cfg(test)]
+mod layering;

@@ -2,10 +2,13 @@
 
 pub mod bench;
 pub mod compare;
+pub mod paper;
 pub mod plot;
 pub mod records;
 pub mod run;
 pub mod simulate;
+pub mod slurm;
+pub mod status;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -36,8 +39,14 @@ pub enum Command {
     Run(run::RunArgs),
     /// Combine the results of `run --shard i/N` into one.
     Merge(run::MergeArgs),
+    /// Write (and with --submit submit) a Slurm job array and its merge job for a study.
+    Slurm(slurm::SlurmArgs),
+    /// Scenes done, failed, missing and running per shard of an output directory.
+    Status(status::StatusArgs),
     /// Side-by-side spectra of two device variants and their ratio per point.
     Compare(compare::CompareArgs),
+    /// The paper's results-section claims rerun against rocklab: the PAPER.md table.
+    Paper(paper::PaperArgs),
     /// Figures from a results file: spectra, overturning maps, a scene's histories.
     Plot(plot::PlotArgs),
     /// Open the terminal workbench on a saved study (default: the built-in study).
@@ -107,8 +116,11 @@ pub fn main() -> ExitCode {
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Run(args)) => run::run(&args),
         Some(Command::Merge(args)) => run::merge(&args),
+        Some(Command::Slurm(args)) => slurm::run(&args),
+        Some(Command::Status(args)) => status::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Plot(args)) => plot::run(&args),
+        Some(Command::Paper(args)) => paper::run(&args),
         Some(Command::Tui(args)) => tui(&args),
         None => tui(&TuiArgs {
             study: None,

@@ -4,7 +4,7 @@
 use super::UsageError;
 use crate::report;
 use crate::study::Study;
-use crate::sweep::{self, Progress, SweepOptions, SweepResults};
+use crate::sweep::{self, OpenOptions, OutputError, Progress, SweepOptions, SweepResults};
 use anyhow::Context;
 use clap::Args;
 use std::io::IsTerminal;
@@ -28,9 +28,13 @@ pub struct RunArgs {
     /// files with `rocklab merge`.
     #[arg(long, value_parser = parse_shard)]
     pub shard: Option<(usize, usize)>,
-    /// Rerun every scene instead of reusing finished ones from a previous results file.
+    /// Rerun every scene instead of reusing finished ones. The previous results stay in
+    /// place until the new run has finished.
     #[arg(long)]
     pub fresh: bool,
+    /// Use an output directory that holds another study's results (they are moved aside).
+    #[arg(long)]
+    pub force: bool,
     /// Do not print the summary.
     #[arg(long)]
     pub quiet: bool,
@@ -42,9 +46,13 @@ pub struct RunArgs {
 /// Combine shard results (`rocklab run --shard i/N`) into one results set.
 #[derive(Args, Debug, Clone)]
 pub struct MergeArgs {
-    /// Shard results files (results.shard-*-of-N.json).
+    /// Shard results files (results.shard-*-of-N.json), their journals, or a directory holding
+    /// them. A shard whose final write never happened is read from its journal.
     #[arg(required = true)]
     pub inputs: Vec<PathBuf>,
+    /// Merge shards computed by different builds of rocklab (never reused as current).
+    #[arg(long)]
+    pub force: bool,
     /// Output directory for the merged results.
     #[arg(long)]
     pub out: PathBuf,
@@ -65,8 +73,37 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
     Ok((i, n))
 }
 
-/// Set by Ctrl-C; the sweep stops starting scenes and keeps what finished.
+/// Set by SIGINT, SIGTERM or SIGHUP: the sweep stops starting scenes, stops the running ones
+/// and keeps what finished. A second signal exits at once (finished scenes are journalled).
 static CANCEL: AtomicBool = AtomicBool::new(false);
+
+/// SIGINT (Ctrl-C), SIGTERM (Slurm's time limit, `kill`) and SIGHUP (a dropped SSH session)
+/// all stop a sweep the same way.
+fn install_signal_handlers() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    for signal in [SIGINT, SIGTERM, SIGHUP] {
+        // The shutdown goes first: it fires only once the flag is set by an earlier signal.
+        let _ = signal_hook::flag::register_conditional_shutdown(signal, 128 + signal, &CANCEL);
+        let _ = signal_hook::flag::register(signal, &CANCEL);
+    }
+}
+
+/// A line on stderr that never fails the run: after SIGHUP the terminal may be gone.
+fn say(msg: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "{msg}");
+}
+
+/// A line on stdout; a closed pipe (`| head`) ends the output quietly.
+pub fn print_out(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(e.into()),
+    }
+}
 
 pub fn load_study(arg: &str) -> anyhow::Result<Study> {
     if arg == "default" && !Path::new(arg).exists() {
@@ -75,20 +112,29 @@ pub fn load_study(arg: &str) -> anyhow::Result<Study> {
     Study::load(Path::new(arg)).map_err(|e| UsageError::new(e.to_string()).into())
 }
 
-pub fn results_name(shard: Option<(usize, usize)>) -> String {
-    match shard {
-        Some((i, n)) => format!("results.shard-{i}-of-{n}.json"),
-        None => "results.json".into(),
+pub use sweep::results_name;
+
+/// Worker threads: at least 1; more than a few per core only adds memory and contention.
+fn checked_jobs(jobs: Option<usize>) -> anyhow::Result<Option<usize>> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    match jobs {
+        Some(0) => Err(UsageError::new("--jobs must be at least 1").into()),
+        Some(j) if j > 4 * cores => {
+            say(&format!(
+                "warning: --jobs {j} is more than 4 × the {cores} cores here; using {}",
+                4 * cores
+            ));
+            Ok(Some(4 * cores))
+        }
+        j => Ok(j),
     }
 }
 
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let study = load_study(&args.study)?;
-    if args.jobs == Some(0) {
-        return Err(UsageError::new("--jobs must be at least 1").into());
-    }
+    let jobs = checked_jobs(args.jobs)?;
+    let points = study.expand().map_err(|e| UsageError::new(e.to_string()))?;
     if args.dry_run {
-        let points = study.expand().map_err(|e| UsageError::new(e.to_string()))?;
         let mut groups: Vec<(String, usize)> = Vec::new();
         for p in &points {
             match groups.iter_mut().find(|(g, _)| *g == p.group) {
@@ -96,62 +142,111 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
                 None => groups.push((p.group.clone(), 1)),
             }
         }
-        println!(
-            "study {} (hash {}): {} scenes in {} groups",
+        let mut text = format!(
+            "study {} (hash {}): {} scenes in {} groups\n",
             study.name,
             study.hash(),
             points.len(),
             groups.len()
         );
         for (g, n) in groups {
-            println!("  {n:>7}  {g}");
+            text.push_str(&format!("  {n:>7}  {g}\n"));
         }
-        return Ok(());
+        return print_out(&text);
     }
+    // The study's name is one path component: "../x" or "/etc" stays inside out/.
     let out = args
         .out
         .clone()
-        .unwrap_or_else(|| Path::new("out").join(&study.name));
-    std::fs::create_dir_all(&out)
-        .with_context(|| format!("cannot create output directory {}", out.display()))?;
-    let results_path = out.join(results_name(args.shard));
-    let mut cache = (!args.fresh && results_path.exists()).then(|| results_path.clone());
-    if let Some(path) = &cache
-        && let Ok(previous) = report::load_results(path)
-        && !sweep::reusable(&previous)
-    {
-        eprintln!(
-            "note: {} was written by another build of rocklab; rerunning every scene",
-            path.display()
-        );
-        cache = None;
-    }
-    let opts = SweepOptions {
-        jobs: args.jobs,
-        shard: args.shard,
-        cache,
+        .unwrap_or_else(|| Path::new("out").join(crate::fsutil::single_component(&study.name)));
+    let total = points
+        .iter()
+        .filter(|p| sweep::in_shard(p.index, args.shard))
+        .count();
+    let open = OpenOptions {
+        fresh: args.fresh,
+        force: args.force,
     };
-    // Only the first handler registration succeeds; later calls (tests) keep it.
-    let _ = ctrlc::set_handler(|| CANCEL.store(true, Ordering::SeqCst));
+    let mut output =
+        sweep::open_output(&out, args.shard, &study, total, open).map_err(|e| match e
+            .downcast_ref::<OutputError>()
+        {
+            Some(OutputError::OtherStudy { .. }) => UsageError::new(e.to_string()).into(),
+            _ => e,
+        })?;
+    for note in &output.notes {
+        say(&format!("note: {note}"));
+    }
+    let results_path = output.results_path.clone();
+    let opts = SweepOptions {
+        jobs,
+        shard: args.shard,
+        cache: None,
+    };
+    install_signal_handlers();
     let reporter = Reporter::new(std::io::stderr().is_terminal());
     let started = Instant::now();
-    let results = sweep::run_study(&study, &opts, &CANCEL, &|p| reporter.report(p))
-        .map_err(|e| UsageError::new(e.to_string()))?;
+    let reuse = std::mem::take(&mut output.reuse);
+    let library = crate::excitation::library::global()?;
+    let mut results = sweep::run_checkpointed(
+        &points,
+        &opts,
+        library,
+        Some(&output.journal),
+        reuse,
+        &CANCEL,
+        &|p| reporter.report(p),
+    );
+    drop(points);
+    results.study_hash = study.hash();
+    results.study = Some(study.clone());
     reporter.finish();
     let elapsed = started.elapsed();
-    report::save_results(&results_path, &results)?;
-    if args.shard.is_none() {
-        write_tables(&out, &study, &results)?;
+    let journal = output.journal.path().display().to_string();
+    let synced = output.journal.sync();
+    if let Some(why) = output.journal.failure() {
+        anyhow::bail!(
+            "cannot append to the journal {journal}: {why}; the scenes journalled before are \
+             kept: free some space and run the same command again"
+        );
+    }
+    synced?;
+    if results.cancelled && output.keep_previous_results {
+        anyhow::bail!(
+            "cancelled: the previous complete results in {} are kept; this --fresh run's {} \
+             finished scenes are in {journal}: run the same command without --fresh to continue it",
+            results_path.display(),
+            results.outcomes.len()
+        );
+    }
+    let written = report::save_results(&results_path, &results).and_then(|()| {
+        if args.shard.is_none() {
+            write_tables(&out, &study, &results)
+        } else {
+            Ok(())
+        }
+    });
+    if let Err(e) = written {
+        return Err(e.context(format!(
+            "the journal {journal} keeps all {} finished scenes: fix the cause and run the same \
+             command again to write the results (or `rocklab merge {journal} --out DIR`)",
+            results.outcomes.len()
+        )));
+    }
+    if !results.cancelled
+        && let Some(aside) = &output.set_aside
+    {
+        let _ = std::fs::remove_file(aside);
     }
     if !args.quiet {
-        print!("{}", report::summary(&results));
+        print_out(&report::summary(&results))?;
     }
-    eprintln!(
+    say(&format!(
         "{} scenes in {:.1} s; results in {}",
         results.outcomes.len(),
         elapsed.as_secs_f64(),
         results_path.display()
-    );
+    ));
     if results.cancelled {
         anyhow::bail!(
             "cancelled: kept {} finished scenes in {}; run the same command again to finish",
@@ -172,30 +267,83 @@ fn write_tables(out: &Path, study: &Study, results: &SweepResults) -> anyhow::Re
     study.save(&out.join("study.ron"))
 }
 
+/// The results of one merge input: a results file, a journal, or both (the fuller wins: a
+/// shard stopped by SIGKILL after an earlier partial write has more in its journal).
+fn load_part(path: &Path) -> anyhow::Result<SweepResults> {
+    let (results_path, journal_path) = if path.extension().is_some_and(|e| e == "journal") {
+        (path.with_extension("json"), path.to_path_buf())
+    } else {
+        (path.to_path_buf(), sweep::output::journal_path(path))
+    };
+    let from_file = results_path
+        .exists()
+        .then(|| report::load_results(&results_path));
+    let from_journal = journal_path
+        .exists()
+        .then(|| sweep::journal::results_from_journal(&journal_path));
+    match (from_file, from_journal) {
+        (Some(Ok(a)), Some(Ok(b))) => Ok(if b.outcomes.len() > a.outcomes.len() {
+            b
+        } else {
+            a
+        }),
+        (Some(Ok(a)), _) => Ok(a),
+        (_, Some(Ok(b))) => Ok(b),
+        (Some(Err(e)), _) | (None, Some(Err(e))) => Err(e),
+        (None, None) => Err(UsageError::new(format!(
+            "{}: no results file or journal there",
+            path.display()
+        ))
+        .into()),
+    }
+}
+
+/// Merge inputs: files as given; a directory stands for every results set in it.
+fn merge_inputs(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    for input in inputs {
+        if input.is_dir() {
+            let sets = super::status::result_sets(input)?;
+            if sets.is_empty() {
+                anyhow::bail!("{}: no shard results or journals there", input.display());
+            }
+            files.extend(sets.into_iter().map(|s| s.results_path));
+        } else {
+            files.push(input.clone());
+        }
+    }
+    Ok(files)
+}
+
 pub fn merge(args: &MergeArgs) -> anyhow::Result<()> {
-    let parts = args
-        .inputs
+    let inputs = merge_inputs(&args.inputs)?;
+    let parts = inputs
         .iter()
-        .map(|p| report::load_results(p))
+        .map(|p| load_part(p))
         .collect::<anyhow::Result<Vec<_>>>()?;
-    let merged = sweep::merge(parts)?;
+    let merged = sweep::merge(parts, args.force)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create output directory {}", args.out.display()))?;
     let path = args.out.join("results.json");
+    let _lock = sweep::output::OutputLock::acquire(&path)?;
     report::save_results(&path, &merged)?;
     if let Some(study) = &merged.study {
         write_tables(&args.out, study, &merged)?;
     }
     if !args.quiet {
-        print!("{}", report::summary(&merged));
+        print_out(&report::summary(&merged))?;
     }
     if merged.cancelled {
-        eprintln!(
-            "warning: the merged results are incomplete ({} scenes); missing shards or cancelled runs",
+        say(&format!(
+            "warning: the merged results are incomplete ({} scenes); missing shards or cancelled runs (`rocklab status` lists them)",
             merged.outcomes.len()
-        );
+        ));
     }
-    eprintln!("merged {} files into {}", args.inputs.len(), path.display());
+    say(&format!(
+        "merged {} files into {}",
+        inputs.len(),
+        path.display()
+    ));
     Ok(())
 }
 
@@ -267,10 +415,10 @@ impl Reporter {
         let total = self.total.load(Ordering::Relaxed).max(1);
         let elapsed = self.started.elapsed().as_secs_f64();
         let eta = elapsed / done.max(1) as f64 * (total - done.min(total)) as f64;
-        eprintln!(
+        say(&format!(
             "progress: {done}/{total} scenes ({:.0}%), {failed} failed, {elapsed:.0} s elapsed, ETA {eta:.0} s",
             100.0 * done as f64 / total as f64
-        );
+        ));
     }
 
     fn finish(&self) {

@@ -4,58 +4,27 @@
 use super::aggregate::{OverturningMap, Spectrum, maps, quantities, sparkline, spectra};
 use crate::study::fmt_num;
 use crate::sweep::SweepResults;
-use anyhow::Context;
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// The results file format version.
-pub const RESULTS_FORMAT: u32 = 1;
-
+/// Spectra and maps stored next to the results for readers outside rocklab.
 #[derive(Serialize)]
-struct ResultsFile<'a> {
-    format: u32,
-    #[serde(flatten)]
-    results: &'a SweepResults,
+struct Derived {
     spectra: Vec<Spectrum>,
     maps: Vec<OverturningMap>,
 }
 
 pub fn results_json(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
-    let file = ResultsFile {
-        format: RESULTS_FORMAT,
-        results,
+    let derived = Derived {
         spectra: spectra(results),
         maps: maps(results),
     };
-    // Compact: a study of 10⁵ scenes would otherwise spend half its file on indentation.
-    Ok(serde_json::to_vec(&file)?)
+    crate::sweep::results_file_json(results, &derived)
 }
 
 pub fn save_results(path: &Path, results: &SweepResults) -> anyhow::Result<()> {
     super::write_atomic(path, &results_json(results)?)
-}
-
-/// Read a results file written by [`save_results`] (spectra and maps are recomputed on use).
-pub fn load_results(path: &Path) -> anyhow::Result<SweepResults> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read results file {}", path.display()))?;
-    let value: serde_json::Value = serde_json::from_str(&text).with_context(|| {
-        format!(
-            "{} is not a rocklab results file (bad JSON)",
-            path.display()
-        )
-    })?;
-    let format = value.get("format").and_then(|f| f.as_u64());
-    if format != Some(RESULTS_FORMAT as u64) {
-        anyhow::bail!(
-            "{}: results format {:?} is not supported (this build reads format {RESULTS_FORMAT})",
-            path.display(),
-            format
-        );
-    }
-    serde_json::from_value(value)
-        .with_context(|| format!("{} is not a rocklab results file", path.display()))
 }
 
 /// Tidy long CSV: one row per scene and quantity, one column per varying axis.

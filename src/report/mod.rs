@@ -5,45 +5,15 @@ mod aggregate;
 mod export;
 mod plot;
 
-pub use aggregate::{
-    OverturningMap, Quantity, Spectrum, compare, maps, quantities, sparkline, spectra,
-};
-pub use export::{load_results, results_csv, results_json, save_results, summary};
+pub use crate::fsutil::{readable_by_all, write_atomic};
+pub use crate::study::Quantity;
+pub use crate::sweep::load_results;
+pub use aggregate::{OverturningMap, Spectrum, compare, maps, quantities, sparkline, spectra};
+pub use export::{results_csv, results_json, save_results, summary};
 pub use plot::{ImageFormat, plot_history, plot_maps, plot_spectra, scene_title};
 
 use crate::sim::History;
-use anyhow::Context;
-use std::io::Write;
 use std::path::Path;
-
-/// Write `bytes` to `path` atomically: a temporary file in the same directory, then rename,
-/// so a reader never sees a half-written result.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let mut tmp = tempfile::NamedTempFile::new_in(dir)
-        .with_context(|| format!("cannot create a file in {}", dir.display()))?;
-    tmp.write_all(bytes)?;
-    tmp.as_file().sync_all()?;
-    readable_by_all(tmp.as_file())?;
-    tmp.persist(path)
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    Ok(())
-}
-
-/// Temporary files are created private (0600); results are for sharing (0644).
-pub fn readable_by_all(file: &std::fs::File) -> anyhow::Result<()> {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        file.set_permissions(std::fs::Permissions::from_mode(0o644))?;
-    }
-    #[cfg(not(unix))]
-    let _ = file;
-    Ok(())
-}
 
 /// A history as CSV: one header line, then one row per accepted step or event.
 pub fn history_csv(history: &History) -> anyhow::Result<Vec<u8>> {

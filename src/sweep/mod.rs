@@ -2,8 +2,17 @@
 //! stop cleanly on cancel. Results come back in expansion order whatever the thread count, so
 //! a sweep is deterministic.
 
+use crate::excitation::Library;
 use crate::sim::{self, SceneResult};
 use crate::study::{ScenePoint, Study, StudyError};
+pub mod journal;
+pub mod output;
+mod store;
+
+pub use journal::Journal;
+pub use output::{OpenOptions, Output, OutputError, open_output, results_name};
+pub use store::{RESULTS_FORMAT, load_results, results_file_json, results_identity};
+
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -90,21 +99,46 @@ pub fn reusable(previous: &SweepResults) -> bool {
 pub fn run_study(
     study: &Study,
     opts: &SweepOptions,
+    library: &Library,
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<SweepResults, StudyError> {
     let points = study.expand()?;
-    let mut results = run(&points, opts, cancel, progress);
+    let mut results = run(&points, opts, library, cancel, progress);
     results.study_hash = study.hash();
     results.study = Some(study.clone());
     Ok(results)
 }
 
 /// Run `points` (or the shard's slice of them). Never panics on a bad scene: failures are
-/// recorded with their reason and the sweep goes on.
+/// recorded with their reason and the sweep goes on. Records are resolved in `library`.
 pub fn run(
     points: &[ScenePoint],
     opts: &SweepOptions,
+    library: &Library,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> SweepResults {
+    let reuse = opts
+        .cache
+        .as_ref()
+        .and_then(|path| load_results(path).ok())
+        .filter(reusable)
+        .map(cache_by_key)
+        .unwrap_or_default();
+    run_checkpointed(points, opts, library, None, reuse, cancel, progress)
+}
+
+/// [`run`] with each finished scene appended to `journal` as it completes, reusing the
+/// finished scenes in `reuse` (by scene key). A scene stopped by `cancel` while it runs is
+/// not finished: it is neither journalled nor returned. If the journal cannot be written
+/// (full disk), no further scene starts; [`Journal::failure`] says why.
+pub fn run_checkpointed(
+    points: &[ScenePoint],
+    opts: &SweepOptions,
+    library: &Library,
+    journal: Option<&Journal>,
+    mut reuse: HashMap<String, Result<SceneResult, String>>,
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> SweepResults {
@@ -115,25 +149,48 @@ pub fn run(
     progress(Progress::Started {
         total: selected.len(),
     });
-    let cache = opts
-        .cache
-        .as_ref()
-        .and_then(|path| crate::report::load_results(path).ok())
-        .filter(reusable)
-        .map(cache_by_key)
-        .unwrap_or_default();
-    let run_one = |point: &&ScenePoint| -> Option<SceneOutcome> {
-        let result = match cache.get(&point.key) {
-            Some(r) => r.clone(),
-            None if cancel.load(Ordering::Relaxed) => return None,
-            None => run_guarded(point),
+    // Hand each reused result to its point (moved, not cloned: a resume should cost what a
+    // fresh run costs); a key shared by several points is cloned for all but the last.
+    let mut remaining: HashMap<&str, usize> = HashMap::new();
+    for p in &selected {
+        *remaining.entry(p.key.as_str()).or_default() += 1;
+    }
+    let work: Vec<(&ScenePoint, Option<Result<SceneResult, String>>)> = selected
+        .iter()
+        .map(|p| {
+            let left = remaining.get_mut(p.key.as_str()).expect("counted");
+            *left -= 1;
+            let cached = if *left == 0 {
+                reuse.remove(&p.key)
+            } else {
+                reuse.get(&p.key).cloned()
+            };
+            (*p, cached)
+        })
+        .collect();
+    drop(reuse);
+    let journal_broken = AtomicBool::new(false);
+    let stopped = || cancel.load(Ordering::Relaxed) || journal_broken.load(Ordering::Relaxed);
+    let run_one = |(point, cached): (&ScenePoint, Option<Result<SceneResult, String>>)| {
+        let result = match cached {
+            Some(r) => r,
+            None if stopped() => return None,
+            None => {
+                let result = run_guarded(point, library, cancel)?;
+                if let Some(journal) = journal
+                    && !journal.append(point.index, &point.key, &result)
+                {
+                    journal_broken.store(true, Ordering::Relaxed);
+                }
+                result
+            }
         };
         progress(Progress::SceneDone {
             index: point.index,
             ok: result.is_ok(),
         });
         Some(SceneOutcome {
-            point: (*point).clone(),
+            point: point.clone(),
             result,
         })
     };
@@ -141,9 +198,9 @@ pub fn run(
         .num_threads(opts.jobs.unwrap_or(0))
         .build()
     {
-        Ok(pool) => pool.install(|| selected.par_iter().map(run_one).collect()),
+        Ok(pool) => pool.install(|| work.into_par_iter().map(run_one).collect()),
         // No pool (e.g. threads unavailable): run on this thread.
-        Err(_) => selected.iter().map(run_one).collect(),
+        Err(_) => work.into_iter().map(run_one).collect(),
     };
     let cancelled = finished.iter().any(Option::is_none);
     progress(Progress::Finished { cancelled });
@@ -162,8 +219,21 @@ pub fn in_shard(index: usize, shard: Option<(usize, usize)>) -> bool {
 }
 
 /// One scene, with a panic in the core recorded as a failure instead of ending the sweep.
-fn run_guarded(point: &ScenePoint) -> Result<SceneResult, String> {
-    std::panic::catch_unwind(|| sim::run(&point.scene))
+/// None if `cancel` stopped it before it finished.
+fn run_guarded(
+    point: &ScenePoint,
+    library: &Library,
+    cancel: &AtomicBool,
+) -> Option<Result<SceneResult, String>> {
+    let _ = cancel;
+    Some(guarded(|| sim::run(&point.scene, library)))
+}
+
+/// Run `f`, with a panic turned into an error: a failure of one scene, never of the caller.
+pub fn guarded(
+    f: impl FnOnce() -> Result<SceneResult, sim::SimError>,
+) -> Result<SceneResult, String> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f))
         .map_err(|panic| {
             let msg = panic
                 .downcast_ref::<&str>()
@@ -212,14 +282,15 @@ fn cache_by_key(results: SweepResults) -> HashMap<String, Result<SceneResult, St
 }
 
 /// Combine shard results of one study into one, in expansion order. Errors if the shards
-/// come from different studies or overlap inconsistently.
-pub fn merge(parts: Vec<SweepResults>) -> anyhow::Result<SweepResults> {
+/// come from different studies or builds (unless `force`: the merged results then carry no
+/// build and are never reused as current), or overlap inconsistently.
+pub fn merge(parts: Vec<SweepResults>, force: bool) -> anyhow::Result<SweepResults> {
     let Some(first) = parts.first() else {
         anyhow::bail!("nothing to merge");
     };
     let hash = first.study_hash.clone();
     let study = first.study.clone();
-    let build = first.build.clone();
+    let mut build = first.build.clone();
     let mut by_index: std::collections::BTreeMap<usize, SceneOutcome> = Default::default();
     let mut cancelled = false;
     for part in parts {
@@ -229,6 +300,18 @@ pub fn merge(parts: Vec<SweepResults>) -> anyhow::Result<SweepResults> {
                 hash,
                 part.study_hash
             );
+        }
+        if part.build != build {
+            if !force {
+                anyhow::bail!(
+                    "shards computed by different builds of rocklab ({} and {}) are not merged: \
+                     rerun the stale shards, or pass --force to merge them anyway (the merged \
+                     results are then never reused as current)",
+                    build,
+                    part.build
+                );
+            }
+            build = "mixed".into();
         }
         cancelled |= part.cancelled;
         for o in part.outcomes {

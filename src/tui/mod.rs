@@ -1,13 +1,17 @@
 //! The workbench: a thin terminal shell around the [`app::App`] state machine and the pure
-//! [`draw::draw`] function. The shell owns the terminal (raw mode, alternate screen), restores
+//! [`draw::draw`] function. Screens are components (`components/`), drawing pieces they share
+//! are widgets (`widgets/`), background work runs on one job type (`job.rs`). The shell owns the terminal (raw mode, alternate screen), restores
 //! it on every exit path (normal, error, panic), and redraws only when something changed:
 //! after a key, a resize, or a tick that brought news from a background run.
 
 pub mod app;
+pub mod components;
 pub mod draw;
 pub mod edit;
+pub mod job;
 pub mod theme;
 pub mod tree;
+pub mod widgets;
 
 use crate::study::Study;
 use app::{App, Effect, Options};

@@ -1,0 +1,179 @@
+//! Files written safely: atomic replacement of regular files only. A base-level module (no
+//! rocklab types) so the study, the sweep's results store and the report can all use it.
+
+use anyhow::Context;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Write `bytes` to `path` atomically: a temporary file in the same directory, synced, then
+/// renamed over the target and the directory synced, so a reader (or a power loss) never sees
+/// a half-written file.
+///
+/// Only regular files are replaced: a directory, device or socket at `path` is an error (a
+/// rename would silently replace `/dev/full` or a results directory). A symlink is followed
+/// to its target, as editors do, so the link survives. An existing file keeps its mode; a new
+/// one is readable by all (0644), since results are for sharing.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+    let target = resolve_symlink(path)?;
+    let mode = match std::fs::metadata(&target) {
+        Ok(meta) if meta.is_file() => Some(meta.permissions()),
+        Ok(_) => anyhow::bail!(
+            "{} exists and is not a regular file; refusing to replace it",
+            target.display()
+        ),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+        Err(e) => {
+            return Err(e).with_context(|| format!("cannot inspect {}", target.display()));
+        }
+    };
+    let dir = parent_dir(&target);
+    let mut tmp = tempfile::NamedTempFile::new_in(dir)
+        .with_context(|| format!("cannot create a file in {}", dir.display()))?;
+    tmp.write_all(bytes)
+        .and_then(|()| tmp.as_file().sync_all())
+        .with_context(|| format!("cannot write {}", target.display()))?;
+    match mode {
+        Some(perms) => tmp.as_file().set_permissions(perms)?,
+        None => readable_by_all(tmp.as_file())?,
+    }
+    tmp.persist(&target)
+        .with_context(|| format!("cannot write {}", target.display()))?;
+    sync_dir(dir);
+    Ok(())
+}
+
+/// The directory holding `path` ("." for a bare file name).
+pub fn parent_dir(path: &Path) -> &Path {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    }
+}
+
+/// Make a rename in `dir` durable. Best effort: some file systems refuse to sync a directory,
+/// and the file's own data is already synced.
+pub fn sync_dir(dir: &Path) {
+    if let Ok(d) = std::fs::File::open(dir) {
+        let _ = d.sync_all();
+    }
+}
+
+/// The file a symlink chain at `path` ends in (the path itself if it is no link).
+fn resolve_symlink(path: &Path) -> anyhow::Result<PathBuf> {
+    let mut current = path.to_path_buf();
+    // A bounded walk: a link loop is an error, not a hang.
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&current) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                let link = std::fs::read_link(&current)
+                    .with_context(|| format!("cannot read the link {}", current.display()))?;
+                current = parent_dir(&current).join(link);
+            }
+            _ => return Ok(current),
+        }
+    }
+    anyhow::bail!("{}: too many levels of symbolic links", path.display())
+}
+
+/// Temporary files are created private (0600); results are for sharing (0644).
+pub fn readable_by_all(file: &std::fs::File) -> anyhow::Result<()> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        file.set_permissions(std::fs::Permissions::from_mode(0o644))?;
+    }
+    #[cfg(not(unix))]
+    let _ = file;
+    Ok(())
+}
+
+/// A name safe to use as one path component: path separators, `..`, leading dots and control
+/// characters replaced, so a study named "../../x" or "/etc/y" stays inside `out/`.
+pub fn single_component(name: &str) -> String {
+    let cleaned: String = name
+        .chars()
+        .map(|c| {
+            if c == '/' || c == '\\' || c.is_control() || c == ':' {
+                '_'
+            } else {
+                c
+            }
+        })
+        .collect();
+    let cleaned = cleaned.trim().trim_start_matches('.').to_string();
+    if cleaned.is_empty() {
+        "study".into()
+    } else {
+        cleaned
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_stay_one_component() {
+        for name in [
+            "../../x",
+            "/etc/passwd",
+            "..",
+            ".",
+            "",
+            "a/b",
+            "..\\..\\c",
+            " .hidden",
+        ] {
+            let c = single_component(name);
+            assert_eq!(Path::new(&c).components().count(), 1, "{name:?} -> {c:?}");
+            assert!(!c.starts_with('.') && !c.contains('/'), "{name:?} -> {c:?}");
+        }
+        assert_eq!(single_component("fig12_rigid"), "fig12_rigid");
+    }
+
+    #[test]
+    fn refuses_to_replace_a_directory() {
+        let dir = tempfile::tempdir().unwrap();
+        let sub = dir.path().join("results.json");
+        std::fs::create_dir(&sub).unwrap();
+        let err = write_atomic(&sub, b"x").unwrap_err().to_string();
+        assert!(err.contains("not a regular file"), "{err}");
+        assert!(sub.is_dir());
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn follows_symlinks_and_keeps_the_mode() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let real = dir.path().join("real.ron");
+        std::fs::write(&real, b"old").unwrap();
+        std::fs::set_permissions(&real, std::fs::Permissions::from_mode(0o444)).unwrap();
+        let link = dir.path().join("link.ron");
+        std::os::unix::fs::symlink("real.ron", &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(std::fs::read(&real).unwrap(), b"new");
+        let mode = std::fs::metadata(&real).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode, 0o444);
+        // A new file is shared.
+        let fresh = dir.path().join("fresh.json");
+        write_atomic(&fresh, b"{}").unwrap();
+        let mode = std::fs::metadata(&fresh).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode, 0o644);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn refuses_device_nodes() {
+        let err = write_atomic(Path::new("/dev/null"), b"x")
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("not a regular file"), "{err}");
+    }
+}

@@ -1,0 +1,299 @@
+//! The results journal: every finished scene appended to a file in the output directory as it
+//! completes, so a stop of any kind (signal, kill, out-of-memory, lost session, power loss)
+//! loses at most the scenes in flight.
+//!
+//! Format: JSON lines. The first line is a [`JournalHeader`] (which study, build and shard the
+//! lines belong to); every further line is one scene `{"index", "key", "result"}`. Why JSON
+//! lines rather than an embedded database: the write pattern is pure append (one writer, no
+//! updates, no queries), a line is written with one `write` call to an `O_APPEND` file (in the
+//! kernel's hands at once, so SIGKILL and OOM kills cannot lose it), a torn last line after a
+//! power loss is detectable and cut off, the records are the same serde types results.json
+//! uses, and the file stays readable with `head`/`jq` on a cluster login node. Scene data
+//! (the expanded point) is not repeated: the study in the header re-expands to the points.
+//!
+//! Durability against power loss: the data is synced at most once a second and on close, so
+//! a power cut loses at most the last second of scenes; a sync per scene would cost a disk
+//! flush per scene.
+
+use super::{SceneOutcome, SweepResults};
+use crate::sim::SceneResult;
+use crate::study::Study;
+use anyhow::Context;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use std::fs::File;
+use std::io::{BufRead, Write};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+/// The journal format version.
+pub const JOURNAL_FORMAT: u32 = 1;
+
+/// What the scene lines of a journal belong to.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct JournalHeader {
+    pub journal: u32,
+    pub study_hash: String,
+    pub build: String,
+    pub shard: Option<(usize, usize)>,
+    /// Scenes this run (this shard) has to go through.
+    pub total: usize,
+    pub study: Option<Study>,
+}
+
+/// One finished scene, as written.
+#[derive(Serialize)]
+struct EntryOut<'a> {
+    index: usize,
+    key: &'a str,
+    result: &'a Result<SceneResult, String>,
+}
+
+/// One finished scene, as read back.
+#[derive(Deserialize)]
+pub struct Entry {
+    pub index: usize,
+    pub key: String,
+    pub result: Result<SceneResult, String>,
+}
+
+/// A journal open for appending. Shared by the sweep's worker threads.
+#[derive(Debug)]
+pub struct Journal {
+    path: PathBuf,
+    file: Mutex<Appender>,
+}
+
+#[derive(Debug)]
+struct Appender {
+    file: File,
+    last_sync: Instant,
+    /// The first write error; later appends are refused so the sweep stops.
+    failure: Option<String>,
+}
+
+impl Journal {
+    /// Start a new journal at `path` (replacing any file there) with its header.
+    pub fn create(path: &Path, header: &JournalHeader) -> anyhow::Result<Journal> {
+        let mut line = serde_json::to_vec(header)?;
+        line.push(b'\n');
+        let mut file = File::create(path)
+            .with_context(|| format!("cannot create the journal {}", path.display()))?;
+        file.write_all(&line)
+            .and_then(|()| file.sync_all())
+            .with_context(|| format!("cannot write the journal {}", path.display()))?;
+        crate::fsutil::sync_dir(crate::fsutil::parent_dir(path));
+        Self::append_to(path)
+    }
+
+    /// Continue an existing journal (after [`read_journal`] checked it and cut a torn tail).
+    pub fn append_to(path: &Path) -> anyhow::Result<Journal> {
+        let file = std::fs::OpenOptions::new()
+            .append(true)
+            .open(path)
+            .with_context(|| format!("cannot open the journal {}", path.display()))?;
+        Ok(Journal {
+            path: path.to_path_buf(),
+            file: Mutex::new(Appender {
+                file,
+                last_sync: Instant::now(),
+                failure: None,
+            }),
+        })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Append one finished scene. Returns false (and remembers why) if it could not be
+    /// written: the sweep then stops starting scenes.
+    pub fn append(&self, index: usize, key: &str, result: &Result<SceneResult, String>) -> bool {
+        // Serialise outside the lock: workers only queue for the write itself.
+        let line = serde_json::to_vec(&EntryOut { index, key, result }).map(|mut l| {
+            l.push(b'\n');
+            l
+        });
+        let Ok(mut appender) = self.file.lock() else {
+            return false;
+        };
+        if appender.failure.is_some() {
+            return false;
+        }
+        let written = match line {
+            Ok(line) => appender.file.write_all(&line).map_err(|e| e.to_string()),
+            Err(e) => Err(e.to_string()),
+        };
+        if let Err(e) = written {
+            appender.failure = Some(e);
+            return false;
+        }
+        if appender.last_sync.elapsed() >= Duration::from_secs(1) {
+            appender.last_sync = Instant::now();
+            if let Err(e) = appender.file.sync_data() {
+                appender.failure = Some(e.to_string());
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Make everything appended so far durable.
+    pub fn sync(&self) -> anyhow::Result<()> {
+        if let Ok(appender) = self.file.lock() {
+            appender
+                .file
+                .sync_data()
+                .with_context(|| format!("cannot sync the journal {}", self.path.display()))?;
+        }
+        Ok(())
+    }
+
+    /// Why appending failed, if it did (a full disk, a removed directory).
+    pub fn failure(&self) -> Option<String> {
+        self.file.lock().ok().and_then(|a| a.failure.clone())
+    }
+}
+
+/// A journal read back: its header, finished scenes by key, and what was repaired.
+pub struct JournalContents {
+    pub header: JournalHeader,
+    /// Finished scenes, keyed by scene key (the last line wins for a key written twice).
+    pub entries: HashMap<String, Entry>,
+    /// Lines that could not be read (a torn tail from a power loss, damaged lines).
+    pub damaged_lines: usize,
+}
+
+/// Only the header line, for a quick look (`status`, deciding whether to resume).
+pub fn read_header(path: &Path) -> anyhow::Result<JournalHeader> {
+    let file =
+        File::open(path).with_context(|| format!("cannot read the journal {}", path.display()))?;
+    let mut first = Vec::new();
+    std::io::BufReader::new(file)
+        .read_until(b'\n', &mut first)
+        .with_context(|| format!("cannot read the journal {}", path.display()))?;
+    let header: JournalHeader = serde_json::from_slice(&first)
+        .with_context(|| format!("{} is not a rocklab journal (bad header)", path.display()))?;
+    if header.journal != JOURNAL_FORMAT {
+        anyhow::bail!(
+            "{}: journal format {} is not supported (this build reads {JOURNAL_FORMAT})",
+            path.display(),
+            header.journal
+        );
+    }
+    Ok(header)
+}
+
+/// Read a whole journal, one line at a time (memory: the typed results, nothing more). With
+/// `repair`, a torn last line (no newline: the writer was stopped mid-line) is cut off so
+/// appends continue on a line of their own.
+pub fn read_journal(path: &Path, repair: bool) -> anyhow::Result<JournalContents> {
+    let header = read_header(path)?;
+    let file =
+        File::open(path).with_context(|| format!("cannot read the journal {}", path.display()))?;
+    let mut reader = std::io::BufReader::new(file);
+    let mut line = Vec::new();
+    let mut offset = reader.read_until(b'\n', &mut line)? as u64;
+    let mut entries = HashMap::new();
+    let mut damaged_lines = 0;
+    loop {
+        line.clear();
+        let n = reader.read_until(b'\n', &mut line)?;
+        if n == 0 {
+            break;
+        }
+        if line.last() != Some(&b'\n') {
+            // A torn tail: never acknowledged as written.
+            damaged_lines += 1;
+            if repair {
+                let f = std::fs::OpenOptions::new().write(true).open(path)?;
+                f.set_len(offset)?;
+                f.sync_all()?;
+            }
+            break;
+        }
+        offset += n as u64;
+        match serde_json::from_slice::<Entry>(&line) {
+            Ok(entry) => {
+                entries.insert(entry.key.clone(), entry);
+            }
+            Err(_) => damaged_lines += 1,
+        }
+    }
+    Ok(JournalContents {
+        header,
+        entries,
+        damaged_lines,
+    })
+}
+
+/// Scene counts of a journal without holding its results (for `rocklab status`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct JournalCounts {
+    pub ok: usize,
+    pub failed: usize,
+}
+
+pub fn count_journal(path: &Path) -> anyhow::Result<(JournalHeader, JournalCounts)> {
+    /// The result's variant only; the payload is skipped unread.
+    #[derive(Deserialize)]
+    struct Light {
+        index: usize,
+        result: Result<serde::de::IgnoredAny, serde::de::IgnoredAny>,
+    }
+    let header = read_header(path)?;
+    let reader = std::io::BufReader::new(File::open(path)?);
+    let mut seen = std::collections::HashSet::new();
+    let mut counts = JournalCounts::default();
+    for line in reader.lines().skip(1) {
+        let Ok(line) = line else { break };
+        if let Ok(entry) = serde_json::from_str::<Light>(&line)
+            && seen.insert(entry.index)
+        {
+            match entry.result {
+                Ok(_) => counts.ok += 1,
+                Err(_) => counts.failed += 1,
+            }
+        }
+    }
+    Ok((header, counts))
+}
+
+/// The results a journal holds, in expansion order, with its study (for `merge` of a shard
+/// whose final write never happened). Points come from re-expanding the header's study.
+pub fn results_from_journal(path: &Path) -> anyhow::Result<SweepResults> {
+    let contents = read_journal(path, false)?;
+    let header = contents.header;
+    let Some(study) = header.study.clone() else {
+        anyhow::bail!("{}: the journal names no study", path.display());
+    };
+    let points = study
+        .expand()
+        .map_err(|e| anyhow::anyhow!("{}: its study no longer expands: {e}", path.display()))?;
+    let mut entries = contents.entries;
+    let mut total = 0;
+    let mut outcomes = Vec::new();
+    for point in points {
+        if !super::in_shard(point.index, header.shard) {
+            continue;
+        }
+        total += 1;
+        if let Some(entry) = entries.remove(&point.key)
+            && entry.index == point.index
+        {
+            outcomes.push(SceneOutcome {
+                point,
+                result: entry.result,
+            });
+        }
+    }
+    Ok(SweepResults {
+        study_hash: header.study_hash,
+        study: Some(study),
+        cancelled: outcomes.len() < total,
+        outcomes,
+        shard: header.shard,
+        build: header.build,
+    })
+}

@@ -1,0 +1,58 @@
+//! The help overlay: every key of every screen; any key closes it.
+
+use super::super::theme::Theme;
+use super::super::widgets::popup;
+use ratatui::Frame;
+use ratatui::layout::Rect;
+use ratatui::text::{Line, Span};
+
+#[derive(Default)]
+pub struct Help {
+    pub visible: bool,
+}
+
+impl Help {
+    pub fn draw(&self, theme: Theme, frame: &mut Frame, area: Rect) {
+        if !self.visible {
+            return;
+        }
+        let k = |key: &'static str, what: &'static str| {
+            Line::from(vec![
+                Span::styled(format!("{key:>10}  "), theme.key()),
+                Span::raw(what),
+            ])
+        };
+        let h = |title: &'static str| Line::styled(title, theme.title());
+        let lines = vec![
+            h("everywhere"),
+            k("1 2 3 4", "Study / Run / Results / Scene (Tab cycles)"),
+            k("r", "run the study in the background"),
+            k("?", "this help (any key closes it)"),
+            k("q  Ctrl-C", "quit (asks if there are unsaved changes)"),
+            h("Study"),
+            k("↑↓ PgUp/Dn", "move; g/G first/last row; / find a field"),
+            k(
+                "Enter / e",
+                "edit the value (RON: 0.5, [1.0, 2.0], name(…))",
+            ),
+            k(
+                "a / d",
+                "add from a copy / delete list element; unset a field",
+            ),
+            k("s S o n", "save, save as, open, new from default"),
+            h("Run"),
+            k("c / Esc", "cancel (finished scenes are kept)"),
+            k("Enter", "results"),
+            h("Results"),
+            k("s m c", "spectra / overturning maps / compare A and B"),
+            k("←→ ↑↓", "cursor along the axis / variant or map cell"),
+            k("[ ]", "previous / next quantity or map"),
+            k("a b x", "compare: next A, next B, swap"),
+            k("Enter", "open the scene under the cursor"),
+            k("w", "write the results file (JSON) for rocklab plot"),
+            h("Scene"),
+            k("Esc", "back to results"),
+        ];
+        popup(frame, theme, area, " help (any key closes) ", lines, 66, 22);
+    }
+}

@@ -1,0 +1,95 @@
+//! One component per screen (Study, Run, Results, Scene) plus the help overlay and the prompt
+//! line, in the style of gitui and ratatui's component template: each owns its state, turns
+//! keys into state changes or an [`Action`] for the app, draws itself from its state and the
+//! [`Shared`] state, and says which keys it offers. The app holds what screens share (the open
+//! study, its expansion, the results) and carries out the actions.
+
+pub mod help;
+pub mod prompt;
+pub mod results;
+pub mod run;
+pub mod scene;
+pub mod study;
+
+use super::app::{Options, Screen};
+use super::theme::Theme;
+use super::widgets::Hint;
+use crate::study::{ScenePoint, Study};
+use crossterm::event::KeyEvent;
+use prompt::{Pending, Prompt};
+use ratatui::Frame;
+use ratatui::layout::Rect;
+use results::Results;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// The study being edited, validated and expanded once per change.
+pub enum Check {
+    Ok(Arc<Vec<ScenePoint>>),
+    Invalid(String),
+}
+
+/// State every screen may read.
+pub struct Shared {
+    pub options: Options,
+    pub study: Study,
+    pub path: Option<PathBuf>,
+    pub dirty: bool,
+    pub check: Check,
+    /// The results on screen: from the last sweep (finished or cancelled).
+    pub results: Option<Results>,
+    /// Mean seconds per scene, from the last run or a calibration (None until known).
+    pub seconds_per_scene: Option<f64>,
+    /// Names of the ground-motion records available to `record(names: …)`.
+    pub record_names: Vec<String>,
+}
+
+impl Shared {
+    /// Estimated wall time of the whole study (seconds), when a per-scene time is known.
+    pub fn estimated_seconds(&self) -> Option<f64> {
+        let Check::Ok(points) = &self.check else {
+            return None;
+        };
+        let threads = self
+            .options
+            .jobs
+            .unwrap_or_else(rayon::current_num_threads)
+            .max(1);
+        let per = self.seconds_per_scene?;
+        Some(per * points.len() as f64 / threads.min(points.len().max(1)) as f64)
+    }
+}
+
+/// What a component asks the app to do after a key.
+pub enum Action {
+    None,
+    Show(Screen),
+    /// Run the study (refused if a sweep runs or the study is invalid).
+    StartRun,
+    /// Rerun one scene with its histories and show it.
+    OpenScene(Box<ScenePoint>),
+    Prompt(Prompt),
+    /// Do something that may lose unsaved changes: ask first if it would.
+    Request(Pending),
+    /// Save the study to its file (or ask for one).
+    Save,
+    /// The editor produced a new study, already parsed and expanded (once).
+    StudyEdited(Box<Study>, Vec<ScenePoint>),
+    Say(String),
+    Complain(String),
+}
+
+/// A screen of the workbench.
+pub trait Component {
+    fn handle_key(&mut self, key: KeyEvent, shared: &Shared) -> Action;
+    /// Pure: draws from the component's state and the shared state only.
+    fn draw(&self, shared: &Shared, theme: Theme, frame: &mut Frame, area: Rect);
+    /// Keys the status line offers on this screen, most useful first (narrow terminals cut
+    /// the end).
+    fn hints(&self, shared: &Shared) -> Vec<Hint>;
+    /// True while the component takes every key itself (a line editor is open): the global
+    /// keys (q, ?, 1–4, Tab) are off.
+    fn captures_keys(&self) -> bool {
+        false
+    }
+}

@@ -1,0 +1,130 @@
+//! Overturning maps: one character cell per scene over two axes, largest y on top, with a
+//! cell cursor and the verdict under it.
+
+use super::super::super::theme::{self, Theme};
+use super::super::super::widgets::fmt_num;
+use super::super::super::widgets::strip::{Strip, axis_line};
+use super::Results;
+use crate::report::OverturningMap;
+use crossterm::event::{KeyCode, KeyEvent};
+use ratatui::Frame;
+use ratatui::layout::Rect;
+use ratatui::style::{Modifier, Style};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Paragraph;
+
+#[derive(Clone, Debug, Default)]
+pub struct MapsView {
+    /// Index of the map shown.
+    pub map: usize,
+    /// Map cursor (ix, iy).
+    pub cell: (usize, usize),
+}
+
+impl MapsView {
+    pub fn handle_key(&mut self, key: KeyEvent, data: &Results) {
+        let nmaps = data.maps.len();
+        let (mx, my) = data
+            .maps
+            .get(self.map)
+            .map_or((0, 0), |m| (m.xs.len(), m.ys.len()));
+        let (cx, cy) = &mut self.cell;
+        match key.code {
+            KeyCode::Left | KeyCode::Char('h') => *cx = cx.saturating_sub(1),
+            KeyCode::Right | KeyCode::Char('l') => *cx = (*cx + 1).min(mx.saturating_sub(1)),
+            // Rows are drawn with the largest y on top.
+            KeyCode::Up | KeyCode::Char('k') => *cy = (*cy + 1).min(my.saturating_sub(1)),
+            KeyCode::Down | KeyCode::Char('j') => *cy = cy.saturating_sub(1),
+            KeyCode::Char(']') if nmaps > 0 => self.map = (self.map + 1) % nmaps,
+            KeyCode::Char('[') if nmaps > 0 => self.map = (self.map + nmaps - 1) % nmaps,
+            _ => {}
+        }
+    }
+
+    pub fn draw(&self, data: &Results, theme: Theme, frame: &mut Frame, area: Rect) {
+        let Some(map) = data.maps.get(self.map) else {
+            frame.render_widget(Paragraph::new("no overturning maps in these results"), area);
+            return;
+        };
+        let mut lines = vec![Line::from(vec![
+            Span::styled("[ ] ", theme.key()),
+            Span::styled(map.group.clone(), theme.title()),
+            Span::styled(
+                format!("  (map {}/{})", self.map + 1, data.maps.len()),
+                theme.dim(),
+            ),
+        ])];
+        let ylabel = 8;
+        let (nx, ny) = (map.xs.len(), map.ys.len());
+        let cell = ((area.width as usize).saturating_sub(ylabel + 12) / nx.max(1)).clamp(1, 6);
+        let room_x = ((area.width as usize).saturating_sub(ylabel + 12) / cell).max(1);
+        let (cx, cy) = self.cell;
+        let first_x = cx.saturating_sub(room_x / 2).min(nx.saturating_sub(room_x));
+        let count_x = room_x.min(nx);
+        let room_y = (area.height as usize).saturating_sub(6).max(1);
+        // Cells about square: two rows each when there is room.
+        let cell_h = (room_y / ny.max(1)).clamp(1, 2);
+        let count_y = (room_y / cell_h).min(ny);
+        // Largest y on top: display row r shows iy = top - r.
+        let top = (cy + count_y / 2)
+            .min(ny.saturating_sub(1))
+            .max(count_y.saturating_sub(1));
+        lines.push(Line::styled(map.y_axis.clone(), theme.dim()));
+        for r in 0..count_y * cell_h {
+            let iy = top - r / cell_h;
+            let label = if r % cell_h == 0 {
+                format!("{:>7} ", fmt_num(map.ys[iy]))
+            } else {
+                " ".repeat(8)
+            };
+            let mut spans = vec![Span::styled(label, theme.dim())];
+            for ix in first_x..first_x + count_x {
+                let (glyph, style) = map_cell(map, ix, iy, theme);
+                let style = if (ix, iy) == (cx, cy) {
+                    style.add_modifier(Modifier::REVERSED)
+                } else {
+                    style
+                };
+                spans.push(Span::styled(glyph.repeat(cell), style));
+            }
+            lines.push(Line::from(spans));
+        }
+        let st = Strip {
+            first: first_x,
+            count: count_x,
+            cell,
+        };
+        lines.push(axis_line(&map.xs, &st, ylabel, &map.x_axis));
+        lines.push(Line::from(vec![
+            Span::styled(theme::CELL_OVERTURNED, theme.overturned()),
+            Span::raw(" overturned  "),
+            Span::styled(theme::CELL_SAFE, theme.safe()),
+            Span::raw(" safe  "),
+            Span::styled(theme::CELL_FAILED, theme.failed()),
+            Span::raw(" failed"),
+        ]));
+        let state = match map.cells.get(cy).and_then(|r| r.get(cx)) {
+            Some(Some(true)) => "overturned",
+            Some(Some(false)) => "safe",
+            Some(None) => "failed",
+            None => "–",
+        };
+        lines.push(Line::raw(format!(
+            "{} = {}  {} = {}: {state}",
+            map.x_axis,
+            map.xs.get(cx).map_or("–".into(), |v| fmt_num(*v)),
+            map.y_axis,
+            map.ys.get(cy).map_or("–".into(), |v| fmt_num(*v)),
+        )));
+        frame.render_widget(Paragraph::new(lines), area);
+    }
+}
+
+fn map_cell(map: &OverturningMap, ix: usize, iy: usize, theme: Theme) -> (&'static str, Style) {
+    match map.cells.get(iy).and_then(|r| r.get(ix)) {
+        Some(Some(true)) => (theme::CELL_OVERTURNED, theme.overturned()),
+        Some(Some(false)) => (theme::CELL_SAFE, theme.safe()),
+        Some(None) => (theme::CELL_FAILED, theme.failed()),
+        None => (theme::CELL_MISSING, theme.base()),
+    }
+}

@@ -1,0 +1,281 @@
+//! The Results screen: spectra, overturning maps, and a comparison of two variants, over the
+//! results the app holds. Each view owns its cursor (`spectra`, `maps`, `compare`); the
+//! spectra and the comparison share the quantity and the position along the axis.
+
+mod compare;
+mod maps;
+mod spectra;
+
+pub use compare::CompareView;
+pub use maps::MapsView;
+pub use spectra::SpectraView;
+
+use super::super::edit::LineEdit;
+use super::super::theme::Theme;
+use super::super::widgets::Hint;
+use super::prompt::Prompt;
+use super::{Action, Component, Shared};
+use crate::report::{self, OverturningMap, Quantity, Spectrum};
+use crate::study::ScenePoint;
+use crate::sweep::SweepResults;
+use crossterm::event::{KeyCode, KeyEvent};
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Paragraph, Wrap};
+
+/// Results and what is aggregated from them once, when they arrive.
+pub struct Results {
+    pub results: SweepResults,
+    pub spectra: Vec<Spectrum>,
+    pub maps: Vec<OverturningMap>,
+    /// The quantities that have spectra, in order of first appearance.
+    pub quantities: Vec<Quantity>,
+    /// The sweep was cancelled: the results are partial.
+    pub cancelled: bool,
+}
+
+impl Results {
+    pub fn new(results: SweepResults, cancelled: bool) -> Self {
+        let spectra = report::spectra(&results);
+        let maps = report::maps(&results);
+        let mut quantities: Vec<Quantity> = Vec::new();
+        for s in &spectra {
+            if !quantities.contains(&s.quantity) {
+                quantities.push(s.quantity);
+            }
+        }
+        Results {
+            results,
+            spectra,
+            maps,
+            quantities,
+            cancelled,
+        }
+    }
+
+    /// The point of a spectrum or map. A spectrum of a study with a map is named after its
+    /// group and the other map axis (`"{group} {label}={value}"`): match that too.
+    fn find_point(&self, group: &str, coords: &[(&String, f64)]) -> Option<&ScenePoint> {
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1e-300);
+        let same_group = |p: &ScenePoint| {
+            if p.group == group {
+                return true;
+            }
+            let Some(rest) = group
+                .strip_prefix(p.group.as_str())
+                .and_then(|r| r.strip_prefix(' '))
+            else {
+                return false;
+            };
+            rest.rsplit_once('=').is_some_and(|(label, value)| {
+                p.coord(label).map(crate::study::fmt_num).as_deref() == Some(value)
+            })
+        };
+        self.results.outcomes.iter().map(|o| &o.point).find(|p| {
+            same_group(p)
+                && coords.iter().all(|(axis, v)| {
+                    p.coords
+                        .iter()
+                        .any(|(name, value)| name == *axis && close(*value, *v))
+                })
+        })
+    }
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ResultsTab {
+    #[default]
+    Spectra,
+    Maps,
+    Compare,
+}
+
+#[derive(Default)]
+pub struct ResultsScreen {
+    pub tab: ResultsTab,
+    pub spectra: SpectraView,
+    pub maps: MapsView,
+    pub compare: CompareView,
+}
+
+impl ResultsScreen {
+    /// Fresh cursors for new results: spectra first (maps if there are no spectra), and the
+    /// comparison on its default pair.
+    pub fn reset(&mut self, data: &Results) {
+        *self = ResultsScreen::default();
+        if data.spectra.is_empty() && !data.maps.is_empty() {
+            self.tab = ResultsTab::Maps;
+        }
+        self.compare = CompareView::default_pair(&self.rows(data));
+    }
+
+    pub fn current_quantity(&self, data: &Results) -> Option<Quantity> {
+        data.quantities.get(self.spectra.quantity).copied()
+    }
+
+    /// The spectra of the current quantity, one per variant (and axis).
+    pub fn rows<'a>(&self, data: &'a Results) -> Vec<&'a Spectrum> {
+        let q = self.current_quantity(data);
+        data.spectra
+            .iter()
+            .filter(|s| Some(s.quantity) == q)
+            .collect()
+    }
+
+    /// The scene behind the point under the cursor (in the comparison: B's).
+    pub fn point_at_cursor<'a>(&self, data: &'a Results) -> Option<&'a ScenePoint> {
+        match self.tab {
+            ResultsTab::Spectra | ResultsTab::Compare => {
+                let rows = self.rows(data);
+                let idx = if self.tab == ResultsTab::Compare {
+                    self.compare.b
+                } else {
+                    self.spectra.row
+                };
+                let s = rows.get(idx)?;
+                let x = *s.xs.get(self.spectra.x)?;
+                data.find_point(&s.group, &[(&s.axis, x)])
+            }
+            ResultsTab::Maps => {
+                let m = data.maps.get(self.maps.map)?;
+                let x = *m.xs.get(self.maps.cell.0)?;
+                let y = *m.ys.get(self.maps.cell.1)?;
+                data.find_point(&m.group, &[(&m.x_axis, x), (&m.y_axis, y)])
+            }
+        }
+    }
+
+    /// `[ ] quantity (i/n)`: the header of the spectra and the comparison.
+    fn quantity_line(&self, data: &Results, theme: Theme) -> Line<'static> {
+        let name = self
+            .current_quantity(data)
+            .map_or("no spectra", Quantity::label);
+        Line::from(vec![
+            Span::styled("[ ] ", theme.key()),
+            Span::styled(name.to_string(), theme.title()),
+            Span::styled(
+                format!(
+                    "  ({}/{})",
+                    self.spectra.quantity + 1,
+                    data.quantities.len().max(1)
+                ),
+                theme.dim(),
+            ),
+        ])
+    }
+}
+
+impl Component for ResultsScreen {
+    fn handle_key(&mut self, key: KeyEvent, shared: &Shared) -> Action {
+        let Some(data) = &shared.results else {
+            return match key.code {
+                KeyCode::Char('r') => Action::StartRun,
+                _ => Action::None,
+            };
+        };
+        match key.code {
+            KeyCode::Char('s') => self.tab = ResultsTab::Spectra,
+            KeyCode::Char('m') => self.tab = ResultsTab::Maps,
+            KeyCode::Char('c') => self.tab = ResultsTab::Compare,
+            KeyCode::Char('r') => return Action::StartRun,
+            KeyCode::Char('w') => {
+                let name = data
+                    .results
+                    .study
+                    .as_ref()
+                    .map_or("study", |s| s.name.as_str());
+                let default = format!("out/{name}/results.json");
+                return Action::Prompt(Prompt::SaveResults(LineEdit::new(default)));
+            }
+            KeyCode::Enter => {
+                return match self.point_at_cursor(data) {
+                    Some(point) => Action::OpenScene(Box::new(point.clone())),
+                    None => Action::Complain("no scene under the cursor".into()),
+                };
+            }
+            _ => {}
+        }
+        match self.tab {
+            ResultsTab::Spectra | ResultsTab::Compare => {
+                let rows = self.rows(data);
+                let (nrows, nx) = (rows.len(), spectra::axis_len(&rows));
+                self.spectra
+                    .handle_key(key, nrows, nx, data.quantities.len());
+                self.compare.handle_key(key, nrows);
+                // The quantity may have changed: keep every cursor on a row.
+                let rows = self.rows(data);
+                self.spectra.clamp(rows.len(), spectra::axis_len(&rows));
+                self.compare.clamp(rows.len());
+            }
+            ResultsTab::Maps => self.maps.handle_key(key, data),
+        }
+        Action::None
+    }
+
+    fn hints(&self, _: &Shared) -> Vec<Hint> {
+        vec![
+            ("s/m/c", "spectra/maps/compare"),
+            ("←→↑↓", "cursor"),
+            ("[ ]", "quantity"),
+            ("Enter", "scene"),
+            ("w", "write results"),
+        ]
+    }
+
+    fn draw(&self, shared: &Shared, theme: Theme, frame: &mut Frame, area: Rect) {
+        let Some(data) = &shared.results else {
+            frame.render_widget(
+                Paragraph::new("No results yet. Press r to run the study.")
+                    .wrap(Wrap { trim: true }),
+                area,
+            );
+            return;
+        };
+        let [tabs, body] =
+            Layout::vertical([Constraint::Length(1), Constraint::Min(1)]).areas(area);
+        let mut spans = Vec::new();
+        for (tab, key, name) in [
+            (ResultsTab::Spectra, "s", "spectra"),
+            (ResultsTab::Maps, "m", "maps"),
+            (ResultsTab::Compare, "c", "compare"),
+        ] {
+            let style = if self.tab == tab {
+                theme.tab_active()
+            } else {
+                theme.base()
+            };
+            spans.push(Span::styled(format!(" {key} {name} "), style));
+        }
+        if data.cancelled {
+            spans.push(Span::styled("  partial: sweep cancelled", theme.warn()));
+        }
+        if data
+            .results
+            .study
+            .as_ref()
+            .is_some_and(|s| *s != shared.study)
+        {
+            spans.push(Span::styled(
+                "  study edited since this run (r reruns)",
+                theme.warn(),
+            ));
+        }
+        frame.render_widget(Paragraph::new(Line::from(spans)), tabs);
+        match self.tab {
+            ResultsTab::Spectra => spectra::draw(self, data, theme, frame, body),
+            ResultsTab::Maps => self.maps.draw(data, theme, frame, body),
+            ResultsTab::Compare => compare::draw(self, data, theme, frame, body),
+        }
+    }
+}
+
+/// Width of the variant names left of the bars: the longest name, within limits.
+fn label_width(rows: &[&Spectrum], extra: usize, area: Rect) -> usize {
+    let longest = rows
+        .iter()
+        .map(|s| s.group.chars().count() + extra)
+        .max()
+        .unwrap_or(0);
+    longest.clamp(8, (area.width as usize / 3).max(8))
+}

@@ -1,0 +1,122 @@
+//! Spectra: one strip of bars per variant for the current quantity, a cursor along the axis,
+//! and every variant's value at the cursor.
+
+use super::super::super::theme::Theme;
+use super::super::super::widgets::strip::{Bars, Strip, axis_line, series_lines};
+use super::super::super::widgets::{fmt_num, pad, scroll_offset, truncate};
+use super::{Results, ResultsScreen, label_width};
+use crate::report::Spectrum;
+use crossterm::event::{KeyCode, KeyEvent};
+use ratatui::Frame;
+use ratatui::layout::Rect;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Paragraph, Wrap};
+
+/// The cursor over the spectra, shared with the comparison.
+#[derive(Clone, Debug, Default)]
+pub struct SpectraView {
+    /// Index of the quantity shown (among those with spectra).
+    pub quantity: usize,
+    /// Selected spectrum row (among those of the current quantity).
+    pub row: usize,
+    /// Cursor along the spectrum axis.
+    pub x: usize,
+}
+
+/// Points on the longest spectrum among `rows`.
+pub fn axis_len(rows: &[&Spectrum]) -> usize {
+    rows.iter().map(|s| s.xs.len()).max().unwrap_or(0)
+}
+
+impl SpectraView {
+    /// Cursor keys, for `nrows` spectra of `nx` points and `nq` quantities.
+    pub fn handle_key(&mut self, key: KeyEvent, nrows: usize, nx: usize, nq: usize) {
+        match key.code {
+            KeyCode::Left | KeyCode::Char('h') => self.x = self.x.saturating_sub(1),
+            KeyCode::Right | KeyCode::Char('l') => self.x = (self.x + 1).min(nx.saturating_sub(1)),
+            KeyCode::Home => self.x = 0,
+            KeyCode::End => self.x = nx.saturating_sub(1),
+            KeyCode::Up | KeyCode::Char('k') => self.row = self.row.saturating_sub(1),
+            KeyCode::Down | KeyCode::Char('j') => {
+                self.row = (self.row + 1).min(nrows.saturating_sub(1))
+            }
+            KeyCode::Char(']') if nq > 0 => self.quantity = (self.quantity + 1) % nq,
+            KeyCode::Char('[') if nq > 0 => self.quantity = (self.quantity + nq - 1) % nq,
+            _ => {}
+        }
+    }
+
+    pub fn clamp(&mut self, nrows: usize, nx: usize) {
+        self.row = self.row.min(nrows.saturating_sub(1));
+        self.x = self.x.min(nx.saturating_sub(1));
+    }
+}
+
+pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Frame, area: Rect) {
+    let view = &screen.spectra;
+    let rows = screen.rows(data);
+    let mut lines = vec![screen.quantity_line(data, theme)];
+    if rows.is_empty() {
+        lines.push(Line::raw("no spectra in these results"));
+        frame.render_widget(Paragraph::new(lines), area);
+        return;
+    }
+    let n = axis_len(&rows);
+    let label_width = label_width(&rows, 0, area);
+    let width = (area.width as usize).saturating_sub(label_width + 11);
+    let st = Strip::fit(n, width, view.x);
+    // Blocks that fit, up to 4 rows tall each; keep the selected one in view.
+    let room = (area.height as usize).saturating_sub(5 + rows.len().min(4));
+    let height = (room / rows.len()).clamp(1, 4);
+    let visible = (room / height).max(1);
+    let offset = scroll_offset(view.row, rows.len(), visible);
+    for (i, s) in rows.iter().enumerate().skip(offset).take(visible) {
+        let selected = i == view.row;
+        let label = Span::styled(
+            pad(&truncate(&s.group, label_width), label_width),
+            if selected {
+                theme.selected()
+            } else {
+                theme.field()
+            },
+        );
+        let style = theme.series(i);
+        let layout = Bars {
+            strip: &st,
+            cursor: view.x,
+            height,
+            theme,
+        };
+        lines.extend(series_lines(label, label_width, &s.ys, style, &layout));
+    }
+    let axis = rows[0].axis.clone();
+    lines.push(axis_line(&rows[0].xs, &st, label_width + 1, &axis));
+    lines.push(Line::raw(""));
+    let sel = rows[view.row.min(rows.len() - 1)];
+    let at = sel.xs.get(view.x).copied();
+    let value = sel.ys.get(view.x).copied().flatten();
+    lines.push(Line::from(vec![
+        Span::styled("cursor ", theme.dim()),
+        Span::raw(format!(
+            "{} = {}  {}: {}",
+            sel.axis,
+            at.map_or("–".into(), fmt_num),
+            sel.group,
+            value.map_or("overturned/failed".into(), fmt_num)
+        )),
+        Span::styled("  Enter: open scene", theme.dim()),
+    ]));
+    let values: Vec<String> = rows
+        .iter()
+        .map(|s| {
+            let v = s.ys.get(view.x).copied().flatten();
+            format!("{} {}", s.group, v.map_or("×".into(), fmt_num))
+        })
+        .collect();
+    // Every variant's value at the cursor, when that fits in two lines.
+    let all = values.join("  │  ");
+    if all.chars().count() <= 2 * area.width as usize {
+        lines.push(Line::styled(all, theme.base()));
+    }
+    frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
+}

@@ -1,0 +1,514 @@
+//! The Study screen: the study as a tree of rows, edited in place as RON. An edit is parsed
+//! and expanded once by the study's own code; a refused edit keeps the editor open with the
+//! parser's message. Help and the unset optional fields come from `study::fields`.
+
+use super::super::edit::{EditOutcome, LineEdit};
+use super::super::theme::Theme;
+use super::super::tree::{self, Node};
+use super::super::widgets::{Hint, edit_spans, fmt_duration, pad, scroll_offset, truncate};
+use super::prompt::{Pending, Prompt};
+use super::{Action, Check, Component, Shared};
+use crate::study::Study;
+use crate::study::fields::{self, optional_fields};
+use crossterm::event::{KeyCode, KeyEvent};
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::style::Modifier;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
+
+/// One row of the Study screen: a node of the study tree.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    pub depth: usize,
+    pub label: String,
+    pub path: Vec<usize>,
+    /// Inline value (leaf rows) or a short tag (rows whose children follow).
+    pub text: String,
+    pub leaf: bool,
+    /// The row is an element of a list: it can be duplicated or deleted.
+    pub in_list: bool,
+    /// An optional field that is not set: editing it adds the field to the struct at `path`.
+    pub absent: Option<&'static str>,
+}
+
+pub struct StudyScreen {
+    pub tree: Node,
+    pub rows: Vec<Row>,
+    pub cursor: usize,
+    pub edit: Option<LineEdit>,
+    /// Why the last edit was refused (parse error), shown under the editor.
+    pub edit_error: Option<String>,
+    /// The edit is a new list element, to go after the selected one (`a`).
+    pub inserting: bool,
+    /// Where the cursor goes once the edited study is back (a new list element).
+    cursor_to: Option<Vec<usize>>,
+}
+
+impl StudyScreen {
+    pub fn new(study: &Study) -> Self {
+        let mut screen = StudyScreen {
+            tree: Node::Unit,
+            rows: Vec::new(),
+            cursor: 0,
+            edit: None,
+            edit_error: None,
+            inserting: false,
+            cursor_to: None,
+        };
+        screen.study_changed(study);
+        screen
+    }
+
+    /// Rebuild the rows from a new study, keeping the cursor on the same node if it still
+    /// exists (or moving it where the last edit asked).
+    pub fn study_changed(&mut self, study: &Study) {
+        let keep = self.rows.get(self.cursor).map(|r| r.path.clone());
+        let target = self.cursor_to.take();
+        self.tree = Node::from_value(study).unwrap_or(Node::Unit);
+        let mut rows = Vec::new();
+        // The root is the whole study: list its fields at the top level.
+        for (i, (label, child)) in self.tree.children().into_iter().enumerate() {
+            flatten(child, 0, &mut vec![i], &label, false, &mut rows);
+        }
+        absent_rows("study", &self.tree, 0, &[], &mut rows);
+        self.rows = rows;
+        self.cursor = self.cursor.min(self.rows.len().saturating_sub(1));
+        for path in [keep, target].into_iter().flatten() {
+            if let Some(i) = self.rows.iter().position(|r| r.path == path) {
+                self.cursor = i;
+            }
+        }
+    }
+
+    /// Move to the next row (after the cursor, wrapping) whose label contains `text`.
+    pub fn search(&mut self, text: &str) -> Action {
+        let needle = text.trim().to_lowercase();
+        let rows = &self.rows;
+        let n = rows.len();
+        // An exact name first, then any name containing the text.
+        let order = || (1..=n).map(|k| (self.cursor + k) % n.max(1));
+        let found = order()
+            .find(|&i| rows[i].label.to_lowercase() == needle)
+            .or_else(|| order().find(|&i| rows[i].label.to_lowercase().contains(&needle)));
+        match found {
+            Some(i) if !needle.is_empty() => {
+                self.cursor = i;
+                Action::None
+            }
+            _ => Action::Complain(format!("no field named like \"{}\"", text.trim())),
+        }
+    }
+
+    fn edit_key(&mut self, key: KeyEvent) -> Action {
+        let Some(line) = self.edit.as_mut() else {
+            return Action::None;
+        };
+        match line.handle_key(key) {
+            EditOutcome::Editing => Action::None,
+            EditOutcome::Cancel => {
+                self.edit = None;
+                self.edit_error = None;
+                self.inserting = false;
+                Action::None
+            }
+            EditOutcome::Commit => {
+                let text = line.text.clone();
+                let Some(row) = self.rows.get(self.cursor) else {
+                    return Action::None;
+                };
+                let doc = match row.absent {
+                    None if self.inserting => {
+                        let (parent, i) = row.path.split_at(row.path.len() - 1);
+                        let mut tree = self.tree.clone();
+                        if let Some(Node::Seq(items)) = tree.get_mut(parent) {
+                            items.insert(i[0] + 1, Node::Raw(text));
+                        }
+                        tree::to_ron(&tree)
+                    }
+                    Some(field) => {
+                        let mut tree = self.tree.clone();
+                        if let Some(fields) = tree.get_mut(&row.path).and_then(tree::fields_mut) {
+                            fields.push((field, Node::Raw(text)));
+                        }
+                        tree::to_ron(&tree)
+                    }
+                    None => tree::to_ron_with(&self.tree, &row.path, &text),
+                };
+                // A new element: the cursor moves onto it once it is in.
+                let new_path = self.inserting.then(|| {
+                    let mut p = row.path.clone();
+                    if let Some(last) = p.last_mut() {
+                        *last += 1;
+                    }
+                    p
+                });
+                let action = self.apply_document(&doc, true);
+                if matches!(action, Action::StudyEdited(..)) {
+                    self.cursor_to = new_path;
+                }
+                action
+            }
+        }
+    }
+
+    /// Parse an edited document with the study's own parser, validating it by expanding it
+    /// (once: the scenes go to the app with the study). A refused edit says why: under the
+    /// editor, or on the status line for edits without one (deletions).
+    fn apply_document(&mut self, doc: &str, from_editor: bool) -> Action {
+        let checked = match Study::parse_ron(doc, "edit") {
+            Ok(study) => match study.expand() {
+                Ok(points) => Ok((study, points)),
+                Err(e) => Err(e.located(doc, "edit")),
+            },
+            Err(e) => Err(e),
+        };
+        match checked {
+            Ok((study, points)) => {
+                self.edit = None;
+                self.edit_error = None;
+                self.inserting = false;
+                Action::StudyEdited(Box::new(study), points)
+            }
+            Err(e) => {
+                let msg = strip_position(&e.to_string());
+                if from_editor {
+                    self.edit_error = Some(msg);
+                    Action::None
+                } else {
+                    Action::Complain(msg)
+                }
+            }
+        }
+    }
+
+    /// Add a list element after the selected one: the editor opens on a copy of it, to be
+    /// changed before it goes in (two identical device variants would be refused).
+    fn duplicate_row(&mut self) -> Action {
+        let Some(row) = self.rows.get(self.cursor) else {
+            return Action::None;
+        };
+        if !row.in_list {
+            return Action::Complain("a adds a list element; this row is not in a list".into());
+        }
+        let text = self.tree.get(&row.path).map_or(String::new(), tree::to_ron);
+        self.edit = Some(LineEdit::new(text));
+        self.edit_error = None;
+        self.inserting = true;
+        Action::None
+    }
+
+    /// Delete a list element, or unset a field (the study's default applies, or the parser
+    /// says the field is required).
+    fn delete_row(&mut self) -> Action {
+        let Some(row) = self.rows.get(self.cursor) else {
+            return Action::None;
+        };
+        if row.absent.is_some() || row.path.is_empty() {
+            return Action::None;
+        }
+        let (parent, i) = row.path.split_at(row.path.len() - 1);
+        let mut tree = self.tree.clone();
+        if row.in_list {
+            if let Some(Node::Seq(items)) = tree.get_mut(parent) {
+                items.remove(i[0]);
+                return self.apply_document(&tree::to_ron(&tree), false);
+            }
+        } else if let Some(fields) = tree.get_mut(parent).and_then(tree::fields_mut)
+            && i[0] < fields.len()
+        {
+            fields.remove(i[0]);
+            return self.apply_document(&tree::to_ron(&tree), false);
+        }
+        Action::None
+    }
+
+    /// One line about the selected field: what it means, and what a number can be.
+    fn row_help(&self, shared: &Shared) -> Option<String> {
+        let row = self.rows.get(self.cursor)?;
+        let help = fields::field_help(&row.label)?;
+        let mut text = format!("{}: {help}", row.label);
+        if matches!(row.label.as_str(), "excitation" | "names") && !shared.record_names.is_empty() {
+            text.push_str(&format!("; records: {}", shared.record_names.join(", ")));
+        } else if fields::takes_grid(&row.label) {
+            text.push_str(
+                "; a value 0.5, a list [0.5, 1.0] or a range (from: 1.0, to: 12.0, steps: 12)",
+            );
+        }
+        Some(text)
+    }
+}
+
+impl Component for StudyScreen {
+    fn captures_keys(&self) -> bool {
+        self.edit.is_some()
+    }
+
+    fn handle_key(&mut self, key: KeyEvent, shared: &Shared) -> Action {
+        if self.edit.is_some() {
+            return self.edit_key(key);
+        }
+        let n = self.rows.len();
+        match key.code {
+            KeyCode::Up | KeyCode::Char('k') => self.cursor = self.cursor.saturating_sub(1),
+            KeyCode::Down | KeyCode::Char('j') => {
+                self.cursor = (self.cursor + 1).min(n.saturating_sub(1))
+            }
+            KeyCode::PageUp => self.cursor = self.cursor.saturating_sub(10),
+            KeyCode::PageDown => self.cursor = (self.cursor + 10).min(n.saturating_sub(1)),
+            KeyCode::Home | KeyCode::Char('g') => self.cursor = 0,
+            KeyCode::End | KeyCode::Char('G') => self.cursor = n.saturating_sub(1),
+            KeyCode::Enter | KeyCode::Char('e') => {
+                if let Some(row) = self.rows.get(self.cursor) {
+                    let text = match row.absent {
+                        Some(field) => fields::OPTIONAL_FIELDS
+                            .iter()
+                            .find(|f| f.field == field)
+                            .map_or(String::new(), |f| f.template.to_string()),
+                        None => self.tree.get(&row.path).map_or(String::new(), tree::to_ron),
+                    };
+                    self.edit = Some(LineEdit::new(text));
+                    self.edit_error = None;
+                }
+            }
+            KeyCode::Char('a') => return self.duplicate_row(),
+            KeyCode::Char('d') => return self.delete_row(),
+            KeyCode::Char('s') => return Action::Save,
+            KeyCode::Char('S') => {
+                let current = shared
+                    .path
+                    .as_ref()
+                    .map_or("study.ron".into(), |p| p.display().to_string());
+                return Action::Prompt(Prompt::SaveAs(LineEdit::new(current)));
+            }
+            KeyCode::Char('o') => return Action::Prompt(Prompt::Open(LineEdit::new(""))),
+            KeyCode::Char('/') => return Action::Prompt(Prompt::Search(LineEdit::new(""))),
+            KeyCode::Char('n') => return Action::Request(Pending::New),
+            KeyCode::Char('r') => return Action::StartRun,
+            _ => {}
+        }
+        Action::None
+    }
+
+    fn hints(&self, _: &Shared) -> Vec<Hint> {
+        if self.edit.is_some() {
+            let enter = if self.inserting {
+                "add as a new element after this one"
+            } else {
+                "apply"
+            };
+            return vec![("Enter", enter), ("Esc", "cancel"), ("←→", "move")];
+        }
+        vec![
+            ("↑↓", "move"),
+            ("Enter", "edit"),
+            ("/", "find"),
+            ("a", "add"),
+            ("d", "del/unset"),
+            ("r", "run"),
+            ("s", "save"),
+            ("S", "save as"),
+            ("o", "open"),
+            ("n", "new"),
+        ]
+    }
+
+    fn draw(&self, shared: &Shared, theme: Theme, frame: &mut Frame, area: Rect) {
+        let summary = summary(shared, theme);
+        let summary_height = (summary.len() as u16).min(area.height / 3).max(1);
+        let edit_error = self.edit_error.as_ref();
+        let row_help = self.row_help(shared);
+        let [head, list, help, foot] = Layout::vertical([
+            Constraint::Length(summary_height),
+            Constraint::Min(1),
+            Constraint::Length(if row_help.is_some() && area.height >= 16 {
+                1
+            } else {
+                0
+            }),
+            Constraint::Length(if edit_error.is_some() { 2 } else { 0 }),
+        ])
+        .areas(area);
+        if let Some(text) = row_help {
+            frame.render_widget(Paragraph::new(Line::styled(text, theme.dim())), help);
+        }
+        frame.render_widget(Paragraph::new(summary).wrap(Wrap { trim: false }), head);
+        let block = Block::default().borders(Borders::TOP).title(" study ");
+        let inner = block.inner(list);
+        frame.render_widget(block, list);
+
+        let rows = &self.rows;
+        let height = inner.height as usize;
+        let offset = scroll_offset(self.cursor, rows.len(), height);
+        let label_width = rows
+            .iter()
+            .map(|r| r.depth * 2 + r.label.chars().count())
+            .max()
+            .unwrap_or(0)
+            .min(inner.width as usize / 2);
+        let mut lines = Vec::new();
+        for (i, row) in rows.iter().enumerate().skip(offset).take(height) {
+            let selected = i == self.cursor;
+            let indent = "  ".repeat(row.depth);
+            let label = format!("{indent}{}", row.label);
+            let label = pad(&truncate(&label, label_width), label_width);
+            let mut spans = vec![Span::styled(
+                label,
+                if selected {
+                    theme.selected()
+                } else {
+                    theme.field()
+                },
+            )];
+            spans.push(Span::raw(" "));
+            let value_room = (inner.width as usize).saturating_sub(label_width + 1);
+            match (&self.edit, selected) {
+                (Some(line), true) => spans.extend(edit_spans(theme, line, value_room)),
+                _ => {
+                    let style = if row.leaf && row.absent.is_none() {
+                        theme.value()
+                    } else {
+                        theme.dim()
+                    };
+                    spans.push(Span::styled(truncate(&row.text, value_room), style));
+                }
+            }
+            lines.push(Line::from(spans));
+        }
+        frame.render_widget(Paragraph::new(lines), inner);
+        if let Some(err) = edit_error {
+            frame.render_widget(
+                Paragraph::new(Line::styled(format!("✗ {err}"), theme.error()))
+                    .wrap(Wrap { trim: true }),
+                foot,
+            );
+        }
+    }
+}
+
+/// Whether the study is valid, how many scenes and variants it makes, and how long it runs.
+fn summary(shared: &Shared, theme: Theme) -> Vec<Line<'static>> {
+    let mut lines = Vec::new();
+    match &shared.check {
+        Check::Ok(points) => {
+            let mut groups: Vec<&str> = Vec::new();
+            for p in points.iter() {
+                if !groups.contains(&p.group.as_str()) {
+                    groups.push(&p.group);
+                }
+            }
+            let mut spans = vec![
+                Span::styled("✓ valid  ", theme.ok()),
+                Span::styled(
+                    format!("{}", points.len()),
+                    theme.value().add_modifier(Modifier::BOLD),
+                ),
+                Span::raw(format!(
+                    " scenes in {} variant{}",
+                    groups.len(),
+                    if groups.len() == 1 { "" } else { "s" }
+                )),
+            ];
+            if !shared.options.deterministic {
+                let est = shared
+                    .estimated_seconds()
+                    .map_or("estimating…".to_string(), |s| {
+                        if s < 1.0 {
+                            "< 1 s".to_string()
+                        } else {
+                            format!("≈ {}", fmt_duration(s))
+                        }
+                    });
+                spans.push(Span::raw(format!("  run time {est}")));
+            }
+            lines.push(Line::from(spans));
+        }
+        Check::Invalid(msg) => {
+            lines.push(Line::styled(format!("✗ {msg}"), theme.error()));
+        }
+    }
+    lines
+}
+
+/// Rows for the optional fields that `node` (a struct named `owner`) does not set.
+fn absent_rows(owner: &str, node: &Node, depth: usize, path: &[usize], out: &mut Vec<Row>) {
+    let present: Vec<String> = node.children().into_iter().map(|(l, _)| l).collect();
+    for f in optional_fields(owner) {
+        if !present.iter().any(|p| p == f.field) {
+            out.push(Row {
+                depth,
+                label: f.field.to_string(),
+                path: path.to_vec(),
+                text: "unset".into(),
+                leaf: true,
+                in_list: false,
+                absent: Some(f.field),
+            });
+        }
+    }
+}
+
+/// Rows of the tree in display order. Scalars, short lists of scalars and short structs fit on
+/// one row and are edited as one value; bigger nodes get a header row followed by children.
+fn flatten(
+    node: &Node,
+    depth: usize,
+    path: &mut Vec<usize>,
+    label: &str,
+    in_list: bool,
+    out: &mut Vec<Row>,
+) {
+    let text = tree::to_ron(node);
+    let children = node.children();
+    let scalar_list =
+        matches!(node, Node::Seq(items) if items.iter().all(|n| n.children().is_empty()));
+    let owner = match node {
+        Node::Variant(name, _) => *name,
+        _ => "",
+    };
+    // Structs with optional parameters expand so that the unset ones show; an optional label
+    // alone does not justify a row per field.
+    let has_optional = optional_fields(owner).any(|f| f.field != "label");
+    let inline =
+        children.is_empty() || scalar_list || (text.chars().count() <= 40 && !has_optional);
+    if inline {
+        out.push(Row {
+            depth,
+            label: label.to_string(),
+            path: path.clone(),
+            text,
+            leaf: true,
+            in_list,
+            absent: None,
+        });
+        return;
+    }
+    out.push(Row {
+        depth,
+        label: label.to_string(),
+        path: path.clone(),
+        text: node.tag(),
+        leaf: false,
+        in_list,
+        absent: None,
+    });
+    let list = node.is_seq();
+    for (i, (child_label, child)) in children.into_iter().enumerate() {
+        path.push(i);
+        flatten(child, depth + 1, path, &child_label, list, out);
+        path.pop();
+    }
+    absent_rows(owner, node, depth + 1, path, out);
+}
+
+/// Parse errors of an edit name a position inside the generated one-line document, which
+/// means nothing to the user; keep the message and the hint.
+fn strip_position(msg: &str) -> String {
+    match msg.strip_prefix("edit:") {
+        Some(rest) => rest
+            .trim_start_matches(|c: char| c.is_ascii_digit() || c == ':')
+            .trim_start()
+            .to_string(),
+        None => msg.to_string(),
+    }
+}

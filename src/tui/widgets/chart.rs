@@ -1,0 +1,165 @@
+//! A line chart of time series that stays cheap and faithful at any length: each series is
+//! downsampled to about two points per terminal column, keeping every window's extremes.
+
+use super::super::theme::Theme;
+use super::fmt_num;
+use ratatui::Frame;
+use ratatui::layout::Rect;
+use ratatui::symbols::Marker;
+use ratatui::widgets::{Axis, Block, Borders, Chart, Dataset, GraphType, Paragraph};
+
+/// A bordered chart of `series` (legend name, values) over the times `t`; "not recorded" when
+/// there is nothing to draw. Monochrome terminals tell the series apart by their markers.
+pub fn draw_chart(
+    frame: &mut Frame,
+    area: Rect,
+    theme: Theme,
+    title: &str,
+    t: &[f64],
+    series: &[(&str, Vec<f64>)],
+) {
+    let points = (area.width as usize * 2).max(2);
+    let series: Vec<(&str, Vec<(f64, f64)>)> = series
+        .iter()
+        .map(|(name, values)| (*name, downsample(t, values, points)))
+        .collect();
+    let block = Block::default()
+        .borders(Borders::ALL)
+        .title(format!(" {title} "));
+    if series.is_empty() || t.is_empty() {
+        frame.render_widget(Paragraph::new("not recorded").block(block), area);
+        return;
+    }
+    let (t0, t1) = (t[0], *t.last().unwrap_or(&t[0]));
+    let (lo, hi) = series
+        .iter()
+        .flat_map(|(_, s)| s.iter().map(|p| p.1))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    let (lo, hi) = if hi > lo {
+        (lo, hi)
+    } else {
+        (lo - 1.0, hi + 1.0)
+    };
+    let markers = [Marker::Braille, Marker::Dot, Marker::Block, Marker::Bar];
+    let datasets = series
+        .iter()
+        .enumerate()
+        .map(|(i, (name, data))| {
+            Dataset::default()
+                .name(*name)
+                .marker(if theme.mono {
+                    markers[i % markers.len()]
+                } else {
+                    Marker::Braille
+                })
+                .graph_type(GraphType::Line)
+                .style(theme.series(i))
+                .data(data)
+        })
+        .collect();
+    let chart = Chart::new(datasets)
+        .block(block)
+        .x_axis(
+            Axis::default()
+                .bounds([t0, t1.max(t0 + 1e-9)])
+                .labels([fmt_num(t0), format!("{} s", fmt_num(t1))]),
+        )
+        .y_axis(
+            Axis::default()
+                .bounds([lo, hi])
+                .labels([fmt_num(lo), fmt_num(hi)]),
+        );
+    frame.render_widget(chart, area);
+}
+
+/// About `n` points: the extremes of the samples in each of n/2 equal time windows, placed at
+/// the window's centre, so peaks stay visible and the picture depends on the trajectory, not on
+/// where the integrator happened to step.
+pub fn downsample(t: &[f64], v: &[f64], n: usize) -> Vec<(f64, f64)> {
+    let len = t.len().min(v.len());
+    if len <= n {
+        return (0..len).map(|i| (t[i], v[i])).collect();
+    }
+    let buckets = (n / 2).max(1);
+    let (t0, t1) = (t[0], t[len - 1]);
+    let width = (t1 - t0) / buckets as f64;
+    let mut out = Vec::with_capacity(n);
+    let mut i = 0;
+    for k in 0..buckets {
+        let end = if k + 1 == buckets {
+            f64::INFINITY
+        } else {
+            t0 + (k + 1) as f64 * width
+        };
+        let start = i;
+        while i < len && t[i] < end {
+            i += 1;
+        }
+        if i == start {
+            continue;
+        }
+        let window = &v[start..i];
+        let (imin, imax) = (0..window.len()).fold((0, 0), |(lo, hi), j| {
+            (
+                if window[j] < window[lo] { j } else { lo },
+                if window[j] > window[hi] { j } else { hi },
+            )
+        });
+        let centre = t0 + (k as f64 + 0.5) * width;
+        let (first, second) = if imin <= imax {
+            (imin, imax)
+        } else {
+            (imax, imin)
+        };
+        out.push((centre, window[first]));
+        if second != first {
+            out.push((centre, window[second]));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn downsampling_keeps_every_window_extreme_and_ignores_step_placement() {
+        // A spike at t = 0.503 in a 0..1 s signal sampled finely, two ways.
+        let spike = |t: f64| {
+            if (t - 0.503).abs() < 1e-3 {
+                5.0
+            } else {
+                t.sin()
+            }
+        };
+        let fine: Vec<f64> = (0..=10_000).map(|i| i as f64 * 1e-4).collect();
+        let shifted: Vec<f64> = (0..=9_001)
+            .map(|i| (i as f64 * 1.111e-4).min(1.0))
+            .collect();
+        let a = downsample(
+            &fine,
+            &fine.iter().map(|&t| spike(t)).collect::<Vec<_>>(),
+            100,
+        );
+        let b = downsample(
+            &shifted,
+            &shifted.iter().map(|&t| spike(t)).collect::<Vec<_>>(),
+            100,
+        );
+        assert!(a.len() <= 100 && b.len() <= 100);
+        let peak = |s: &[(f64, f64)]| s.iter().map(|p| p.1).fold(f64::MIN, f64::max);
+        assert_eq!(peak(&a), 5.0);
+        assert_eq!(peak(&b), 5.0);
+        // Same windows, same centres: the two samplings put the spike at the same time.
+        let at = |s: &[(f64, f64)]| s.iter().find(|p| p.1 == 5.0).unwrap().0;
+        assert_eq!(at(&a), at(&b));
+        // Short histories pass through untouched.
+        assert_eq!(
+            downsample(&[0.0, 1.0], &[2.0, 3.0], 10),
+            vec![(0.0, 2.0), (1.0, 3.0)]
+        );
+    }
+}
