@@ -194,8 +194,13 @@ fn cached<T>(
         .map_err(|e| anyhow::anyhow!("{e}"))
 }
 
+/// The process's record library (embedded records, or `--records-dir`).
+fn records() -> anyhow::Result<&'static crate::excitation::library::Library> {
+    crate::excitation::library::global().map_err(|e| anyhow::anyhow!("{e}"))
+}
+
 fn simulate(scene: &Scene) -> anyhow::Result<SceneResult> {
-    sim::run(scene, crate::excitation::library::global()?).map_err(|e| anyhow::anyhow!("{e}"))
+    sim::run(scene, records()?).map_err(|e| anyhow::anyhow!("{e}"))
 }
 
 /// Run scenes in parallel, in order.
@@ -418,12 +423,8 @@ pub fn fig8_peak_ordering() -> anyhow::Result<Claim> {
 /// and resets repeatedly.
 pub fn fig8_sequential_decays_faster() -> anyhow::Result<Claim> {
     let late = |device: Device| -> anyhow::Result<(f64, SceneResult)> {
-        let (r, h) = sim::run_with_history(
-            &rigid_fig8(device),
-            crate::excitation::library::global()?,
-            true,
-        )
-        .map_err(|e| anyhow::anyhow!("{e}"))?;
+        let (r, h) = sim::run_with_history(&rigid_fig8(device), records()?, true)
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
         let h = h.ok_or_else(|| anyhow::anyhow!("no history"))?;
         let t = h.column("t").unwrap_or_default();
         let theta = h.column("theta").unwrap_or_default();
@@ -583,12 +584,8 @@ pub fn fig14_inerter_cuts_uplift_clutches_more() -> anyhow::Result<Claim> {
 /// history, the device-side energy D = flywheel + clutch spring + everything dissipated in the
 /// device; a drop of D is energy flowing back.
 fn returned_fraction(device: Device) -> anyhow::Result<f64> {
-    let (_, h) = sim::run_with_history(
-        &flexible_fig14(device),
-        crate::excitation::library::global()?,
-        true,
-    )
-    .map_err(|e| anyhow::anyhow!("{e}"))?;
+    let (_, h) = sim::run_with_history(&flexible_fig14(device), records()?, true)
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
     let h = h.ok_or_else(|| anyhow::anyhow!("no history"))?;
     let col = |n: &str| h.column(n).unwrap_or_default();
     let parts = [

@@ -4,16 +4,20 @@
 mod util;
 
 mod angular_acceleration;
+mod checkpoint;
 mod cli_simulate;
+mod compare;
 mod exact_contact;
 mod excitation;
 mod flexible;
+mod fuzz;
 mod hard_cases;
 mod lost_events;
 mod paper;
 mod records_cli;
 mod records_sim;
 mod rigid;
+mod robustness;
 mod slurm;
 mod studies;
 mod study;

@@ -35,6 +35,10 @@ pub struct RunArgs {
     /// Use an output directory that holds another study's results (they are moved aside).
     #[arg(long)]
     pub force: bool,
+    /// Wall-clock limit of one scene in seconds (0: none); a scene over it is recorded as
+    /// failed with the reason.
+    #[arg(long, default_value_t = 600.0, value_parser = parse_seconds)]
+    pub scene_time_limit: f64,
     /// Do not print the summary.
     #[arg(long)]
     pub quiet: bool,
@@ -58,6 +62,13 @@ pub struct MergeArgs {
     pub out: PathBuf,
     #[arg(long)]
     pub quiet: bool,
+}
+
+fn parse_seconds(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("invalid time `{s}`: expected seconds ≥ 0")),
+    }
 }
 
 fn parse_shard(s: &str) -> Result<(usize, usize), String> {
@@ -188,15 +199,15 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     let reuse = std::mem::take(&mut output.reuse);
     let library = crate::excitation::library::global()?;
-    let mut results = sweep::run_checkpointed(
-        &points,
-        &opts,
-        library,
-        Some(&output.journal),
+    let checkpoint = sweep::Checkpoint {
+        journal: Some(&output.journal),
         reuse,
-        &CANCEL,
-        &|p| reporter.report(p),
-    );
+        scene_time_limit: (args.scene_time_limit > 0.0)
+            .then(|| Duration::from_secs_f64(args.scene_time_limit)),
+    };
+    let mut results = sweep::run_checkpointed(&points, &opts, library, checkpoint, &CANCEL, &|p| {
+        reporter.report(p)
+    });
     drop(points);
     results.study_hash = study.hash();
     results.study = Some(study.clone());

@@ -27,33 +27,12 @@ impl Default for CompareView {
 }
 
 impl CompareView {
-    /// Two device variants with the same other parameters (the spectra names differ only in
-    /// their first word): sequential vs mechanistic if there, else the pair with the most
-    /// points where both survive; else the first two spectra.
+    /// Two device variants paired by meaning (same record, structure and excitation):
+    /// sequential vs mechanistic if there, else the pair with the most points where both
+    /// survive; else the first two spectra.
     pub fn default_pair(rows: &[&Spectrum]) -> Self {
-        let split = |g: &str| -> (String, String) {
-            let g = g.to_lowercase();
-            match g.split_once(' ') {
-                Some((device, rest)) => (device.to_string(), rest.to_string()),
-                None => (g, String::new()),
-            }
-        };
-        let mut best: Option<((bool, usize), usize, usize)> = None;
-        for (a, sa) in rows.iter().enumerate() {
-            for (b, sb) in rows.iter().enumerate().skip(a + 1) {
-                let ((da, ra), (db, rb)) = (split(&sa.group), split(&sb.group));
-                if da == db || ra != rb {
-                    continue;
-                }
-                let classic = da.contains("sequential") && db.contains("mechanistic");
-                let score = (classic, report::compare(sa, sb).iter().flatten().count());
-                if best.as_ref().is_none_or(|(s, _, _)| score > *s) {
-                    best = Some((score, a, b));
-                }
-            }
-        }
-        match best {
-            Some((_, a, b)) => CompareView { a, b },
+        match report::compare::default_pair(rows) {
+            Some((a, b)) => CompareView { a, b },
             None => CompareView {
                 a: 0,
                 b: rows.len().saturating_sub(1).min(1),
@@ -107,8 +86,8 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
         );
         series_lines(label, label_width, values, style, &layout)
     };
-    lines.extend(block(format!("A {}", a.group), &a.ys, theme.series(0)));
-    lines.extend(block(format!("B {}", b.group), &b.ys, theme.series(1)));
+    lines.extend(block(format!("A {}", a.label), &a.ys, theme.series(0)));
+    lines.extend(block(format!("B {}", b.label), &b.ys, theme.series(1)));
     lines.extend(block("B/A".into(), &ratio, theme.warn()));
     lines.push(axis_line(&a.xs, &st, label_width + 1, &a.axis));
     lines.push(Line::raw(""));

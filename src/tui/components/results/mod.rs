@@ -53,34 +53,6 @@ impl Results {
             cancelled,
         }
     }
-
-    /// The point of a spectrum or map. A spectrum of a study with a map is named after its
-    /// group and the other map axis (`"{group} {label}={value}"`): match that too.
-    fn find_point(&self, group: &str, coords: &[(&String, f64)]) -> Option<&ScenePoint> {
-        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1e-300);
-        let same_group = |p: &ScenePoint| {
-            if p.group == group {
-                return true;
-            }
-            let Some(rest) = group
-                .strip_prefix(p.group.as_str())
-                .and_then(|r| r.strip_prefix(' '))
-            else {
-                return false;
-            };
-            rest.rsplit_once('=').is_some_and(|(label, value)| {
-                p.coord(label).map(crate::study::fmt_num).as_deref() == Some(value)
-            })
-        };
-        self.results.outcomes.iter().map(|o| &o.point).find(|p| {
-            same_group(p)
-                && coords.iter().all(|(axis, v)| {
-                    p.coords
-                        .iter()
-                        .any(|(name, value)| name == *axis && close(*value, *v))
-                })
-        })
-    }
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -125,7 +97,8 @@ impl ResultsScreen {
 
     /// The scene behind the point under the cursor (in the comparison: B's).
     pub fn point_at_cursor<'a>(&self, data: &'a Results) -> Option<&'a ScenePoint> {
-        match self.tab {
+        // Spectra and maps carry the index of each point's outcome: no label matching.
+        let outcome = match self.tab {
             ResultsTab::Spectra | ResultsTab::Compare => {
                 let rows = self.rows(data);
                 let idx = if self.tab == ResultsTab::Compare {
@@ -133,17 +106,14 @@ impl ResultsScreen {
                 } else {
                     self.spectra.row
                 };
-                let s = rows.get(idx)?;
-                let x = *s.xs.get(self.spectra.x)?;
-                data.find_point(&s.group, &[(&s.axis, x)])
+                *rows.get(idx)?.outcomes.get(self.spectra.x)?
             }
             ResultsTab::Maps => {
                 let m = data.maps.get(self.maps.map)?;
-                let x = *m.xs.get(self.maps.cell.0)?;
-                let y = *m.ys.get(self.maps.cell.1)?;
-                data.find_point(&m.group, &[(&m.x_axis, x), (&m.y_axis, y)])
+                (*m.outcomes.get(self.maps.cell.1)?.get(self.maps.cell.0)?)?
             }
-        }
+        };
+        data.results.outcomes.get(outcome).map(|o| &o.point)
     }
 
     /// `[ ] quantity (i/n)`: the header of the spectra and the comparison.
@@ -274,7 +244,7 @@ impl Component for ResultsScreen {
 fn label_width(rows: &[&Spectrum], extra: usize, area: Rect) -> usize {
     let longest = rows
         .iter()
-        .map(|s| s.group.chars().count() + extra)
+        .map(|s| s.label.chars().count() + extra)
         .max()
         .unwrap_or(0);
     longest.clamp(8, (area.width as usize / 3).max(8))

@@ -73,7 +73,7 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
     for (i, s) in rows.iter().enumerate().skip(offset).take(visible) {
         let selected = i == view.row;
         let label = Span::styled(
-            pad(&truncate(&s.group, label_width), label_width),
+            pad(&truncate(&s.label, label_width), label_width),
             if selected {
                 theme.selected()
             } else {
@@ -101,7 +101,7 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
             "{} = {}  {}: {}",
             sel.axis,
             at.map_or("–".into(), fmt_num),
-            sel.group,
+            sel.label,
             value.map_or("overturned/failed".into(), fmt_num)
         )),
         Span::styled("  Enter: open scene", theme.dim()),
@@ -110,7 +110,7 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
         .iter()
         .map(|s| {
             let v = s.ys.get(view.x).copied().flatten();
-            format!("{} {}", s.group, v.map_or("×".into(), fmt_num))
+            format!("{} {}", s.label, v.map_or("×".into(), fmt_num))
         })
         .collect();
     // Every variant's value at the cursor, when that fits in two lines.
