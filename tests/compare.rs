@@ -23,7 +23,11 @@ enum Fake {
 /// template result of one real (short) scene.
 fn synthetic(study: &Study, fake: impl Fn(&rocklab::study::ScenePoint) -> Fake) -> SweepResults {
     let points = study.expand().unwrap();
-    let template: SceneResult = rocklab::sim::run(&points[0].scene).unwrap();
+    let template: SceneResult = rocklab::sim::run(
+        &points[0].scene,
+        rocklab::excitation::library::global().unwrap(),
+    )
+    .unwrap();
     let outcomes = points
         .iter()
         .filter_map(|p| {
