@@ -51,6 +51,7 @@ fn json_has_the_contract_keys_and_matches_the_library() {
         "peak_deformation",
         "peak_drift",
         "peak_abs_acceleration_g",
+        "peak_angular_acceleration_p2",
         "impacts",
         "engagements",
         "energy_residual",

@@ -3,6 +3,7 @@
 
 mod util;
 
+mod angular_acceleration;
 mod checkpoint;
 mod cli_simulate;
 mod compare;
@@ -12,6 +13,7 @@ mod figures;
 mod flexible;
 mod fuzz;
 mod hard_cases;
+mod lost_events;
 mod paper;
 mod records_cli;
 mod records_sim;

@@ -591,6 +591,7 @@ pub fn result_json(scene: &Scene, r: &SceneResult) -> serde_json::Value {
         "peak_deformation": r.peaks.deformation,
         "peak_drift": r.peaks.drift,
         "peak_abs_acceleration_g": r.peaks.abs_acceleration_g,
+        "peak_angular_acceleration_p2": r.peaks.angular_acceleration_p2,
         "impacts": r.counters.impacts,
         "uplifts": r.counters.uplifts,
         "engagements": r.counters.engagements,
@@ -646,12 +647,19 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
 
 pub fn summary(scene: &Scene, r: &SceneResult) -> String {
     let e = &r.energy;
+    // Rigid block: the paper's acceleration measure, θ̈ between impacts.
+    let angular = r
+        .peaks
+        .angular_acceleration_p2
+        .map(|a| format!("peak |θ̈| between impacts {a:.6} p²\n"))
+        .unwrap_or_default();
     format!(
         "structure {:?}, device {}, end: {:?} at t = {:.4} s\n\
          peak rotation      {:.6e} rad  ({:.4} α)\n\
          peak deformation   {:.6e} m\n\
          peak drift         {:.6e}\n\
          peak |abs. accel.| {:.6} g\n\
+         {angular}\
          impacts {}  uplifts {}  engagements {}  resets {}\n\
          energy (J): input {:.6e}  structure {:.6e}  inerter {:.6e}  dissipated {:.6e}  residual {:.2e}\n\
          solver: {} steps ({} rejected), {} rhs evaluations, {} closed-form steps, {:.3} ms\n",

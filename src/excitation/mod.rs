@@ -56,6 +56,15 @@ impl Motion {
         }
     }
 
+    /// Like [`Motion::next_breakpoint`], but a record stops at every sample whatever its kink
+    /// policy: for a phase whose event functions read a_g itself, not only through the state.
+    pub fn next_kink(&self, t: f64) -> Option<f64> {
+        match self {
+            Motion::Pulse(p) => p.next_breakpoint(t),
+            Motion::Record(r) => r.next_kink(t),
+        }
+    }
+
     /// Whether a_g jumps (not just kinks) at breakpoint `t`.
     pub fn jumps_at(&self, t: f64) -> bool {
         match self {

@@ -201,6 +201,22 @@ impl RecordMotion {
     }
 
     pub fn next_breakpoint(&self, t: f64) -> Option<f64> {
+        match self.kinks {
+            KinkPolicy::StopAtSamples => self.next_kink(t),
+            KinkPolicy::StepOver => {
+                let s = &*self.series;
+                if t < s.t0 {
+                    Some(s.t0)
+                } else {
+                    (t < s.end()).then(|| s.end())
+                }
+            }
+        }
+    }
+
+    /// The next sample strictly after `t` (the record's start and end included), whatever the
+    /// kink policy.
+    pub fn next_kink(&self, t: f64) -> Option<f64> {
         let s = &*self.series;
         if t < s.t0 {
             return Some(s.t0);
@@ -208,10 +224,7 @@ impl RecordMotion {
         if t >= s.end() {
             return None;
         }
-        match self.kinks {
-            KinkPolicy::StopAtSamples => Some(s.time(s.first_sample_after(t).min(s.npts() - 1))),
-            KinkPolicy::StepOver => Some(s.end()),
-        }
+        Some(s.time(s.first_sample_after(t).min(s.npts() - 1)))
     }
 
     /// a_g jumps only where the record starts or ends on a nonzero sample.

@@ -133,6 +133,12 @@ pub struct Peaks {
     pub drift: f64,
     /// |absolute horizontal acceleration| / g, impact jumps excluded.
     pub abs_acceleration_g: f64,
+    /// Rigid block: |θ̈|max / p² (rad), the angular acceleration between impacts (paper §3):
+    /// the instants of Housner's velocity jump are excluded (the one-sided values on either
+    /// side count), a Dirac-delta impact moment is included (it is a finite force, the
+    /// acceleration Fig. 5b shows). None for structures without this measure.
+    #[serde(default)]
+    pub angular_acceleration_p2: Option<f64>,
 }
 
 /// What the simulation driver needs from a structure family.
@@ -143,8 +149,19 @@ pub trait SimModel<const N: usize>: OdeSystem<N> {
     fn on_event(&mut self, index: usize, t: f64, y: &mut [f64; N]) -> Action;
     /// End of an idle period at t.
     fn wake(&mut self, t: f64, y: &mut [f64; N]) -> Action;
+    /// Name of what [`SimModel::wake`] does when it starts the motion again (for event logs).
+    fn wake_name(&self) -> &'static str {
+        "wake"
+    }
     /// The excitation has ended at t and the model is at rest: may the run stop?
     fn at_rest(&self, t: f64, y: &[f64; N]) -> bool;
+    /// Whether an event function of the current phase reads a_g directly rather than through
+    /// the state (a block resting on the ground uplifts when |a_g| passes a threshold). The
+    /// error controller cannot see such a function's kinks, so the integrator must then stop
+    /// at every kink of the ground motion whatever the record's kink policy.
+    fn events_read_ground(&self) -> bool {
+        false
+    }
     /// The excitation has ended and the energy left can no longer raise any peak.
     fn settled(&self, _y: &[f64; N]) -> bool {
         false

@@ -192,8 +192,19 @@ pub trait Body {
     /// flywheel's (y, ẏ), and of the energies.
     fn tolerance_scales(&self, m: &Mode) -> (Vec<f64>, [f64; 2], f64);
 
-    /// Flat on the ground at t with nothing moving: skip to this time (see [`Action::Idle`]).
+    /// Flat on the ground at t with the device at rest: skip to this time (see
+    /// [`Action::Idle`]).
     fn idle_until(&self, _m: &Mode, _t: f64) -> Option<f64> {
+        None
+    }
+    /// The longest integration step the body allows until the next restart (the rigid
+    /// block's Dirac impact window; see [`OdeSystem::max_step`]).
+    fn max_step(&self, _m: &Mode) -> f64 {
+        f64::INFINITY
+    }
+    /// p² for a body that reports its peak angular acceleration between impacts as
+    /// |θ̈|max/p² (the rigid block); None for one that does not.
+    fn angular_acceleration_scale(&self) -> Option<f64> {
         None
     }
     /// End of an idle period: the side the base lifts toward, or None (at rest for good).
@@ -239,6 +250,9 @@ enum Ev {
     Clutch(ClutchEvent),
 }
 
+/// Largest state a rocking model has (flexible structure with two flywheels).
+const MAX_STATE: usize = 16;
+
 /// A rocking structure `B` with its device: the model the simulation driver runs.
 pub struct Rocking<'m, B: Body> {
     pub(super) body: B,
@@ -260,6 +274,10 @@ impl<'m, B: Body> Rocking<'m, B> {
         motion: &'m Motion,
         initial_rotation: f64,
     ) -> Self {
+        let peaks = Peaks {
+            angular_acceleration_p2: body.angular_acceleration_scale().map(|_| 0.0),
+            ..Peaks::default()
+        };
         let mut events = [Ev::Impact; MAX_EVENTS];
         let mut n = 0;
         let mut push = |e| {
@@ -297,7 +315,7 @@ impl<'m, B: Body> Rocking<'m, B> {
             last_uplift: f64::NEG_INFINITY,
             ledger: Ledger::default(),
             counters: Counters::default(),
-            peaks: Peaks::default(),
+            peaks,
         }
     }
 
@@ -418,9 +436,41 @@ impl<'m, B: Body> Rocking<'m, B> {
         }
         self.resync_sequential(t, y);
         match self.body.idle_until(&self.mode, t) {
-            Some(until) => Action::Idle { until },
-            None => Action::Continue,
+            Some(until) if self.device_at_rest(t, y) => Action::Idle { until },
+            _ => Action::Continue,
         }
+    }
+
+    /// Whether the device holds still and unloaded (flywheels at rest, springs slack: every
+    /// flywheel derivative exactly zero). Only then may a body that does not move in contact
+    /// idle to the ground's exceedance instead of integrating the resting phase (stepping over
+    /// a record's samples, that integration stepped over the uplift).
+    fn device_at_rest(&self, t: f64, y: &[f64]) -> bool {
+        let layout = self.mode.layout;
+        if layout.flywheels == 0 {
+            return true;
+        }
+        let mut dy = [0.0; MAX_STATE];
+        let dy = &mut dy[..y.len()];
+        self.rhs_slice(t, y, dy);
+        dy[layout.flywheel(0)..layout.flywheel(layout.flywheels)]
+            .iter()
+            .all(|d| *d == 0.0)
+    }
+
+    /// |θ̈|/p² from the equations of motion at (t, y) for a body with that measure: zero
+    /// while flat; a Dirac impact moment included.
+    fn angular_acceleration_p2(&self, t: f64, y: &[f64]) -> f64 {
+        let Some(p2) = self.body.angular_acceleration_scale() else {
+            return 0.0;
+        };
+        if !self.mode.rocking() {
+            return 0.0;
+        }
+        let mut dy = [0.0; MAX_STATE];
+        let dy = &mut dy[..y.len()];
+        self.rhs_slice(t, y, dy);
+        dy[B::THETA_DOT].abs() / p2
     }
 
     fn impact(&mut self, t: f64, y: &mut [f64]) -> Action {
@@ -576,6 +626,10 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
         }
     }
 
+    fn max_step(&self) -> f64 {
+        self.body.max_step(&self.mode)
+    }
+
     fn sign_after_zero(&self, index: usize, _t: f64, y: &[f64; N]) -> f64 {
         match self.events[index] {
             // At uplift (θ = θ̇ = 0, sθ̈ > 0) the base moves onto its pivot's side. Knowing
@@ -623,6 +677,16 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
         }
     }
 
+    fn wake_name(&self) -> &'static str {
+        "uplift"
+    }
+
+    /// A body that does not move in contact is lifted by the ground itself: while it is flat
+    /// its uplift test reads a_g directly.
+    fn events_read_ground(&self) -> bool {
+        !B::MOVES_IN_CONTACT && !self.mode.rocking()
+    }
+
     /// Flat after the ground stopped, a body that cannot move in contact stays put: a
     /// flywheel can only spin down and drift away from engagement (its velocity never changes
     /// sign), so nothing can lift it. A flexible column decays but never stops (see
@@ -660,6 +724,13 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
     fn observe_step(&mut self, dense: &Dense<N>, t_end: f64) {
         self.body
             .observe_step(&self.mode, dense, t_end, &mut self.peaks);
+        if let Some(floor) = self.peaks.angular_acceleration_p2
+            && self.mode.rocking()
+        {
+            let theta_dd = |t: f64| self.angular_acceleration_p2(t, &dense.state(t));
+            let peak = refined_max(theta_dd, dense.t0, t_end, 4, floor);
+            self.peaks.angular_acceleration_p2 = Some(floor.max(peak));
+        }
         let accel_g = |t: f64| {
             self.absolute_acceleration(t, &dense.state(t), &dense.derivative(t))
                 .abs()
@@ -675,6 +746,11 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
         self.body.observe_point(&self.mode, y, &mut self.peaks);
         let a = self.absolute_acceleration(t, y, &dy);
         self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a.abs() / G);
+        // After a jump this is the one-sided value just past it (the jump itself excluded).
+        if let Some(peak) = self.peaks.angular_acceleration_p2 {
+            let theta_dd = self.angular_acceleration_p2(t, y);
+            self.peaks.angular_acceleration_p2 = Some(peak.max(theta_dd));
+        }
     }
 
     fn observe_idle(&mut self, t0: f64, t1: f64) {

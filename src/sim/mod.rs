@@ -296,6 +296,14 @@ fn drive<const N: usize, M: SimModel<N>>(
                 }
                 action = model.wake(t, &mut y);
                 model.observe_point(t, &y);
+                // The history shows the end of an idle period (an uplift from rest) as the
+                // located events are shown.
+                if let Some(h) = history.as_deref_mut() {
+                    if action == Action::Continue {
+                        h.events.push((t, model.wake_name()));
+                    }
+                    h.rows.push(model.history_row(t, &y));
+                }
                 continue;
             }
             Action::Continue => {
@@ -321,9 +329,12 @@ fn drive<const N: usize, M: SimModel<N>>(
             }
         }
         action = loop {
-            let t_stop = motion
-                .next_breakpoint(t)
-                .map_or(duration, |b| b.min(duration));
+            let breakpoint = if model.events_read_ground() {
+                motion.next_kink(t)
+            } else {
+                motion.next_breakpoint(t)
+            };
+            let t_stop = breakpoint.map_or(duration, |b| b.min(duration));
             let outcome = integ.step(model, t_stop)?;
             // No step is taken when the stop lies within rounding of t (intervals below what
             // f64 resolves at this t): nothing to observe then, but it counts as work.

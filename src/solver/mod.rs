@@ -54,6 +54,12 @@ pub trait OdeSystem<const N: usize> {
     fn sign_after_zero(&self, _index: usize, _t: f64, _y: &[f64; N]) -> f64 {
         0.0
     }
+    /// The longest step the system allows until the next restart: a force that acts only over
+    /// a short stretch of the motion (an impact window) must be sampled by the stages, or the
+    /// error estimate, built from the same stages, cannot see it. Queried at every restart.
+    fn max_step(&self) -> f64 {
+        f64::INFINITY
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -207,6 +213,8 @@ pub struct Integrator<const N: usize> {
     g: [f64; MAX_EVENTS],
     dense: Option<Dense<N>>,
     needs_restart: bool,
+    /// The system's [`OdeSystem::max_step`] at the last restart.
+    h_cap: f64,
 }
 
 impl<const N: usize> Integrator<N> {
@@ -222,6 +230,7 @@ impl<const N: usize> Integrator<N> {
             g: [0.0; MAX_EVENTS],
             dense: None,
             needs_restart: true,
+            h_cap: f64::INFINITY,
         }
     }
 
@@ -248,6 +257,7 @@ impl<const N: usize> Integrator<N> {
     pub fn restart<S: OdeSystem<N>>(&mut self, sys: &S, t: f64, y: [f64; N]) {
         self.t = t;
         self.y = y;
+        self.h_cap = sys.max_step();
         sys.rhs(t, &self.y, &mut self.f);
         self.stats.rhs_evals += 1;
         if self.h == 0.0 {
@@ -348,7 +358,7 @@ impl<const N: usize> Integrator<N> {
                 });
             }
             let remaining = t_stop - self.t;
-            let mut h = self.h.min(self.opts.h_max);
+            let mut h = self.h.min(self.opts.h_max).min(self.h_cap);
             let mut hits_stop = false;
             if h >= remaining * (1.0 - 1e-12) {
                 h = remaining;

@@ -111,7 +111,8 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ),
     (
         "quantities",
-        "peak_rotation, peak_rotation_ratio, peak_deformation, peak_drift, peak_abs_acceleration",
+        "peak_rotation, peak_rotation_ratio, peak_deformation, peak_drift, peak_abs_acceleration, \
+         peak_angular_acceleration (rigid blocks: |θ̈|max/p² between impacts)",
     ),
     (
         "spectrum",

@@ -18,15 +18,19 @@ pub enum Quantity {
     PeakDrift,
     /// Peak absolute horizontal acceleration / g.
     PeakAbsAcceleration,
+    /// Rigid block: peak angular acceleration between impacts / p² (the paper's rigid-block
+    /// acceleration, §3 and Figs. 5, 8, 12).
+    PeakAngularAcceleration,
 }
 
 impl Quantity {
-    pub const ALL: [Quantity; 5] = [
+    pub const ALL: [Quantity; 6] = [
         Quantity::PeakRotation,
         Quantity::PeakRotationRatio,
         Quantity::PeakDeformation,
         Quantity::PeakDrift,
         Quantity::PeakAbsAcceleration,
+        Quantity::PeakAngularAcceleration,
     ];
 
     /// The snake_case name used in study files and CSV.
@@ -37,6 +41,7 @@ impl Quantity {
             Quantity::PeakDeformation => "peak_deformation",
             Quantity::PeakDrift => "peak_drift",
             Quantity::PeakAbsAcceleration => "peak_abs_acceleration",
+            Quantity::PeakAngularAcceleration => "peak_angular_acceleration",
         }
     }
 
@@ -48,6 +53,7 @@ impl Quantity {
             Quantity::PeakDeformation => "|u|max (m)",
             Quantity::PeakDrift => "peak drift",
             Quantity::PeakAbsAcceleration => "|ẍ|max/g",
+            Quantity::PeakAngularAcceleration => "|θ̈|max/p²",
         }
     }
 
@@ -56,17 +62,18 @@ impl Quantity {
     }
 
     /// The value of this quantity in a result; None if the structure overturned (peaks of an
-    /// overturned structure are not a response).
+    /// overturned structure are not a response) or has no such measure.
     pub fn of(self, r: &SceneResult) -> Option<f64> {
         if r.overturned {
             return None;
         }
-        Some(match self {
-            Quantity::PeakRotation => r.peaks.rotation,
-            Quantity::PeakRotationRatio => r.peak_rotation_ratio,
-            Quantity::PeakDeformation => r.peaks.deformation,
-            Quantity::PeakDrift => r.peaks.drift,
-            Quantity::PeakAbsAcceleration => r.peaks.abs_acceleration_g,
-        })
+        match self {
+            Quantity::PeakRotation => Some(r.peaks.rotation),
+            Quantity::PeakRotationRatio => Some(r.peak_rotation_ratio),
+            Quantity::PeakDeformation => Some(r.peaks.deformation),
+            Quantity::PeakDrift => Some(r.peaks.drift),
+            Quantity::PeakAbsAcceleration => Some(r.peaks.abs_acceleration_g),
+            Quantity::PeakAngularAcceleration => r.peaks.angular_acceleration_p2,
+        }
     }
 }

@@ -291,6 +291,7 @@ fn all_finite(r: &SceneResult) -> bool {
         r.peaks.deformation,
         r.peaks.drift,
         r.peaks.abs_acceleration_g,
+        r.peaks.angular_acceleration_p2.unwrap_or(0.0),
         r.peak_rotation_ratio,
         r.energy_residual,
     ]
