@@ -137,6 +137,7 @@ fn every_shipped_study_draws_with_every_series_and_units_on_every_axis() {
                         Quantity::PeakDeformation => "umax [m]",
                         Quantity::PeakDrift => "drift |X|max/H",
                         Quantity::PeakAbsAcceleration => "ẍmax [g]",
+                        Quantity::PeakAngularAcceleration => "θ̈max/p²",
                     };
                     assert_eq!(
                         texts.iter().filter(|t| *t == label).count(),

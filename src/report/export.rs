@@ -167,7 +167,8 @@ fn quantity_unit(q: crate::report::Quantity) -> &'static str {
         Quantity::PeakRotation => "rad",
         Quantity::PeakDeformation => "m",
         Quantity::PeakAbsAcceleration => "g",
-        Quantity::PeakRotationRatio | Quantity::PeakDrift => "",
+        // θ̈max/p² is dimensionless, like θmax/α.
+        Quantity::PeakRotationRatio | Quantity::PeakDrift | Quantity::PeakAngularAcceleration => "",
     }
 }
 

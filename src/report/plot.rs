@@ -165,6 +165,7 @@ fn quantity_axis(q: Quantity) -> &'static str {
         Quantity::PeakDeformation => "umax [m]",
         Quantity::PeakDrift => "drift |X|max/H",
         Quantity::PeakAbsAcceleration => "ẍmax [g]",
+        Quantity::PeakAngularAcceleration => "θ̈max/p²",
     }
 }
 
