@@ -61,12 +61,13 @@ impl Claim {
 type Check = fn() -> anyhow::Result<Claim>;
 
 /// Every check, in the paper's order.
-pub const CHECKS: [(&str, Check); 17] = [
+pub const CHECKS: [(&str, Check); 18] = [
     ("Fig. 3", fig3_restitution_grows_with_sigma),
     ("Fig. 5", fig5_dirac_converges_to_housner),
     ("Fig. 5", fig5_wide_dirac_removes_spikes),
     ("Fig. 8/11", fig8_peak_ordering),
     ("Fig. 8/9", fig8_sequential_decays_faster),
+    ("§9, Fig. 8", s9_protected_blocks_accelerate_less),
     ("Fig. 12", fig12_bare_overturning_boundary),
     ("Fig. 12", fig12_mechanistic_marginally_below_sequential),
     ("Fig. 12", fig12_mechanistic_accelerations_larger),
@@ -91,12 +92,6 @@ pub fn not_checked() -> Vec<Claim> {
         verdict: Verdict::NotChecked(why),
     };
     vec![
-        row(
-            "§9, Figs. 5/8/12",
-            "protected rigid blocks: smaller rotation *and accelerations* than bare",
-            "\"in all cases the inerter-equipped structures experienced smaller rotation and accelerations demands than unprotected ones\"",
-            "needs the rigid block's angular acceleration between impacts (issue #11 part 2, not built yet); rocklab's absolute horizontal acceleration of the centre of mass is higher for protected blocks (0.216 g inerter/sequential vs 0.199 g bare at ωg/p = 4), which is a different quantity from the one the paper plots",
-        ),
         row(
             "Fig. 24",
             "per-record values for Imperial Valley and N. Palm Springs",
@@ -419,6 +414,41 @@ pub fn fig8_peak_ordering() -> anyhow::Result<Claim> {
     ))
 }
 
+/// §9 (Figs. 5, 8, 12): protected rigid blocks have smaller rotation and acceleration demands
+/// than the bare one, acceleration measured as the paper measures a rigid block's: the angular
+/// acceleration between impacts (the Housner jump instants excluded), |θ̈|max/p².
+pub fn s9_protected_blocks_accelerate_less() -> anyhow::Result<Claim> {
+    let devices = [
+        Device::None,
+        presets::inerter(),
+        sequential(),
+        mechanistic(),
+    ];
+    let scenes: Vec<Scene> = devices.iter().cloned().map(rigid_fig8).collect();
+    let r = simulate_all(&scenes)?;
+    let acc: Vec<f64> = r
+        .iter()
+        .map(|r| r.peaks.angular_acceleration_p2.unwrap_or(f64::NAN))
+        .collect();
+    let th: Vec<f64> = r.iter().map(|r| r.peak_rotation_ratio).collect();
+    let below = (1..4).all(|i| acc[i] < acc[0] && th[i] < th[0]);
+    Ok(Claim::judged(
+        "§9, Fig. 8",
+        "every protected rigid block (inerter, sequential, mechanistic) below the bare one in peak rotation and in peak angular acceleration between impacts |θ̈|max/p² (Fig. 8 scene, ωg/p = 4)",
+        "\"in all cases the inerter-equipped structures experienced smaller rotation and accelerations demands than unprotected ones\"",
+        format!(
+            "|θ̈|max/p² bare {:.3}, inerter {:.3}, sequential {:.3}, mechanistic {:.3} (the horizontal |ẍ+ag|max orders them the other way: bare {:.3} g, mechanistic {:.3} g)",
+            acc[0],
+            acc[1],
+            acc[2],
+            acc[3],
+            r[0].peaks.abs_acceleration_g,
+            r[3].peaks.abs_acceleration_g
+        ),
+        below,
+    ))
+}
+
 /// Fig. 8b/9: the sequential clutch's amplitude decays faster; the mechanistic clutch engages
 /// and resets repeatedly.
 pub fn fig8_sequential_decays_faster() -> anyhow::Result<Claim> {
@@ -543,7 +573,7 @@ pub fn fig12_mechanistic_accelerations_larger() -> anyhow::Result<Claim> {
     let above = q.iter().filter(|q| **q > 1.0).count();
     Ok(Claim::judged(
         "Fig. 12",
-        "mechanistic peak acceleration above sequential at ≥ 90% of the surviving ωg/p, mean ratio ≥ 1.15 (rocklab's absolute horizontal acceleration of the centre of mass; the paper's rigid-block acceleration measure is issue #11 part 2)",
+        "mechanistic peak acceleration above sequential at ≥ 90% of the surviving ωg/p, mean ratio ≥ 1.15 (rocklab's absolute horizontal acceleration of the centre of mass; in the paper's rigid-block measure, |θ̈|max/p², mechanistic is above sequential only at the spectrum peak: +10%, pointwise mean 0.97; see the §9 row)",
         "\"peak values of acceleration markedly larger than the ideally sequential assumption\"",
         format!(
             "mechanistic/sequential |ẍ|max: above at {above} of {} points, mean ratio {:.3}",

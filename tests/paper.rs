@@ -34,6 +34,11 @@ fn fig5_wide_dirac_removes_spikes() {
 }
 
 #[test]
+fn s9_fig8_protected_blocks_accelerate_less() {
+    assert_agrees(paper::s9_protected_blocks_accelerate_less);
+}
+
+#[test]
 fn fig8_11_peak_ordering() {
     assert_agrees(paper::fig8_peak_ordering);
 }
@@ -107,7 +112,7 @@ fn fig24_accelerations_and_overturning() {
 /// without a check say why.
 #[test]
 fn paper_md_lists_every_check() {
-    assert_eq!(paper::CHECKS.len(), 17);
+    assert_eq!(paper::CHECKS.len(), 18);
     for c in paper::not_checked() {
         assert!(matches!(c.verdict, Verdict::NotChecked(why) if !why.is_empty()));
     }
