@@ -27,6 +27,18 @@ pub fn save_results(path: &Path, results: &SweepResults) -> anyhow::Result<()> {
     super::write_atomic(path, &results_json(results)?)
 }
 
+/// CSV, summary and the canonical study next to the results file (`rocklab run`, `merge` and
+/// the workbench's runs write the same set).
+pub fn write_tables(
+    out: &Path,
+    study: &crate::study::Study,
+    results: &SweepResults,
+) -> anyhow::Result<()> {
+    super::write_atomic(&out.join("results.csv"), &results_csv(results)?)?;
+    super::write_atomic(&out.join("summary.txt"), summary(results).as_bytes())?;
+    study.save(&out.join("study.ron"))
+}
+
 /// Tidy long CSV: one row per scene and quantity, one column per varying axis.
 pub fn results_csv(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
     let mut axes: Vec<String> = Vec::new();

@@ -9,7 +9,7 @@ pub use crate::fsutil::{readable_by_all, write_atomic};
 pub use crate::study::Quantity;
 pub use crate::sweep::load_results;
 pub use aggregate::{OverturningMap, Spectrum, compare, maps, quantities, sparkline, spectra};
-pub use export::{results_csv, results_json, save_results, summary};
+pub use export::{results_csv, results_json, save_results, summary, write_tables};
 pub use plot::{ImageFormat, plot_history, plot_maps, plot_spectra, scene_title};
 
 use crate::sim::History;

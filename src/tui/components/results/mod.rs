@@ -24,9 +24,22 @@ use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Wrap};
 
+pub use super::super::widgets::strip::Mark;
+
+/// The reason carried by the placeholder outcomes of points a stopped sweep never ran (they
+/// give the spectra and maps the study's full axes; never saved).
+const NOT_RUN: &str = "\u{0}not run";
+
 /// Results and what is aggregated from them once, when they arrive.
 pub struct Results {
+    /// The results as computed (what `w` writes).
     pub results: SweepResults,
+    /// The results plus a placeholder for every point of the study not run.
+    padded: Vec<crate::sweep::SceneOutcome>,
+    /// Per spectrum (as in `spectra`), what each of its points stands for.
+    pub spectrum_marks: Vec<Vec<Mark>>,
+    /// Per map (as in `maps`), [iy][ix] what each cell stands for.
+    pub map_marks: Vec<Vec<Vec<Mark>>>,
     pub spectra: Vec<Spectrum>,
     pub maps: Vec<OverturningMap>,
     /// The quantities that have spectra, in order of first appearance.
@@ -37,26 +50,111 @@ pub struct Results {
 
 impl Results {
     pub fn new(results: SweepResults, cancelled: bool) -> Self {
-        let spectra = report::spectra(&results);
-        let maps = report::maps(&results);
+        // Aggregate over the study's every point, the unrun ones as placeholders, so the axes
+        // keep the study's full range while a partial run is shown.
+        let mut padded_results = SweepResults {
+            outcomes: Vec::new(),
+            ..results.clone()
+        };
+        let ran: std::collections::HashSet<usize> =
+            results.outcomes.iter().map(|o| o.point.index).collect();
+        let unrun: Vec<crate::sweep::SceneOutcome> = results
+            .study
+            .as_ref()
+            .and_then(|s| s.expand().ok())
+            .unwrap_or_default()
+            .into_iter()
+            .filter(|p| !ran.contains(&p.index) && crate::sweep::in_shard(p.index, results.shard))
+            .map(|point| crate::sweep::SceneOutcome {
+                point,
+                result: Err(NOT_RUN.into()),
+            })
+            .collect();
+        padded_results.outcomes = results.outcomes.clone();
+        padded_results.outcomes.extend(unrun);
+        padded_results.outcomes.sort_by_key(|o| o.point.index);
+        let spectra = report::spectra(&padded_results);
+        let maps = report::maps(&padded_results);
+        let padded = padded_results.outcomes;
         let mut quantities: Vec<Quantity> = Vec::new();
         for s in &spectra {
             if !quantities.contains(&s.quantity) {
                 quantities.push(s.quantity);
             }
         }
-        Results {
+        let mut data = Results {
             results,
+            padded,
+            spectrum_marks: Vec::new(),
+            map_marks: Vec::new(),
             spectra,
             maps,
             quantities,
             cancelled,
+        };
+        data.spectrum_marks = data
+            .spectra
+            .iter()
+            .map(|s| {
+                (s.xs.iter().zip(&s.ys))
+                    .map(|(x, y)| match y {
+                        Some(_) => Mark::Value,
+                        None => data.mark(&s.group, &[(&s.axis, *x)]),
+                    })
+                    .collect()
+            })
+            .collect();
+        data.map_marks = data
+            .maps
+            .iter()
+            .map(|m| {
+                (m.ys.iter().zip(&m.cells))
+                    .map(|(y, row)| {
+                        (m.xs.iter().zip(row))
+                            .map(|(x, cell)| match cell {
+                                Some(true) => Mark::Overturned,
+                                Some(false) => Mark::Value,
+                                None => data.mark(&m.group, &[(&m.x_axis, *x), (&m.y_axis, *y)]),
+                            })
+                            .collect()
+                    })
+                    .collect()
+            })
+            .collect();
+        data
+    }
+
+    /// What a point without a value stands for.
+    fn mark(&self, group: &str, coords: &[(&String, f64)]) -> Mark {
+        match self.find_outcome(group, coords).map(|o| &o.result) {
+            Some(Err(e)) if e == NOT_RUN => Mark::NotRun,
+            Some(Err(_)) => Mark::Failed,
+            Some(Ok(_)) => Mark::Overturned,
+            None => Mark::NotRun,
         }
     }
 
-    /// The point of a spectrum or map. A spectrum of a study with a map is named after its
-    /// group and the other map axis (`"{group} {label}={value}"`): match that too.
+    /// The marks of one of `spectra` (all values if it is not one of them).
+    pub fn marks_of(&self, spectrum: &Spectrum) -> &[Mark] {
+        self.spectra
+            .iter()
+            .position(|s| std::ptr::eq(s, spectrum))
+            .and_then(|i| self.spectrum_marks.get(i))
+            .map_or(&[], Vec::as_slice)
+    }
+
     fn find_point(&self, group: &str, coords: &[(&String, f64)]) -> Option<&ScenePoint> {
+        self.find_outcome(group, coords).map(|o| &o.point)
+    }
+
+    /// The outcome (or unrun placeholder) of a spectrum or map point. A spectrum of a study
+    /// with a map is named after its group and the other map axis
+    /// (`"{group} {label}={value}"`): match that too.
+    fn find_outcome(
+        &self,
+        group: &str,
+        coords: &[(&String, f64)],
+    ) -> Option<&crate::sweep::SceneOutcome> {
         let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1e-300);
         let same_group = |p: &ScenePoint| {
             if p.group == group {
@@ -72,7 +170,8 @@ impl Results {
                 p.coord(label).map(crate::study::fmt_num).as_deref() == Some(value)
             })
         };
-        self.results.outcomes.iter().map(|o| &o.point).find(|p| {
+        self.padded.iter().find(|o| {
+            let p = &o.point;
             same_group(p)
                 && coords.iter().all(|(axis, v)| {
                     p.coords
@@ -214,12 +313,13 @@ impl Component for ResultsScreen {
     }
 
     fn hints(&self, _: &Shared) -> Vec<Hint> {
+        // Most useful first: an 80-column status line keeps the first ones whole.
         vec![
+            ("Enter", "scene"),
             ("s/m/c", "spectra/maps/compare"),
+            ("w", "write"),
             ("←→↑↓", "cursor"),
             ("[ ]", "quantity"),
-            ("Enter", "scene"),
-            ("w", "write results"),
         ]
     }
 
