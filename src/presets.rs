@@ -67,7 +67,7 @@ pub fn scene(structure: Structure, device: Device, excitation: Excitation, durat
         rtol: default_rtol(),
         initial_rotation: 0.0,
         stop_when_settled: false,
-        exact_contact: default_exact_contact(),
+        closed_form_contact: default_closed_form_contact(),
     }
 }
 

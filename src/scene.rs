@@ -26,14 +26,14 @@ pub struct Scene {
     #[serde(default)]
     pub stop_when_settled: bool,
     /// Advance the full-contact phase of a flexible structure with a linear device (none, or a
-    /// rigidly coupled inerter) under a record in closed form, exactly, instead of with the
-    /// integrator (`false` forces the integrator; `stats.exact_steps` counts closed-form
-    /// intervals).
-    #[serde(default = "default_exact_contact")]
-    pub exact_contact: bool,
+    /// rigidly coupled inerter) under a record in closed form instead of with the integrator
+    /// (`false` forces the integrator; `stats.closed_form_steps` counts closed-form
+    /// intervals). Serialized as `exact_contact` (study and scene files keep their names).
+    #[serde(default = "default_closed_form_contact", rename = "exact_contact")]
+    pub closed_form_contact: bool,
 }
 
-pub fn default_exact_contact() -> bool {
+pub fn default_closed_form_contact() -> bool {
     true
 }
 
@@ -244,8 +244,11 @@ impl Clutch {
 }
 
 /// Clutch (or inerter spring) stiffness: the paper's kθ, or the clutch spring frequency
-/// √(k/mr) as a multiple of the structure's p. The paper gives no kθ; the default puts the
-/// clutch frequency at 50 p, well above the structure's.
+/// √(k/mr) = √(kθ/J) as a multiple of the structure's p. The paper gives no kθ but pins the
+/// clutch frequency down: it calls the same §6 systems c̄ = 1 s⁻¹ (§6.2) and ξθ = 0.02 (§6.3),
+/// and ξθ = c̄ / (2 √(kθ/J)), so √(kθ/J) = 25 rad/s. The default, 25 p, is that for the §6
+/// structure (p = √(g/10 m) = 0.990 rad/s: 24.8 rad/s, ξθ = 0.02 ⇔ c̄ = 0.99 s⁻¹); at fixed
+/// c̄ a stiffer clutch barely changes peaks (the paper's Fig. 18; MODEL.md "Defaults").
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ClutchStiffness {
@@ -255,7 +258,7 @@ pub enum ClutchStiffness {
 
 impl Default for ClutchStiffness {
     fn default() -> Self {
-        ClutchStiffness::FrequencyRatio(50.0)
+        ClutchStiffness::FrequencyRatio(25.0)
     }
 }
 

@@ -28,7 +28,7 @@ fn flexible(alpha: f64, device: Device, record: &str, duration: f64) -> Scene {
         rtol: default_rtol(),
         initial_rotation: 0.0,
         stop_when_settled: false,
-        exact_contact: true,
+        closed_form_contact: true,
     }
 }
 
@@ -42,11 +42,14 @@ fn rigid_inerter() -> Device {
 /// The same scene advanced in closed form (at the default tolerance, which only the rocking
 /// phases use) and by the integrator throughout at `rtol`.
 fn both(scene: &Scene, rtol: f64) -> (SceneResult, SceneResult) {
-    let exact = sim::run(scene).unwrap();
+    let exact = sim::run(scene, rocklab::excitation::library::global().unwrap()).unwrap();
     let mut integrated = scene.clone();
-    integrated.exact_contact = false;
+    integrated.closed_form_contact = false;
     integrated.rtol = rtol;
-    (exact, sim::run(&integrated).unwrap())
+    (
+        exact,
+        sim::run(&integrated, rocklab::excitation::library::global().unwrap()).unwrap(),
+    )
 }
 
 fn relative(a: f64, b: f64) -> f64 {
@@ -110,9 +113,9 @@ fn in_full_contact_the_closed_form_matches_the_tight_integrator() {
             "{device:?}: the base must stay down"
         );
         assert_eq!(integrated.counters.uplifts, 0);
-        assert!(exact.stats.exact_steps > 2000, "{:?}", exact.stats);
+        assert!(exact.stats.closed_form_steps > 2000, "{:?}", exact.stats);
         assert_eq!((exact.stats.steps, exact.stats.rhs_evals), (0, 0));
-        assert_eq!(integrated.stats.exact_steps, 0);
+        assert_eq!(integrated.stats.closed_form_steps, 0);
         let pairs = [
             (exact.peaks.deformation, integrated.peaks.deformation),
             (exact.peaks.drift, integrated.peaks.drift),
@@ -164,7 +167,7 @@ fn with_uplift_the_hand_over_keeps_the_integrator_peaks() {
         assert!(exact.counters.uplifts > 5, "{tag}: {:?}", exact.counters);
         assert_eq!(exact.counters, integrated.counters, "{tag}");
         assert!(
-            exact.stats.exact_steps > 0 && exact.stats.steps > 0,
+            exact.stats.closed_form_steps > 0 && exact.stats.steps > 0,
             "{tag}"
         );
         let pairs = [
@@ -201,7 +204,9 @@ fn uplift_is_located_where_the_integrator_finds_it_and_history_keeps_every_sampl
     let mut scene = flexible(0.2, Device::None, "landers", 58.0);
     scene.rtol = 1e-10;
     let first_uplift = |s: &Scene| {
-        let (_, h) = sim::run_with_history(s, true).unwrap();
+        let (_, h) =
+            sim::run_with_history(s, rocklab::excitation::library::global().unwrap(), true)
+                .unwrap();
         let h = h.unwrap();
         let t = h
             .events
@@ -217,7 +222,7 @@ fn uplift_is_located_where_the_integrator_finds_it_and_history_keeps_every_sampl
     };
     let (t_exact, rows) = first_uplift(&scene);
     let mut integrated = scene.clone();
-    integrated.exact_contact = false;
+    integrated.closed_form_contact = false;
     let (t_integrated, _) = first_uplift(&integrated);
     assert!(
         (t_exact - t_integrated).abs() < 1e-9,
@@ -240,7 +245,12 @@ fn uplift_is_located_where_the_integrator_finds_it_and_history_keeps_every_sampl
 /// nothing is advanced in closed form; a scene file without the option gets the default.
 #[test]
 fn closed_form_only_where_it_is_exact() {
-    let counts = |s: &Scene| sim::run(s).unwrap().stats.exact_steps;
+    let counts = |s: &Scene| {
+        sim::run(s, rocklab::excitation::library::global().unwrap())
+            .unwrap()
+            .stats
+            .closed_form_steps
+    };
     let short = |device| flexible(0.2, device, "northridge", 3.0);
     assert!(counts(&short(Device::None)) > 0);
     assert!(counts(&short(rigid_inerter())) > 0);
@@ -250,7 +260,7 @@ fn closed_form_only_where_it_is_exact() {
         0
     );
     let mut forced = short(Device::None);
-    forced.exact_contact = false;
+    forced.closed_form_contact = false;
     assert_eq!(counts(&forced), 0);
     let mut pulse = short(Device::None);
     pulse.excitation = Excitation::Pulse {
@@ -270,7 +280,7 @@ fn closed_form_only_where_it_is_exact() {
     let without = text.replace(",exact_contact:true", "");
     assert_ne!(text, without, "the option is serialised: {text}");
     let parsed: Scene = ron::from_str(&without).unwrap();
-    assert!(parsed.exact_contact);
+    assert!(parsed.closed_form_contact);
 }
 
 /// The settled-tail cut works on the closed-form path as on the integrator's: same peaks, an
@@ -280,7 +290,10 @@ fn settled_tail_cut_on_the_closed_form_keeps_the_peaks() {
     let full = flexible(1.3, Device::None, "northridge", 40.0);
     let mut cut = full.clone();
     cut.stop_when_settled = true;
-    let (a, b) = (sim::run(&full).unwrap(), sim::run(&cut).unwrap());
+    let (a, b) = (
+        sim::run(&full, rocklab::excitation::library::global().unwrap()).unwrap(),
+        sim::run(&cut, rocklab::excitation::library::global().unwrap()).unwrap(),
+    );
     assert_eq!(b.end_reason, rocklab::model::EndReason::Settled);
     assert!(
         b.end_time < 0.9 * a.end_time,

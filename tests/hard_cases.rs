@@ -11,7 +11,8 @@ use rocklab::sim::{self, SceneResult};
 fn run_at(scene: &Scene, rtol: f64) -> SceneResult {
     let mut s = scene.clone();
     s.rtol = rtol;
-    let r = sim::run(&s).unwrap_or_else(|e| panic!("scene failed at rtol {rtol}: {e}"));
+    let r = sim::run(&s, rocklab::excitation::library::global().unwrap())
+        .unwrap_or_else(|e| panic!("scene failed at rtol {rtol}: {e}"));
     let p = r.peaks;
     assert!(
         [p.rotation, p.drift, p.abs_acceleration_g, r.energy_residual]
@@ -198,7 +199,7 @@ fn step_budget_is_a_clear_error_not_a_hang() {
     let mut s = scene;
     s.rtol = 1e-12;
     s.duration = 1e4;
-    match sim::run(&s) {
+    match sim::run(&s, rocklab::excitation::library::global().unwrap()) {
         Err(e) => {
             let msg = e.to_string();
             assert!(msg.contains("step") || msg.contains("stiff"), "{msg}");

@@ -22,7 +22,7 @@ fn scene(excitation: Excitation, device: Device, rtol: f64) -> Scene {
         rtol,
         initial_rotation: 0.0,
         stop_when_settled: false,
-        exact_contact: true,
+        closed_form_contact: true,
     }
 }
 
@@ -38,11 +38,14 @@ fn northridge(factor: f64) -> Excitation {
 #[test]
 fn a_record_scene_converges_as_the_tolerance_tightens() {
     let run = |rtol| {
-        sim::run(&scene(
-            northridge(0.6),
-            Device::Mechanistic(Clutch::paper_default(0.5)),
-            rtol,
-        ))
+        sim::run(
+            &scene(
+                northridge(0.6),
+                Device::Mechanistic(Clutch::paper_default(0.5)),
+                rtol,
+            ),
+            rocklab::excitation::library::global().unwrap(),
+        )
         .unwrap()
     };
     let reference = run(1e-11);
@@ -62,8 +65,16 @@ fn a_record_scene_converges_as_the_tolerance_tightens() {
 #[test]
 fn polarity_flip_mirrors_the_response() {
     // MODEL.md: flipping the excitation's sign leaves every peak unchanged.
-    let up = sim::run(&scene(northridge(0.5), Device::None, 1e-9)).unwrap();
-    let down = sim::run(&scene(northridge(-0.5), Device::None, 1e-9)).unwrap();
+    let up = sim::run(
+        &scene(northridge(0.5), Device::None, 1e-9),
+        rocklab::excitation::library::global().unwrap(),
+    )
+    .unwrap();
+    let down = sim::run(
+        &scene(northridge(-0.5), Device::None, 1e-9),
+        rocklab::excitation::library::global().unwrap(),
+    )
+    .unwrap();
     assert!(up.peaks.rotation > 0.0);
     assert!((up.peaks.rotation - down.peaks.rotation).abs() < 1e-9 * up.peaks.rotation);
     assert_eq!(up.counters.impacts, down.counters.impacts);
@@ -73,11 +84,12 @@ fn polarity_flip_mirrors_the_response() {
 fn the_uplift_starts_where_the_record_first_exceeds_g_tan_alpha() {
     // Bare block at rest: nothing moves until |a_g| > g tan α, located exactly on the record.
     let s = scene(northridge(0.6), Device::None, 1e-9);
-    let (_, history) = sim::run_with_history(&s, true).unwrap();
+    let (_, history) =
+        sim::run_with_history(&s, rocklab::excitation::library::global().unwrap(), true).unwrap();
     let h = history.unwrap();
     let (t, theta) = (h.column("t").unwrap(), h.column("theta").unwrap());
     let first_move = t[theta.iter().position(|th| *th != 0.0).unwrap()];
-    let motion = sim::motion_for(&s).unwrap();
+    let motion = sim::motion_for(&s, rocklab::excitation::library::global().unwrap()).unwrap();
     let onset = motion
         .first_exceedance(0.0, rocklab::excitation::G * 0.2f64.tan())
         .unwrap();
@@ -175,16 +187,19 @@ fn invalid_record_and_pulse_values_name_their_field() {
         let err = scene(e, Device::None, 1e-6).validate().unwrap_err();
         assert_eq!(err.field, field);
     }
-    let unknown = sim::run(&scene(
-        Excitation::Record {
-            name: "no_such_record".into(),
-            scale: RecordScale::Factor(1.0),
-            baseline: false,
-            kinks: KinkPolicy::default(),
-        },
-        Device::None,
-        1e-6,
-    ))
+    let unknown = sim::run(
+        &scene(
+            Excitation::Record {
+                name: "no_such_record".into(),
+                scale: RecordScale::Factor(1.0),
+                baseline: false,
+                kinks: KinkPolicy::default(),
+            },
+            Device::None,
+            1e-6,
+        ),
+        rocklab::excitation::library::global().unwrap(),
+    )
     .unwrap_err()
     .to_string();
     assert!(unknown.contains("unknown record 'no_such_record'") && unknown.contains("landers"));
@@ -202,7 +217,7 @@ fn scaling_to_pga_reaches_the_target_on_the_ground() {
         Device::None,
         1e-6,
     );
-    let m = sim::motion_for(&s).unwrap();
+    let m = sim::motion_for(&s, rocklab::excitation::library::global().unwrap()).unwrap();
     assert!((m.peak_abs(0.0, m.end()) / rocklab::excitation::G - 0.3).abs() < 1e-12);
 }
 
@@ -220,8 +235,8 @@ fn a_record_below_the_uplift_threshold_leaves_the_block_at_rest() {
         Device::None,
         1e-6,
     );
-    let r = sim::run(&s).unwrap();
-    let m = sim::motion_for(&s).unwrap();
+    let r = sim::run(&s, rocklab::excitation::library::global().unwrap()).unwrap();
+    let m = sim::motion_for(&s, rocklab::excitation::library::global().unwrap()).unwrap();
     let pga_g = m.peak_abs(0.0, m.end()) / rocklab::excitation::G;
     assert!(pga_g > 0.05 && pga_g < 0.2f64.tan());
     assert_eq!((r.counters.uplifts, r.peaks.rotation), (0, 0.0));
@@ -240,7 +255,8 @@ fn straddling_steps(kinks: KinkPolicy) -> (usize, f64) {
         Device::None,
         1e-10,
     );
-    let (result, history) = sim::run_with_history(&s, true).unwrap();
+    let (result, history) =
+        sim::run_with_history(&s, rocklab::excitation::library::global().unwrap(), true).unwrap();
     let h = history.unwrap();
     let (t, th, om) = (
         h.column("t").unwrap(),
@@ -248,7 +264,9 @@ fn straddling_steps(kinks: KinkPolicy) -> (usize, f64) {
         h.column("theta_dot").unwrap(),
     );
     let dt = 0.01;
-    let end = sim::motion_for(&s).unwrap().end();
+    let end = sim::motion_for(&s, rocklab::excitation::library::global().unwrap())
+        .unwrap()
+        .end();
     // Integrator steps only: a row at rest on the ground starts an idle gap (the history has
     // no row where the block wakes up).
     let moving = |i: usize| th[i] != 0.0 || om[i] != 0.0;

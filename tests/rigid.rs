@@ -62,7 +62,7 @@ fn all_devices() -> Vec<(&'static str, Device)> {
 }
 
 fn run(scene: &Scene) -> SceneResult {
-    sim::run(scene).expect("scene runs")
+    sim::run(scene, rocklab::excitation::library::global().unwrap()).expect("scene runs")
 }
 
 fn rel(a: f64, b: f64) -> f64 {
@@ -109,9 +109,14 @@ fn slender_free_rocking_matches_closed_form() {
         rtol: 1e-11,
         initial_rotation: theta0,
         stop_when_settled: false,
-        exact_contact: true,
+        closed_form_contact: true,
     };
-    let (result, history) = sim::run_with_history(&scene, true).unwrap();
+    let (result, history) = sim::run_with_history(
+        &scene,
+        rocklab::excitation::library::global().unwrap(),
+        true,
+    )
+    .unwrap();
     let history = history.unwrap();
     let r = housner_restitution(alpha);
     // Closed form, half-cycle by half-cycle: starting at rest from amplitude a, the block
@@ -164,6 +169,9 @@ fn slender_free_rocking_matches_closed_form() {
 fn mechanistic_clutch_conserves_energy_without_dissipation() {
     let mut clutch = Clutch::paper_default(0.5);
     clutch.damping = Damping::CBar(0.0);
+    // A stiff clutch (√(k/mr) = 50 p) engages and resets often enough in 20 s for the test to
+    // cover many cycles (at the default 25 p: 5 engagements, 4 resets).
+    clutch.stiffness = ClutchStiffness::FrequencyRatio(50.0);
     let mut scene = fig8(Device::Mechanistic(clutch));
     scene.impact = Impact::Housner {
         restitution: Some(1.0),

@@ -48,7 +48,14 @@ fn timeless(outcomes: &[SceneOutcome]) -> Vec<SceneOutcome> {
 }
 
 fn run_with(study: &Study, opts: SweepOptions) -> SweepResults {
-    sweep::run_study(study, &opts, &AtomicBool::new(false), &quiet).unwrap()
+    sweep::run_study(
+        study,
+        &opts,
+        rocklab::excitation::library::global().unwrap(),
+        &AtomicBool::new(false),
+        &quiet,
+    )
+    .unwrap()
 }
 
 #[test]
@@ -76,7 +83,11 @@ fn one_and_two_threads_agree_with_each_other_and_with_scene_by_scene_runs() {
         report::results_csv(&two).unwrap()
     );
     for o in &one.outcomes {
-        let mut alone = rocklab::sim::run(&o.point.scene).unwrap();
+        let mut alone = rocklab::sim::run(
+            &o.point.scene,
+            rocklab::excitation::library::global().unwrap(),
+        )
+        .unwrap();
         alone.wall_seconds = 0.0;
         assert_eq!(timeless(std::slice::from_ref(o))[0].result, Ok(alone));
     }
@@ -157,11 +168,21 @@ fn cancel_keeps_the_finished_scenes() {
         jobs: Some(1),
         ..Default::default()
     };
-    let partial = sweep::run(&points, &opts, &cancel, &progress);
+    let partial = sweep::run(
+        &points,
+        &opts,
+        rocklab::excitation::library::global().unwrap(),
+        &cancel,
+        &progress,
+    );
     assert!(partial.cancelled);
     assert_eq!(partial.outcomes.len(), 3);
     for o in &partial.outcomes {
-        let mut alone = rocklab::sim::run(&o.point.scene).unwrap();
+        let mut alone = rocklab::sim::run(
+            &o.point.scene,
+            rocklab::excitation::library::global().unwrap(),
+        )
+        .unwrap();
         alone.wall_seconds = 0.0;
         assert_eq!(timeless(std::slice::from_ref(o))[0].result, Ok(alone));
     }
@@ -241,6 +262,7 @@ fn a_failing_scene_is_recorded_and_the_sweep_goes_on() {
     let results = sweep::run(
         &points,
         &SweepOptions::default(),
+        rocklab::excitation::library::global().unwrap(),
         &AtomicBool::new(false),
         &quiet,
     );

@@ -13,3 +13,26 @@ pub fn rocklab_command(args: &[&str]) -> Command {
 pub fn rocklab(args: &[&str]) -> Output {
     rocklab_command(args).output().expect("rocklab runs")
 }
+
+/// Load and run a study file with all cores; panics with the study's error if it fails to load.
+pub fn run_study_file(path: &std::path::Path) -> rocklab::sweep::SweepResults {
+    let study = rocklab::study::Study::load(path).unwrap_or_else(|e| panic!("{e}"));
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let library = rocklab::excitation::library::global().unwrap_or_else(|e| panic!("{e}"));
+    rocklab::sweep::run_study(&study, &Default::default(), library, &cancel, &|_| {})
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// `v` at 4 significant digits (scientific outside [1e-3, 1e5)), so snapshots and reports do
+/// not churn on last-bit differences between machines.
+pub fn sig4(v: f64) -> String {
+    if !v.is_finite() || v == 0.0 {
+        return format!("{v}");
+    }
+    let a = v.abs();
+    if !(1e-3..1e5).contains(&a) {
+        return format!("{v:.3e}");
+    }
+    let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
+    format!("{v:.decimals$}")
+}

@@ -56,11 +56,12 @@ pub fn sweep_throughput(
         shard: None,
         cache: None,
     };
+    let library = crate::excitation::library::global()?;
     let cancel = std::sync::atomic::AtomicBool::new(false);
     let mut best = f64::INFINITY;
     for _ in 0..repeats.max(1) {
         let start = Instant::now();
-        let results = crate::sweep::run(&points, &opts, &cancel, &|_| {});
+        let results = crate::sweep::run(&points, &opts, library, &cancel, &|_| {});
         best = best.min(start.elapsed().as_secs_f64());
         if let Some(failed) = results.outcomes.iter().find(|o| o.result.is_err()) {
             anyhow::bail!("a scene failed in the bench sweep: {:?}", failed.result);
@@ -170,11 +171,13 @@ pub fn timed(
 ) -> Result<(SceneResult, f64), sim::SimError> {
     let mut s = scene.clone();
     s.rtol = rtol;
+    let library =
+        crate::excitation::library::global().map_err(|e| sim::SimError::Invalid(e.to_string()))?;
     let mut times = Vec::with_capacity(repeats);
     let mut last = None;
     for _ in 0..repeats.max(1) {
         let start = Instant::now();
-        let r = sim::run(&s)?;
+        let r = sim::run(&s, library)?;
         times.push(start.elapsed().as_secs_f64());
         last = Some(r);
     }
@@ -268,7 +271,7 @@ fn print_exact_contact_table(args: &BenchArgs) -> anyhow::Result<()> {
         "| scene | RHS evals off → on | exact steps | time (ms) off → on | speed-up | err θmax off / on | err umax off / on | err accel off / on | energy residual off / on |"
     );
     println!("|---|---|---|---|---|---|---|---|---|");
-    let integrate = |s: &mut Scene| s.exact_contact = false;
+    let integrate = |s: &mut Scene| s.closed_form_contact = false;
     for bench in scenes() {
         let applies = matches!(bench.scene.structure, Structure::Flexible(_))
             && matches!(bench.scene.excitation, Excitation::Record { .. })
@@ -293,14 +296,14 @@ fn print_exact_contact_table(args: &BenchArgs) -> anyhow::Result<()> {
         let (reference, _) = timed(&off, args.reference, 1)?;
         let want = peaks(&reference);
         let [(off, t_off), (on, t_on)] =
-            compare_option(&off, |s| s.exact_contact = true, args.repeats)?;
+            compare_option(&off, |s| s.closed_form_contact = true, args.repeats)?;
         let err = |r: &SceneResult, i: usize| relative_error(peaks(r)[i], want[i]);
         println!(
             "| {} | {} → {} | {} | {:.3} → {:.3} | {:.2}× | {:.1e} / {:.1e} | {:.1e} / {:.1e} | {:.1e} / {:.1e} | {:.1e} / {:.1e} |",
             bench.name,
             off.stats.rhs_evals,
             on.stats.rhs_evals,
-            on.stats.exact_steps,
+            on.stats.closed_form_steps,
             t_off * 1e3,
             t_on * 1e3,
             t_off / t_on,

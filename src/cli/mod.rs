@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod compare;
+pub mod paper;
 pub mod plot;
 pub mod records;
 pub mod run;
@@ -44,6 +45,8 @@ pub enum Command {
     Status(status::StatusArgs),
     /// Side-by-side spectra of two device variants and their ratio per point.
     Compare(compare::CompareArgs),
+    /// The paper's results-section claims rerun against rocklab: the PAPER.md table.
+    Paper(paper::PaperArgs),
     /// Figures from a results file: spectra, overturning maps, a scene's histories.
     Plot(plot::PlotArgs),
     /// Open the terminal workbench on a saved study (default: the built-in study).
@@ -125,6 +128,7 @@ pub fn main() -> ExitCode {
         Some(Command::Status(args)) => status::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Plot(args)) => plot::run(&args),
+        Some(Command::Paper(args)) => paper::run(&args),
         Some(Command::Tui(args)) => tui(&args),
         None => tui(&TuiArgs {
             study: None,

@@ -50,7 +50,8 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
                     results.outcomes.last().map_or(0, |o| o.point.index)
                 ))
             })?;
-        let (_, history) = crate::sim::run_with_history(&outcome.point.scene, true)
+        let library = crate::excitation::library::global()?;
+        let (_, history) = crate::sim::run_with_history(&outcome.point.scene, library, true)
             .map_err(|e| anyhow::anyhow!("scene {index} failed: {e}"))?;
         let history = history.context("no history recorded")?;
         let path = dir.join(format!(

@@ -186,9 +186,16 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     install_signal_handlers();
     let reporter = Reporter::new(std::io::stderr().is_terminal());
     let started = Instant::now();
-    let results = sweep::run_into(&mut output, &study, &points, &opts, &CANCEL, &|p| {
-        reporter.report(p)
-    });
+    let library = crate::excitation::library::global()?;
+    let results = sweep::run_into(
+        &mut output,
+        &study,
+        &points,
+        &opts,
+        library,
+        &CANCEL,
+        &|p| reporter.report(p),
+    );
     reporter.finish();
     let results = results?;
     drop(points);

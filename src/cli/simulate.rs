@@ -88,7 +88,8 @@ pub struct SimulateArgs {
     /// Single inerter: rigid coupling (default) or explicit flywheel behind a spring.
     #[arg(long, value_enum)]
     pub coupling: Option<CouplingKind>,
-    /// Clutch rotational stiffness kθ (N·m/rad); default: clutch frequency √(k/mr) = 50 p.
+    /// Clutch rotational stiffness kθ (N·m/rad). Default: clutch frequency √(kθ/J) = √(k/mr)
+    /// = 25 p, the paper's pair ξθ = 0.02 ⇔ c̄ = 1 s⁻¹ on the §6 structure (c̄ = 2 ξθ √(kθ/J)).
     #[arg(long, conflicts_with = "clutch_frequency_ratio")]
     pub k_theta: Option<f64>,
     /// Clutch frequency √(k/mr) as a multiple of p, instead of --k-theta.
@@ -349,7 +350,7 @@ impl SimulateArgs {
             rtol: self.rtol,
             initial_rotation: self.theta0,
             stop_when_settled: self.stop_when_settled,
-            exact_contact: !self.integrate_contact,
+            closed_form_contact: !self.integrate_contact,
         };
         scene.validate().map_err(UsageError::from_invalid)?;
         Ok(scene)
@@ -597,7 +598,7 @@ pub fn result_json(scene: &Scene, r: &SceneResult) -> serde_json::Value {
         "steps": r.stats.steps,
         "rejected_steps": r.stats.rejected,
         "rhs_evals": r.stats.rhs_evals,
-        "exact_steps": r.stats.exact_steps,
+        "exact_steps": r.stats.closed_form_steps,
         "wall_seconds": r.wall_seconds,
         "form_used": r.form_used,
         "scene": scene,
@@ -606,7 +607,8 @@ pub fn result_json(scene: &Scene, r: &SceneResult) -> serde_json::Value {
 
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let scene = args.scene()?;
-    let (result, history) = sim::run_with_history(&scene, args.history.is_some())?;
+    let library = library::global()?;
+    let (result, history) = sim::run_with_history(&scene, library, args.history.is_some())?;
     if let (Some(path), Some(h)) = (&args.history, &history) {
         crate::report::write_history_csv(path, h)?;
     }
@@ -614,8 +616,8 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         println!("{}", result_json(&scene, &result));
     } else {
         if let Excitation::Record { name, baseline, .. } = &scene.excitation {
-            let record = library::global()?.load(name, *baseline)?;
-            let factor = match sim::motion_for(&scene)? {
+            let record = library.load(name, *baseline)?;
+            let factor = match sim::motion_for(&scene, library)? {
                 crate::excitation::Motion::Record(m) => m.factor,
                 crate::excitation::Motion::Pulse(_) => 1.0,
             };
@@ -665,7 +667,7 @@ pub fn summary(scene: &Scene, r: &SceneResult) -> String {
         r.stats.steps,
         r.stats.rejected,
         r.stats.rhs_evals,
-        r.stats.exact_steps,
+        r.stats.closed_form_steps,
         r.wall_seconds * 1e3,
     )
 }

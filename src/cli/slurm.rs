@@ -304,11 +304,18 @@ fn seconds_per_scene(points: &[crate::study::ScenePoint]) -> Option<f64> {
         jobs: Some(1),
         ..Default::default()
     };
+    let library = crate::excitation::library::global().ok()?;
     let step = (points.len() / 12).max(1);
     let started = Instant::now();
     let mut timed = 0;
     for point in points.iter().step_by(step) {
-        crate::sweep::run(std::slice::from_ref(point), &opts, &cancel, &|_| {});
+        crate::sweep::run(
+            std::slice::from_ref(point),
+            &opts,
+            library,
+            &cancel,
+            &|_| {},
+        );
         timed += 1;
         if started.elapsed() > Duration::from_secs(5) {
             break;

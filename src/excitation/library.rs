@@ -411,13 +411,16 @@ pub fn read_path(path: &Path, dt: Option<f64>) -> Result<Series, RecordError> {
 static DIR_OVERRIDE: OnceLock<PathBuf> = OnceLock::new();
 static GLOBAL: OnceLock<Result<Library, RecordError>> = OnceLock::new();
 
-/// Use `dir` as the records directory of the process-wide library. Must be called before the
+/// Use `dir` as the records directory of the command line's library. Must be called before the
 /// first [`global`] call (the CLI does it while parsing flags); returns false if too late.
 pub fn set_records_dir(dir: PathBuf) -> bool {
     DIR_OVERRIDE.set(dir).is_ok() && GLOBAL.get().is_none()
 }
 
-/// The process-wide library that scenes resolve record names against.
+/// The command line's library: the records directory of `--records-dir`, else
+/// [`Library::default_dir`], opened once per process. Only the entry points (CLI commands,
+/// the TUI) and study checks call it; simulations and sweeps take the library they resolve
+/// records in as an argument, so a scene depends on no hidden state.
 pub fn global() -> Result<&'static Library, RecordError> {
     GLOBAL
         .get_or_init(|| Library::open(DIR_OVERRIDE.get().cloned().or_else(Library::default_dir)))

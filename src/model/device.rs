@@ -8,26 +8,27 @@ use crate::excitation::G;
 use crate::scene::{ClutchStiffness, Coupling, Damping, Device, ResetRule};
 use crate::solver::Direction;
 
-/// A device with its parameters converted to the translational form.
+/// A device with its parameters converted to the translational form. Named as the study
+/// names devices (none / inerter / sequential / mechanistic), the inerter by its coupling.
 #[derive(Clone, Copy, Debug)]
 pub enum DeviceModel {
     None,
-    /// mr rigidly joins the x motion.
-    Coupled {
+    /// Single inerter, rigid coupling: mr joins the x motion.
+    RigidInerter {
         mr: f64,
+    },
+    /// Single inerter, flywheel coupling: a flywheel behind a linear spring k, damping c̄.
+    FlywheelInerter {
+        mr: f64,
+        k: f64,
+        cbar: f64,
     },
     /// Sequential twin clutch: mr joins the x motion while |ẋ| grows.
     Sequential {
         mr: f64,
     },
-    /// Single flywheel behind a linear spring k, damping c̄.
-    Spring {
-        mr: f64,
-        k: f64,
-        cbar: f64,
-    },
     /// Twin mechanistic clutches.
-    Clutch(ClutchModel),
+    Mechanistic(ClutchModel),
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -67,14 +68,14 @@ impl DeviceModel {
             Device::Inerter { sigma, coupling } => {
                 let mr = sigma * m;
                 match coupling {
-                    Coupling::Rigid => DeviceModel::Coupled { mr },
+                    Coupling::Rigid => DeviceModel::RigidInerter { mr },
                     Coupling::Flywheel {
                         stiffness,
                         rho,
                         damping,
                     } => {
                         let k = spring_constant(*stiffness, *rho, mr, p);
-                        DeviceModel::Spring {
+                        DeviceModel::FlywheelInerter {
                             mr,
                             k,
                             cbar: damping_cbar(*damping, k, mr),
@@ -86,7 +87,7 @@ impl DeviceModel {
             Device::Mechanistic(c) => {
                 let mr = c.sigma * m;
                 let k = spring_constant(c.stiffness, c.rho, mr, p);
-                DeviceModel::Clutch(ClutchModel {
+                DeviceModel::Mechanistic(ClutchModel {
                     mr,
                     k,
                     eps_hat: c.epsilon / c.rho,
@@ -104,8 +105,8 @@ impl DeviceModel {
     /// Number of flywheels whose motion is integrated (each adds y, ẏ to the state).
     pub fn flywheels(&self) -> usize {
         match self {
-            DeviceModel::Spring { .. } => 1,
-            DeviceModel::Clutch(_) => 2,
+            DeviceModel::FlywheelInerter { .. } => 1,
+            DeviceModel::Mechanistic(_) => 2,
             _ => 0,
         }
     }
@@ -113,17 +114,17 @@ impl DeviceModel {
     pub fn mr(&self) -> f64 {
         match *self {
             DeviceModel::None => 0.0,
-            DeviceModel::Coupled { mr }
+            DeviceModel::RigidInerter { mr }
             | DeviceModel::Sequential { mr }
-            | DeviceModel::Spring { mr, .. } => mr,
-            DeviceModel::Clutch(c) => c.mr,
+            | DeviceModel::FlywheelInerter { mr, .. } => mr,
+            DeviceModel::Mechanistic(c) => c.mr,
         }
     }
 
     /// Apparent mass rigidly attached to x right now.
     pub fn coupled_mass(&self, sequential_engaged: bool) -> f64 {
         match *self {
-            DeviceModel::Coupled { mr } => mr,
+            DeviceModel::RigidInerter { mr } => mr,
             DeviceModel::Sequential { mr } if sequential_engaged => mr,
             _ => 0.0,
         }
@@ -134,8 +135,8 @@ impl DeviceModel {
     #[inline]
     pub fn spring_forces(&self, x: f64, fly: &[f64]) -> (f64, f64) {
         match *self {
-            DeviceModel::Spring { k, .. } => (k * (x - fly[0]), 0.0),
-            DeviceModel::Clutch(c) => {
+            DeviceModel::FlywheelInerter { k, .. } => (k * (x - fly[0]), 0.0),
+            DeviceModel::Mechanistic(c) => {
                 let fa = clutch_force(c.k, c.eps_hat, x - fly[0] - c.play);
                 // Mirror of clutch a: f_b(δ) = −f_a(−δ).
                 let fb = -clutch_force(c.k, c.eps_hat, -(x - fly[2]) - c.play);
@@ -150,10 +151,10 @@ impl DeviceModel {
     #[inline]
     pub fn flywheel_accel(&self, f: f64, ydot: f64) -> (f64, f64, f64) {
         match *self {
-            DeviceModel::Spring { mr, cbar, .. } => {
+            DeviceModel::FlywheelInerter { mr, cbar, .. } => {
                 (f / mr - cbar * ydot, cbar * mr * ydot * ydot, 0.0)
             }
-            DeviceModel::Clutch(c) => {
+            DeviceModel::Mechanistic(c) => {
                 let fmu = friction_force(c.friction, c.eta, c.rho, ydot);
                 (
                     (f - fmu) / c.mr - c.cbar * ydot,
@@ -169,28 +170,14 @@ impl DeviceModel {
     /// books with its own kinetic energy).
     pub fn stored_energy(&self, x: f64, fly: &[f64]) -> f64 {
         match *self {
-            DeviceModel::Spring { mr, k, .. } => {
+            DeviceModel::FlywheelInerter { mr, k, .. } => {
                 0.5 * mr * fly[1] * fly[1] + 0.5 * k * (x - fly[0]).powi(2)
             }
-            DeviceModel::Clutch(c) => {
+            DeviceModel::Mechanistic(c) => {
                 0.5 * c.mr * (fly[1] * fly[1] + fly[3] * fly[3])
-                    + self.clutch_potential_a(x - fly[0])
-                    + self.clutch_potential_b(x - fly[2])
+                    + c.potential_a(x - fly[0])
+                    + c.potential_b(x - fly[2])
             }
-            _ => 0.0,
-        }
-    }
-
-    pub fn clutch_potential_a(&self, delta_a: f64) -> f64 {
-        match self {
-            DeviceModel::Clutch(c) => c.potential_a(delta_a),
-            _ => 0.0,
-        }
-    }
-
-    pub fn clutch_potential_b(&self, delta_b: f64) -> f64 {
-        match self {
-            DeviceModel::Clutch(c) => c.potential_b(delta_b),
             _ => 0.0,
         }
     }

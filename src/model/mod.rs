@@ -2,10 +2,12 @@
 //! [`OdeSystem`] plus the discrete logic the simulation driver calls between steps.
 
 pub mod clutch;
+pub mod contact;
 pub mod device;
 pub mod flexible;
 pub mod rigid;
 pub mod sdof;
+pub mod shell;
 
 use crate::solver::{Dense, OdeSystem};
 use serde::{Deserialize, Serialize};
@@ -34,9 +36,9 @@ pub enum Action {
     Stop(EndReason),
 }
 
-/// How a closed-form advance ([`SimModel::advance_exact`]) ended.
+/// How a closed-form advance ([`SimModel::advance_closed_form`]) ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Exact {
+pub enum ClosedFormEnd {
     /// The end of the interval was reached.
     Reached,
     /// Event `index` was located at the new time; its jump is not applied yet.
@@ -150,9 +152,17 @@ pub trait SimModel<const N: usize>: OdeSystem<N> {
     /// If the current phase has a closed-form solution, advance y exactly from t over one
     /// interval ending at most at `t_stop`, updating peaks and energy accumulators on the way,
     /// and return the new time and how the interval ended. `None`: the driver integrates.
-    fn advance_exact(&mut self, _t: f64, _t_stop: f64, _y: &mut [f64; N]) -> Option<(f64, Exact)> {
+    fn advance_closed_form(
+        &mut self,
+        _t: f64,
+        _t_stop: f64,
+        _y: &mut [f64; N],
+    ) -> Option<(f64, ClosedFormEnd)> {
         None
     }
+    /// Characteristic magnitudes for the error control: of the leading state components (all
+    /// but the four trailing accumulators), and of the energies in the accumulators.
+    fn tolerance_scales(&self) -> (Vec<f64>, f64);
     /// Update peaks over an accepted step (dense output over [t0, t1]).
     fn observe_step(&mut self, dense: &Dense<N>, t_end: f64);
     /// Update peaks at a single point (start, events, idle periods).
@@ -168,29 +178,32 @@ pub trait SimModel<const N: usize>: OdeSystem<N> {
     fn history_row(&self, t: f64, y: &[f64; N]) -> Vec<f64>;
 }
 
-/// Largest |v| of component `value` over the step, where `rate` is its time derivative:
-/// endpoints plus interior zeros of the rate, located on the dense output.
+/// Largest |value(y)| over the step, where `rate(y)` is its time derivative: endpoints plus
+/// interior zeros of the rate, located on the dense output.
 pub fn extremum_on_step<const N: usize>(
     dense: &Dense<N>,
     t_end: f64,
-    value: usize,
-    rate: usize,
+    value: impl Fn(&[f64; N]) -> f64,
+    rate: impl Fn(&[f64; N]) -> f64,
 ) -> f64 {
     const SAMPLES: usize = 4;
     let t0 = dense.t0;
     let mut best = 0.0f64;
     let mut t_prev = t0;
-    let mut y_prev = dense.state(t0);
-    best = best.max(y_prev[value].abs());
+    let y0 = dense.state(t0);
+    let mut r_prev = rate(&y0);
+    best = best.max(value(&y0).abs());
     for k in 1..=SAMPLES {
         let t = t0 + (t_end - t0) * k as f64 / SAMPLES as f64;
         let y = dense.state(t);
-        best = best.max(y[value].abs());
-        if y_prev[rate] * y[rate] < 0.0 {
-            let (mut a, mut b, ra) = (t_prev, t, y_prev[rate]);
+        let r = rate(&y);
+        best = best.max(value(&y).abs());
+        if r_prev * r < 0.0 {
+            let ra = r_prev;
+            let (mut a, mut b) = (t_prev, t);
             for _ in 0..60 {
                 let m = 0.5 * (a + b);
-                let rm = dense.state(m)[rate];
+                let rm = rate(&dense.state(m));
                 if rm * ra > 0.0 {
                     a = m
                 } else {
@@ -200,10 +213,10 @@ pub fn extremum_on_step<const N: usize>(
                     break;
                 }
             }
-            best = best.max(dense.state(0.5 * (a + b))[value].abs());
+            best = best.max(value(&dense.state(0.5 * (a + b))).abs());
         }
         t_prev = t;
-        y_prev = y;
+        r_prev = r;
     }
     best
 }

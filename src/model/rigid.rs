@@ -1,23 +1,15 @@
-//! Housner's rigid block with an inerter device (MODEL.md "Rigid block"; paper §2, §3, §5).
+//! Housner's rigid block with an inerter device (MODEL.md "Rigid block"; paper §2, §3, §5),
+//! as a [`Body`] of the rocking shell.
 //!
-//! State: [θ, θ̇, flywheels (y, ẏ per flywheel), accumulators (input work, device damping,
-//! friction, Dirac impact work)]. Only the flywheels the device has are in the state.
+//! State: [θ, θ̇ | flywheels | accumulators] ([`super::shell::Layout`]); the block's own
+//! accumulator is the work of the Dirac impact moment.
 
-use super::device::{ClutchEvent, DeviceModel};
-use super::{
-    Action, Counters, EndReason, Energy, Ledger, Peaks, SimModel, extremum_on_step, refined_max,
-};
+use super::device::DeviceModel;
+use super::shell::{Body, Landing, Mode, OwnLoss, Returnable, Rocking};
+use super::{Ledger, Peaks, extremum_on_step};
 use crate::excitation::{G, Motion};
 use crate::scene::{Form, Impact, RigidBlock};
-
-/// The equations actually integrated (a scene's `Form::Auto` is resolved before the model is
-/// built, by [`Form::resolve`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Equations {
-    Exact,
-    Slender,
-}
-use crate::solver::{Dense, Direction, MAX_EVENTS, OdeSystem};
+use crate::solver::{Dense, Direction};
 use std::f64::consts::PI;
 
 /// Housner's coefficient of restitution (Eq. 3): r = (1 − 1.5 sin²α)².
@@ -36,24 +28,22 @@ pub fn dirac_zone(width: f64) -> f64 {
     2.576 * width / 2f64.sqrt()
 }
 
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Ev {
-    Impact,
-    Overturn,
-    Uplift(f64),
-    Sequential,
-    DiracZone,
-    Clutch(ClutchEvent),
-}
+/// The rigid block in the rocking shell.
+pub type RigidModel<'m> = Rocking<'m, RigidBody>;
 
+const THETA: usize = 0;
+const THETA_DOT: usize = 1;
+
+/// The equations actually integrated (a scene's `Form::Auto` is resolved before the model is
+/// built, by [`Form::resolve`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Phase {
-    /// Flat on the ground: θ ≡ 0.
-    Contact,
-    Rocking,
+enum Equations {
+    /// The exact trigonometric equations.
+    Trigonometric,
+    Slender,
 }
 
-pub struct RigidModel<'m> {
+pub struct RigidBody {
     r: f64,
     alpha: f64,
     m: f64,
@@ -64,27 +54,16 @@ pub struct RigidModel<'m> {
     cos_a: f64,
     /// tan α (exact) or α (slender): uplift needs |a_g| > g · this.
     uplift_ratio: f64,
-    dev: DeviceModel,
     restitution_override: Option<f64>,
     /// Dirac impact: (width n, zone half-width θi).
     dirac: Option<(f64, f64)>,
-    motion: &'m Motion,
-    initial_rotation: f64,
-    acc: usize,
-    events: [Ev; MAX_EVENTS],
-    n_events: usize,
-    // Discrete mode.
-    phase: Phase,
-    pivot: f64,
-    seq_engaged: bool,
     /// Kinetic energy at entry into the Dirac zone while the impact moment is active.
     dirac_energy: Option<f64>,
     /// Below this post-impact rate the block is put to rest (its next excursion would be
     /// < 1e-10 α): Zeno-safe chattering.
     rest_rate: f64,
-    ledger: Ledger,
-    counters: Counters,
-    peaks: Peaks,
+    /// Deflection scale of a device spring, for the error control.
+    deflection: f64,
 }
 
 impl<'m> RigidModel<'m> {
@@ -95,39 +74,39 @@ impl<'m> RigidModel<'m> {
         motion: &'m Motion,
         initial_rotation: f64,
     ) -> Self {
+        Rocking::with_body(
+            RigidBody::new(block, &device, impact),
+            device,
+            motion,
+            initial_rotation,
+        )
+    }
+}
+
+impl RigidBody {
+    fn new(block: &RigidBlock, device: &DeviceModel, impact: Impact) -> Self {
         let r = block.size;
         let p2 = 3.0 * G / (4.0 * r);
         let form = match block.form {
             Form::Slender => Equations::Slender,
-            Form::Exact | Form::Auto => Equations::Exact,
+            Form::Exact | Form::Auto => Equations::Trigonometric,
         };
         let (restitution_override, dirac) = match impact {
             Impact::Housner { restitution } => (restitution, None),
             Impact::Dirac { width } => (None, Some((width, dirac_zone(width)))),
         };
-        let acc = 2 + 2 * device.flywheels();
-        let mut events = [Ev::Impact; MAX_EVENTS];
-        let mut n = 0;
-        let mut push = |e| {
-            events[n] = e;
-            n += 1;
-        };
-        push(Ev::Impact);
-        push(Ev::Overturn);
-        push(Ev::Uplift(1.0));
-        push(Ev::Uplift(-1.0));
-        if matches!(device, DeviceModel::Sequential { .. }) {
-            push(Ev::Sequential);
+        // A flywheel position enters the physics only through the spring deflection
+        // δ = x − y, whose scale is the deflection that carries the uplift force m g tanα:
+        // resolving y to rtol·Rα left clutch forces with ~1e-3 relative error and peaks
+        // drifting by 1% at rtol 1e-6.
+        let x = r * block.alpha;
+        let deflection = match device {
+            DeviceModel::FlywheelInerter { k, .. } => block.mass * G * block.alpha.tan() / k,
+            DeviceModel::Mechanistic(c) => block.mass * G * block.alpha.tan() / c.k,
+            _ => x,
         }
-        if dirac.is_some() {
-            push(Ev::DiracZone);
-        }
-        if let DeviceModel::Clutch(c) = device {
-            for e in c.events() {
-                push(Ev::Clutch(*e));
-            }
-        }
-        RigidModel {
+        .min(x);
+        RigidBody {
             r,
             alpha: block.alpha,
             m: block.mass,
@@ -137,61 +116,31 @@ impl<'m> RigidModel<'m> {
             sin_a: block.alpha.sin(),
             cos_a: block.alpha.cos(),
             uplift_ratio: match form {
-                Equations::Exact => block.alpha.tan(),
+                Equations::Trigonometric => block.alpha.tan(),
                 Equations::Slender => block.alpha,
             },
-            dev: device,
             restitution_override,
             dirac,
-            motion,
-            initial_rotation,
-            acc,
-            events,
-            n_events: n,
-            phase: Phase::Contact,
-            pivot: 1.0,
-            seq_engaged: false,
             dirac_energy: None,
             rest_rate: (2e-10f64).sqrt() * p2.sqrt() * block.alpha,
-            ledger: Ledger::default(),
-            counters: Counters::default(),
-            peaks: Peaks::default(),
+            deflection,
         }
-    }
-
-    /// Number of state components this model needs.
-    pub fn state_len(device: &DeviceModel) -> usize {
-        2 + 2 * device.flywheels() + 4
     }
 
     /// S = sin(sα − θ), C = cos(sα − θ) (slender: S = sα − θ, C = 1).
     #[inline]
-    fn sc(&self, theta: f64) -> (f64, f64) {
-        let a = self.pivot * self.alpha - theta;
+    fn sc(&self, pivot: f64, theta: f64) -> (f64, f64) {
+        let a = pivot * self.alpha - theta;
         match self.form {
-            Equations::Exact => a.sin_cos(),
+            Equations::Trigonometric => a.sin_cos(),
             Equations::Slender => (a, 1.0),
         }
     }
 
-    /// Horizontal position and velocity of the centre of mass.
-    #[inline]
-    fn x_xdot(&self, y: &[f64]) -> (f64, f64) {
-        if self.phase == Phase::Contact {
-            return (0.0, 0.0);
-        }
-        let (s, c) = self.sc(y[0]);
-        let x = match self.form {
-            Equations::Exact => self.r * (self.pivot * self.sin_a - s),
-            Equations::Slender => self.r * y[0],
-        };
-        (x, self.r * c * y[1])
-    }
-
-    fn dirac_moment(&self, theta: f64, thetadot: f64) -> f64 {
+    fn dirac_moment(&self, m: &Mode, theta: f64, thetadot: f64) -> f64 {
         match (self.dirac_energy, self.dirac) {
             (Some(e_ini), Some((n, _))) => {
-                let r = self.restitution();
+                let r = self.restitution(m);
                 -thetadot.signum() * 2.0 * e_ini * (1.0 - r) * (-(theta / n).powi(2)).exp()
                     / (n * PI.sqrt())
             }
@@ -199,11 +148,11 @@ impl<'m> RigidModel<'m> {
         }
     }
 
-    fn restitution(&self) -> f64 {
+    fn restitution(&self, m: &Mode) -> f64 {
         if let Some(r) = self.restitution_override {
             return r;
         }
-        let mr = self.dev.coupled_mass(self.seq_engaged);
+        let mr = m.coupled_mass();
         if mr > 0.0 {
             inerter_restitution(self.alpha, mr / self.m)
         } else {
@@ -211,390 +160,156 @@ impl<'m> RigidModel<'m> {
         }
     }
 
-    /// θ̈ of the bare block (no device), used by the sequential engagement test.
-    fn bare_xddot(&self, t: f64, y: &[f64]) -> f64 {
-        let (s, c) = self.sc(y[0]);
-        let ag = self.motion.accel(t);
-        let thdd = -self.p2 * (s + ag / G * c) + self.dirac_moment(y[0], y[1]) / self.i0;
+    /// Ẍ = R (C θ̈ + S θ̇²) for a given θ̈ (slender: R θ̈).
+    fn xddot_of(&self, m: &Mode, y: &[f64], thetaddot: f64) -> f64 {
+        let (s, c) = self.sc(m.pivot, y[THETA]);
         match self.form {
-            Equations::Exact => self.r * (c * thdd + s * y[1] * y[1]),
-            Equations::Slender => self.r * thdd,
+            Equations::Trigonometric => self.r * (c * thetaddot + s * y[THETA_DOT] * y[THETA_DOT]),
+            Equations::Slender => self.r * thetaddot,
         }
-    }
-
-    /// Uplift test toward side s while in contact: positive when the block lifts off.
-    fn uplift_margin(&self, side: f64, t: f64, y: &[f64]) -> f64 {
-        let (fa, fb) = self.dev.spring_forces(0.0, &y[2..self.acc]);
-        let fd = -(fa + fb);
-        side * (fd - self.m * self.motion.accel(t)) - self.m * G * self.uplift_ratio
-    }
-
-    fn rhs_slice(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        dy.fill(0.0);
-        let ag = self.motion.accel(t);
-        let (x, xdot) = self.x_xdot(y);
-        let (fa, fb) = self.dev.spring_forces(x, &y[2..self.acc]);
-        let (mut visc, mut fric) = (0.0, 0.0);
-        for (i, f) in [fa, fb].into_iter().take(self.dev.flywheels()).enumerate() {
-            let j = 2 + 2 * i;
-            let (a, pv, pf) = self.dev.flywheel_accel(f, y[j + 1]);
-            dy[j] = y[j + 1];
-            dy[j + 1] = a;
-            visc += pv;
-            fric += pf;
-        }
-        if self.phase == Phase::Rocking {
-            let (theta, thetadot) = (y[0], y[1]);
-            let (s, c) = self.sc(theta);
-            let fd = -(fa + fb);
-            let moment = self.dirac_moment(theta, thetadot);
-            // (1 + ¾σC²) θ̈ = −p²(S + (a_g/g) C) − ¾σ C S θ̇² + (Fd R C + M)/I0
-            let sigma = self.dev.coupled_mass(self.seq_engaged) / self.m;
-            let mut num = -self.p2 * (s + ag / G * c) + (fd * self.r * c + moment) / self.i0;
-            let mut den = 1.0;
-            if sigma > 0.0 {
-                den += 0.75 * sigma * c * c;
-                if self.form == Equations::Exact {
-                    num -= 0.75 * sigma * c * s * thetadot * thetadot;
-                }
-            }
-            dy[0] = thetadot;
-            dy[1] = num / den;
-            dy[self.acc + 3] = -moment * thetadot;
-        }
-        dy[self.acc] = -self.m * ag * xdot;
-        dy[self.acc + 1] = visc;
-        dy[self.acc + 2] = fric;
-    }
-
-    fn event_value(&self, ev: Ev, t: f64, y: &[f64]) -> f64 {
-        let rocking = self.phase == Phase::Rocking;
-        match ev {
-            Ev::Impact => {
-                if rocking {
-                    self.pivot * y[0]
-                } else {
-                    1.0
-                }
-            }
-            Ev::Overturn => {
-                if rocking {
-                    self.pivot * y[0] - self.alpha
-                } else {
-                    -1.0
-                }
-            }
-            Ev::Uplift(side) => {
-                if rocking {
-                    -1.0
-                } else {
-                    self.uplift_margin(side, t, y)
-                }
-            }
-            Ev::Sequential => {
-                if rocking {
-                    self.x_xdot(y).1 * self.bare_xddot(t, y)
-                } else if self.seq_engaged {
-                    1.0
-                } else {
-                    -1.0
-                }
-            }
-            Ev::DiracZone => match (rocking, self.dirac_energy) {
-                (false, _) => 1.0,
-                // Active: stop when the block turns back (sθ̇ becomes positive).
-                (true, Some(_)) => self.pivot * y[1],
-                (true, None) => self.pivot * y[0] - self.dirac.map_or(0.0, |d| d.1),
-            },
-            Ev::Clutch(e) => {
-                let DeviceModel::Clutch(c) = &self.dev else {
-                    return 1.0;
-                };
-                let (x, xdot) = self.x_xdot(y);
-                c.event_value(e, x, xdot, &y[2..6])
-            }
-        }
-    }
-
-    fn coupled_kinetic(&self, y: &[f64]) -> f64 {
-        let (_, xdot) = self.x_xdot(y);
-        0.5 * self.dev.coupled_mass(self.seq_engaged) * xdot * xdot
-    }
-
-    /// Re-decide the sequential clutch after a jump, booking the energy the law creates or
-    /// destroys.
-    fn resync_sequential(&mut self, t: f64, y: &[f64]) {
-        if !matches!(self.dev, DeviceModel::Sequential { .. }) || self.phase != Phase::Rocking {
-            return;
-        }
-        let xdot = self.x_xdot(y).1;
-        let bare = self.bare_xddot(t, y);
-        super::device::resync_sequential(
-            self.dev.mr(),
-            xdot,
-            bare,
-            &mut self.seq_engaged,
-            &mut self.ledger,
-            &mut self.counters,
-        );
-    }
-
-    fn toggle_sequential(&mut self, y: &[f64]) {
-        let xdot = self.x_xdot(y).1;
-        super::device::toggle_sequential(
-            self.dev.mr(),
-            xdot,
-            &mut self.seq_engaged,
-            &mut self.ledger,
-            &mut self.counters,
-        );
-    }
-
-    fn uplift(&mut self, side: f64, y: &mut [f64]) -> Action {
-        self.phase = Phase::Rocking;
-        self.pivot = side;
-        y[0] = 0.0;
-        y[1] = 0.0;
-        self.counters.uplifts += 1;
-        // Starting from rest, |ẋ| grows: the sequential clutch engages (at ẋ = 0, no energy).
-        if matches!(self.dev, DeviceModel::Sequential { .. }) {
-            self.seq_engaged = true;
-            self.counters.engagements += 1;
-        }
-        Action::Continue
-    }
-
-    fn enter_contact(&mut self, t: f64, y: &mut [f64]) -> Action {
-        let ke = 0.5 * self.i0 * y[1] * y[1] + self.coupled_kinetic(y);
-        self.ledger.reset += ke;
-        if self.seq_engaged {
-            self.seq_engaged = false;
-        }
-        self.phase = Phase::Contact;
-        self.dirac_energy = None;
-        y[0] = 0.0;
-        y[1] = 0.0;
-        for side in [1.0, -1.0] {
-            if self.uplift_margin(side, t, y) > 0.0 {
-                return self.uplift(side, y);
-            }
-        }
-        if self.dev.flywheels() > 0 {
-            return Action::Continue;
-        }
-        // Nothing moves until the ground acceleration exceeds g·tanα: do not integrate. Idle to
-        // the end of the motion if it never does (the block still rides the ground).
-        let until = self
-            .motion
-            .first_exceedance(t, G * self.uplift_ratio)
-            .unwrap_or_else(|| self.motion.end().max(t));
-        Action::Idle { until }
-    }
-
-    /// Apply the jump of one event.
-    fn apply_event(&mut self, index: usize, t: f64, y: &mut [f64]) -> Action {
-        match self.events[index] {
-            Ev::Impact => {
-                self.counters.impacts += 1;
-                if self.dirac.is_some() {
-                    // The Gaussian moment already took the energy: switch pivots only.
-                    self.dirac_energy = None;
-                } else {
-                    let r = self.restitution();
-                    let ke = 0.5 * self.i0 * y[1] * y[1] + self.coupled_kinetic(y);
-                    self.ledger.impact += (1.0 - r) * ke;
-                    y[1] *= r.sqrt();
-                }
-                y[0] = 0.0;
-                self.pivot = -self.pivot;
-                if y[1].abs() < self.rest_rate {
-                    return self.enter_contact(t, y);
-                }
-                self.resync_sequential(t, y);
-                Action::Continue
-            }
-            Ev::Overturn => Action::Stop(EndReason::Overturned),
-            Ev::Uplift(side) => self.uplift(side, y),
-            Ev::Sequential => {
-                self.toggle_sequential(y);
-                Action::Continue
-            }
-            Ev::DiracZone => {
-                self.dirac_energy = match self.dirac_energy {
-                    Some(_) => None,
-                    None => Some(0.5 * self.i0 * y[1] * y[1]),
-                };
-                Action::Continue
-            }
-            Ev::Clutch(e) => {
-                if let DeviceModel::Clutch(c) = self.dev {
-                    let (x, _) = self.x_xdot(y);
-                    c.apply(e, x, &mut y[2..6], &mut self.ledger, &mut self.counters);
-                }
-                Action::Continue
-            }
-        }
-    }
-
-    fn absolute_acceleration(&self, t: f64, y: &[f64], dy: &[f64]) -> f64 {
-        let ag = self.motion.accel(t);
-        if self.phase == Phase::Contact {
-            return ag;
-        }
-        let (s, c) = self.sc(y[0]);
-        let xddot = match self.form {
-            Equations::Exact => self.r * (c * dy[1] + s * y[1] * y[1]),
-            Equations::Slender => self.r * dy[1],
-        };
-        xddot + ag
     }
 
     fn drift_of(&self, theta: f64) -> f64 {
         let x = match self.form {
-            Equations::Exact => self.r * (self.sin_a - (self.alpha - theta.abs()).sin()),
+            Equations::Trigonometric => self.r * (self.sin_a - (self.alpha - theta.abs()).sin()),
             Equations::Slender => self.r * theta.abs(),
         };
         x / (self.r * self.cos_a)
     }
 
-    fn device_force(&self, t: f64, y: &[f64]) -> (f64, f64, f64) {
-        let (x, _) = self.x_xdot(y);
-        let (fa, fb) = self.dev.spring_forces(x, &y[2..self.acc]);
-        let mr = self.dev.coupled_mass(self.seq_engaged);
-        if mr > 0.0 && self.phase == Phase::Rocking {
-            let mut dy = vec![0.0; y.len()];
-            self.rhs_slice(t, y, &mut dy);
-            let (s, c) = self.sc(y[0]);
-            let xddot = match self.form {
-                Equations::Exact => self.r * (c * dy[1] + s * y[1] * y[1]),
-                Equations::Slender => self.r * dy[1],
-            };
-            return (0.0, 0.0, -mr * xddot);
+    fn potential(&self, s: f64, c: f64) -> f64 {
+        match self.form {
+            Equations::Trigonometric => self.m * G * self.r * (c - self.cos_a),
+            Equations::Slender => 0.5 * self.m * G * self.r * (self.alpha.powi(2) - s * s),
         }
-        (fa, fb, -(fa + fb))
     }
 }
 
-impl<const N: usize> OdeSystem<N> for RigidModel<'_> {
+impl Body for RigidBody {
+    const COORDINATES: &'static [&'static str] = &["theta", "theta_dot"];
+    const THETA: usize = THETA;
+    const THETA_DOT: usize = THETA_DOT;
+    const MOVES_IN_CONTACT: bool = false;
+    const OWN_LOSS: OwnLoss = OwnLoss::Impact;
+
+    fn mass(&self) -> f64 {
+        self.m
+    }
+
+    /// Horizontal position and velocity of the centre of mass.
     #[inline]
-    fn rhs(&self, t: f64, y: &[f64; N], dydt: &mut [f64; N]) {
-        self.rhs_slice(t, y, dydt)
-    }
-
-    fn event_count(&self) -> usize {
-        self.n_events
-    }
-
-    fn event_direction(&self, index: usize) -> Direction {
-        match self.events[index] {
-            Ev::Impact => Direction::Falling,
-            Ev::Overturn | Ev::Uplift(_) => Direction::Rising,
-            Ev::Clutch(e) => e.direction(),
-            Ev::Sequential if self.seq_engaged => Direction::Falling,
-            Ev::Sequential => Direction::Rising,
-            Ev::DiracZone if self.dirac_energy.is_some() => Direction::Rising,
-            Ev::DiracZone => Direction::Falling,
+    fn x_xdot(&self, m: &Mode, y: &[f64]) -> (f64, f64) {
+        if !m.rocking() {
+            return (0.0, 0.0);
         }
+        let (s, c) = self.sc(m.pivot, y[THETA]);
+        let x = match self.form {
+            Equations::Trigonometric => self.r * (m.pivot * self.sin_a - s),
+            Equations::Slender => self.r * y[THETA],
+        };
+        (x, self.r * c * y[THETA_DOT])
     }
 
-    fn events(&self, t: f64, y: &[f64; N], g: &mut [f64]) {
-        for (i, gi) in g.iter_mut().enumerate() {
-            *gi = self.event_value(self.events[i], t, y);
+    fn xddot(&self, m: &Mode, y: &[f64], dy: &[f64]) -> f64 {
+        if !m.rocking() {
+            return 0.0;
         }
+        self.xddot_of(m, y, dy[THETA_DOT])
     }
 
-    fn sign_after_zero(&self, index: usize, _t: f64, y: &[f64; N]) -> f64 {
-        match self.events[index] {
-            // Just after an impact, or at uplift from rest (θ̇ = 0, θ̈ toward the pivot side),
-            // the block moves onto its pivot's side.
-            Ev::Impact if y[1] == 0.0 => 1.0,
-            Ev::Impact => (self.pivot * y[1]).signum(),
-            _ => 0.0,
+    /// (1 + ¾σC²) θ̈ = −p²(S + (a_g/g) C) − ¾σ C S θ̇² + (Fd R C + M)/I0, M the Dirac moment.
+    fn derivatives(&self, m: &Mode, ag: f64, y: &[f64], fd: f64, mc: f64, dy: &mut [f64]) -> f64 {
+        if !m.rocking() {
+            return 0.0;
         }
-    }
-}
-
-impl<const N: usize> SimModel<N> for RigidModel<'_> {
-    fn start(&mut self, y: &mut [f64; N]) -> Action {
-        if self.initial_rotation != 0.0 {
-            self.phase = Phase::Rocking;
-            self.pivot = self.initial_rotation.signum();
-            y[0] = self.initial_rotation;
-            // Flywheels start at rest where the block is: unloaded springs.
-            let (x, _) = self.x_xdot(y);
-            for j in (2..self.acc).step_by(2) {
-                y[j] = x;
-            }
-            return Action::Continue;
-        }
-        self.enter_contact(0.0, y)
-    }
-
-    fn on_event(&mut self, index: usize, t: f64, y: &mut [f64; N]) -> Action {
-        let action = self.apply_event(index, t, y);
-        // Two events can fall within the root finder's last bracket (~1e-15 s); the one not
-        // reported then already sits on its post-crossing side. Catch overturning and landing.
-        if action == Action::Continue && self.phase == Phase::Rocking {
-            if self.pivot * y[0] >= self.alpha {
-                return Action::Stop(EndReason::Overturned);
-            }
-            if self.pivot * y[0] < 0.0 {
-                let impact = self.events[..self.n_events]
-                    .iter()
-                    .position(|e| *e == Ev::Impact);
-                return self.apply_event(impact.expect("impact is always an event"), t, y);
+        let (theta, thetadot) = (y[THETA], y[THETA_DOT]);
+        let (s, c) = self.sc(m.pivot, theta);
+        let moment = self.dirac_moment(m, theta, thetadot);
+        let sigma = mc / self.m;
+        let mut num = -self.p2 * (s + ag / G * c) + (fd * self.r * c + moment) / self.i0;
+        let mut den = 1.0;
+        if sigma > 0.0 {
+            den += 0.75 * sigma * c * c;
+            if self.form == Equations::Trigonometric {
+                num -= 0.75 * sigma * c * s * thetadot * thetadot;
             }
         }
-        action
+        dy[THETA] = thetadot;
+        dy[THETA_DOT] = num / den;
+        -moment * thetadot
     }
 
-    fn wake(&mut self, t: f64, y: &mut [f64; N]) -> Action {
-        let ag = self.motion.accel(t);
-        if ag.abs() <= G * self.uplift_ratio {
-            return Action::Stop(EndReason::Rest);
+    /// Ẍ of the bare block (no device force, no coupled mass).
+    fn bare_xddot(&self, m: &Mode, t: f64, y: &[f64]) -> f64 {
+        let (s, c) = self.sc(m.pivot, y[THETA]);
+        let ag = m.motion.accel(t);
+        let thdd =
+            -self.p2 * (s + ag / G * c) + self.dirac_moment(m, y[THETA], y[THETA_DOT]) / self.i0;
+        self.xddot_of(m, y, thdd)
+    }
+
+    /// s (Fd − m a_g) − m g tan α (slender: α): the ground (and a device spring) must beat
+    /// the block's weight moment.
+    fn uplift_margin(&self, m: &Mode, side: f64, t: f64, y: &[f64]) -> f64 {
+        let (fa, fb) = m.dev.spring_forces(0.0, m.layout.flywheel_states(y));
+        let fd = -(fa + fb);
+        side * (fd - self.m * m.motion.accel(t)) - self.m * G * self.uplift_ratio
+    }
+
+    /// The centre of mass passes over the pivot: |θ| ≥ α.
+    fn overturn_margin(&self, m: &Mode, y: &[f64]) -> f64 {
+        m.pivot * y[THETA] - self.alpha
+    }
+
+    /// Housner's impact: θ̇⁺ = √r θ̇⁻ about the other corner (r by Eq. 16 with a coupled
+    /// inerter); the Dirac model's moment has already taken the energy. Below the rest rate the
+    /// block is put flat, its remaining kinetic energy booked as a reset.
+    fn impact(&mut self, m: &mut Mode, ledger: &mut Ledger, y: &mut [f64]) -> Landing {
+        if self.dirac.is_some() {
+            self.dirac_energy = None;
+        } else {
+            let r = self.restitution(m);
+            let ke = 0.5 * self.i0 * y[THETA_DOT] * y[THETA_DOT]
+                + m.coupled_kinetic(self.x_xdot(m, y).1);
+            ledger.impact += (1.0 - r) * ke;
+            y[THETA_DOT] *= r.sqrt();
         }
-        self.uplift(-ag.signum(), y)
+        y[THETA] = 0.0;
+        m.pivot = -m.pivot;
+        if y[THETA_DOT].abs() < self.rest_rate {
+            let ke = 0.5 * self.i0 * y[THETA_DOT] * y[THETA_DOT]
+                + m.coupled_kinetic(self.x_xdot(m, y).1);
+            ledger.reset += ke;
+            m.sequential_engaged = false;
+            self.dirac_energy = None;
+            y[THETA_DOT] = 0.0;
+            return Landing::Flat;
+        }
+        Landing::Rocking
     }
 
-    fn at_rest(&self, _t: f64, _y: &[f64; N]) -> bool {
-        // In contact after the ground stopped, a flywheel can only spin down and drift away
-        // from engagement (its velocity never changes sign), so nothing can move the block.
-        self.phase == Phase::Contact
+    fn energy(&self, m: &Mode, y: &[f64]) -> f64 {
+        if !m.rocking() {
+            return 0.0;
+        }
+        let (s, c) = self.sc(m.pivot, y[THETA]);
+        0.5 * self.i0 * y[THETA_DOT] * y[THETA_DOT] + self.potential(s, c)
     }
 
     /// After the ground stops, the block can only draw on its own energy plus what the device
-    /// can give back: a coupled or spring-mounted inerter returns its kinetic energy, a
-    /// one-way clutch only its spring energy (its flywheel can only brake the block), and the
-    /// sequential law none (its mass's energy is lost at every disengagement). From that energy
-    /// E: reachable |θ| from PE(θ) ≤ E, and |ẍ| ≤ R(p² s_max + |Fd|max R/I0 + (1 + ¾σ) s_max θ̇²max)
-    /// with θ̇²max = 2E/I0 and |Fd|max = 2√(2kE). The Dirac model is excluded (its impact moment
-    /// is the acceleration being studied).
-    fn settled(&self, y: &[f64; N]) -> bool {
-        if self.dirac.is_some() || self.phase != Phase::Rocking {
+    /// can give back (a coupled or spring-mounted inerter returns its kinetic energy, a
+    /// one-way clutch only its spring energy, the sequential law none). From that energy E:
+    /// reachable |θ| from PE(θ) ≤ E, and |ẍ| ≤ R(p² s_max + |Fd|max R/I0 + (1 + ¾σ) s_max θ̇²max)
+    /// with θ̇²max = 2E/I0 and |Fd|max = 2√(2kE). The Dirac model is excluded (its impact
+    /// moment is the acceleration being studied).
+    fn settled(&self, m: &Mode, y: &[f64], device: Returnable, peaks: &Peaks) -> bool {
+        if self.dirac.is_some() || !m.rocking() {
             return false;
         }
-        let (s, c) = self.sc(y[0]);
-        let pe = match self.form {
-            Equations::Exact => self.m * G * self.r * (c - self.cos_a),
-            Equations::Slender => 0.5 * self.m * G * self.r * (self.alpha.powi(2) - s * s),
-        };
-        let block = 0.5 * self.i0 * y[1] * y[1] + pe;
-        let (x, _) = self.x_xdot(y);
-        let fly = &y[2..self.acc];
-        let (returnable, k) = match self.dev {
-            DeviceModel::None | DeviceModel::Sequential { .. } => (0.0, 0.0),
-            DeviceModel::Coupled { .. } => (self.coupled_kinetic(y), 0.0),
-            DeviceModel::Spring { k, .. } => (self.dev.stored_energy(x, fly), k),
-            DeviceModel::Clutch(c) => (
-                self.dev.clutch_potential_a(x - fly[0]).max(0.0)
-                    + self.dev.clutch_potential_b(x - fly[2]).max(0.0),
-                c.k,
-            ),
-        };
-        let e = block + returnable;
+        let e = self.energy(m, y) + device.energy;
         let mgr = self.m * G * self.r;
         let reach = match self.form {
-            Equations::Exact => {
+            Equations::Trigonometric => {
                 let c_min = self.cos_a + e / mgr;
                 if c_min >= 1.0 {
                     return false;
@@ -610,133 +325,95 @@ impl<const N: usize> SimModel<N> for RigidModel<'_> {
             }
         };
         let s_max = match self.form {
-            Equations::Exact => self.sin_a,
+            Equations::Trigonometric => self.sin_a,
             Equations::Slender => self.alpha,
         };
-        let sigma = self.dev.mr() / self.m;
+        let sigma = m.dev.mr() / self.m;
         let rate2 = 2.0 * e / self.i0;
-        let force = 2.0 * (2.0 * k * e).sqrt();
+        let force = 2.0 * (2.0 * device.k * e).sqrt();
         let accel = self.r
             * (self.p2 * s_max + force * self.r / self.i0 + (1.0 + 0.75 * sigma) * s_max * rate2)
             / G;
-        reach < self.peaks.rotation && accel < self.peaks.abs_acceleration_g
+        reach < peaks.rotation && accel < peaks.abs_acceleration_g
     }
 
-    fn observe_step(&mut self, dense: &Dense<N>, t_end: f64) {
-        if self.phase == Phase::Rocking {
-            let rot = extremum_on_step(dense, t_end, 0, 1);
-            self.peaks.rotation = self.peaks.rotation.max(rot);
-            self.peaks.drift = self.peaks.drift.max(self.drift_of(rot));
+    fn observe_step<const N: usize>(
+        &self,
+        m: &Mode,
+        dense: &Dense<N>,
+        t_end: f64,
+        peaks: &mut Peaks,
+    ) {
+        if m.rocking() {
+            let rot = extremum_on_step(dense, t_end, |y| y[THETA], |y| y[THETA_DOT]);
+            peaks.rotation = peaks.rotation.max(rot);
+            peaks.drift = peaks.drift.max(self.drift_of(rot));
         }
-        let accel_g = |t: f64| {
-            self.absolute_acceleration(t, &dense.state(t), &dense.derivative(t))
-                .abs()
-                / G
-        };
-        let peak = refined_max(accel_g, dense.t0, t_end, 4, self.peaks.abs_acceleration_g);
-        self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(peak);
     }
 
-    fn observe_point(&mut self, t: f64, y: &[f64; N]) {
-        let mut dy = [0.0; N];
-        self.rhs_slice(t, y, &mut dy);
-        self.peaks.rotation = self.peaks.rotation.max(y[0].abs());
-        self.peaks.drift = self.peaks.drift.max(self.drift_of(y[0]));
-        let a = self.absolute_acceleration(t, y, &dy);
-        self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a.abs() / G);
+    fn observe_point(&self, _m: &Mode, y: &[f64], peaks: &mut Peaks) {
+        peaks.rotation = peaks.rotation.max(y[THETA].abs());
+        peaks.drift = peaks.drift.max(self.drift_of(y[THETA]));
     }
 
-    fn observe_idle(&mut self, t0: f64, t1: f64) {
-        let a = self.motion.peak_abs(t0, t1);
-        self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a / G);
+    /// Rotations ~α, rates ~pα; a flywheel ~ the spring deflection and the block's speed p R α;
+    /// energies ~ the work to tip the block over its pivot.
+    fn tolerance_scales(&self, _m: &Mode) -> (Vec<f64>, [f64; 2], f64) {
+        let (a, p) = (self.alpha, self.p2.sqrt());
+        let x = self.r * a;
+        let energy = self.m * G * self.r * a * a;
+        (vec![a, p * a], [self.deflection, p * x], energy)
     }
 
-    fn energy(&self, y: &[f64; N]) -> Energy {
-        let acc = self.acc;
-        let structure = if self.phase == Phase::Rocking {
-            let (s, c) = self.sc(y[0]);
-            let pe = match self.form {
-                Equations::Exact => self.m * G * self.r * (c - self.cos_a),
-                Equations::Slender => 0.5 * self.m * G * self.r * (self.alpha.powi(2) - s * s),
-            };
-            0.5 * self.i0 * y[1] * y[1] + pe
+    /// Flat on the ground with no flywheel, nothing moves until the ground acceleration
+    /// exceeds g·tanα: do not integrate. Idle to the end of the motion if it never does (the
+    /// block still rides the ground).
+    fn idle_until(&self, m: &Mode, t: f64) -> Option<f64> {
+        if m.dev.flywheels() > 0 {
+            return None;
+        }
+        Some(
+            m.motion
+                .first_exceedance(t, G * self.uplift_ratio)
+                .unwrap_or_else(|| m.motion.end().max(t)),
+        )
+    }
+
+    fn wake_side(&self, m: &Mode, t: f64) -> Option<f64> {
+        let ag = m.motion.accel(t);
+        (ag.abs() > G * self.uplift_ratio).then(|| -ag.signum())
+    }
+
+    fn own_events(&self) -> usize {
+        usize::from(self.dirac.is_some())
+    }
+
+    /// The Dirac zone: entered when |θ| falls below θi, left when the block turns back.
+    fn own_event_value(&self, m: &Mode, _index: usize, y: &[f64]) -> f64 {
+        match (m.rocking(), self.dirac_energy) {
+            (false, _) => 1.0,
+            // Active: stop when the block turns back (sθ̇ becomes positive).
+            (true, Some(_)) => m.pivot * y[THETA_DOT],
+            (true, None) => m.pivot * y[THETA] - self.dirac.map_or(0.0, |d| d.1),
+        }
+    }
+
+    fn own_event_direction(&self, _index: usize) -> Direction {
+        if self.dirac_energy.is_some() {
+            Direction::Rising
         } else {
-            0.0
+            Direction::Falling
+        }
+    }
+
+    fn own_event_name(&self, _index: usize) -> &'static str {
+        "dirac_zone"
+    }
+
+    fn apply_own_event(&mut self, _index: usize, y: &mut [f64]) {
+        self.dirac_energy = match self.dirac_energy {
+            Some(_) => None,
+            None => Some(0.5 * self.i0 * y[THETA_DOT] * y[THETA_DOT]),
         };
-        let (x, _) = self.x_xdot(y);
-        Energy {
-            input: y[acc],
-            structure,
-            inerter: self.coupled_kinetic(y) + self.dev.stored_energy(x, &y[2..acc]),
-            column_damping: 0.0,
-            device_damping: y[acc + 1],
-            friction: y[acc + 2],
-            impact: self.ledger.impact + y[acc + 3],
-            disengagement: self.ledger.disengagement,
-            reset: self.ledger.reset,
-        }
-    }
-
-    fn peaks(&self) -> Peaks {
-        self.peaks
-    }
-
-    fn counters(&self) -> Counters {
-        self.counters
-    }
-
-    fn event_name(&self, index: usize) -> &'static str {
-        match self.events[index] {
-            Ev::Impact => "impact",
-            Ev::Overturn => "overturn",
-            Ev::Uplift(_) => "uplift",
-            Ev::Sequential => "sequential_switch",
-            Ev::DiracZone => "dirac_zone",
-            Ev::Clutch(e) => e.name(),
-        }
-    }
-
-    fn history_columns(&self) -> Vec<&'static str> {
-        vec![
-            "t",
-            "theta",
-            "theta_dot",
-            "ground_accel",
-            "x",
-            "flywheel_a_vel",
-            "flywheel_b_vel",
-            "clutch_force_a",
-            "clutch_force_b",
-            "device_force",
-            "e_input",
-            "e_structure",
-            "e_inerter",
-            "e_dissipated",
-        ]
-    }
-
-    fn history_row(&self, t: f64, y: &[f64; N]) -> Vec<f64> {
-        let (x, _) = self.x_xdot(y);
-        let nf = self.dev.flywheels();
-        let va = if nf >= 1 { y[3] } else { 0.0 };
-        let vb = if nf >= 2 { y[5] } else { 0.0 };
-        let (fa, fb, fd) = self.device_force(t, y);
-        let e = SimModel::<N>::energy(self, y);
-        vec![
-            t,
-            y[0],
-            y[1],
-            self.motion.accel(t),
-            x,
-            va,
-            vb,
-            fa,
-            fb,
-            fd,
-            e.input,
-            e.structure,
-            e.inerter,
-            e.dissipated(),
-        ]
     }
 }

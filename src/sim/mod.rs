@@ -1,11 +1,11 @@
 //! One scene, start to finish: build the model the scene needs, run the event loop (step,
 //! locate event, apply jump, restart), track peaks and the energy balance.
 
-use crate::excitation::{Motion, Pulse, RecordMotion, library};
+use crate::excitation::{Library, Motion, Pulse, RecordMotion};
 use crate::model::device::DeviceModel;
 use crate::model::flexible::FlexibleModel;
 use crate::model::rigid::RigidModel;
-use crate::model::{Action, Counters, EndReason, Energy, Exact, Peaks, SimModel};
+use crate::model::{Action, ClosedFormEnd, Counters, EndReason, Energy, Peaks, SimModel};
 use crate::scene::{Excitation, Impact, RigidBlock, Scene, Structure};
 use crate::solver::{Integrator, Options, SolverError, Stats, StepOutcome};
 use serde::{Deserialize, Serialize};
@@ -22,8 +22,6 @@ pub enum SimError {
     Invalid(String),
     #[error("{0}")]
     Solver(#[from] SolverError),
-    #[error("{0} is not available yet")]
-    Unsupported(&'static str),
 }
 
 /// Everything a scene produces besides its histories.
@@ -63,8 +61,9 @@ impl History {
     }
 }
 
-/// Compile the scene's excitation into a ground motion.
-pub fn motion_for(scene: &Scene) -> Result<Motion, SimError> {
+/// Compile the scene's excitation into a ground motion, resolving a record's name in
+/// `library`.
+pub fn motion_for(scene: &Scene, library: &Library) -> Result<Motion, SimError> {
     let alpha = scene.structure.alpha();
     let p = scene.structure.p();
     match &scene.excitation {
@@ -86,9 +85,9 @@ pub fn motion_for(scene: &Scene) -> Result<Motion, SimError> {
             baseline,
             kinks,
         } => {
-            // Parsed once per process and shared by every scene that names it.
-            let record = library::global()
-                .and_then(|lib| lib.load(name, *baseline))
+            // Parsed once per library and shared by every scene that names it.
+            let record = library
+                .load(name, *baseline)
                 .map_err(|e| SimError::Invalid(e.to_string()))?;
             let series = Arc::clone(&record.series);
             let factor = scale.factor(series.pga(), series.pgv());
@@ -106,18 +105,21 @@ pub fn motion_for(scene: &Scene) -> Result<Motion, SimError> {
     }
 }
 
-pub fn run(scene: &Scene) -> Result<SceneResult, SimError> {
-    run_with_history(scene, false).map(|(r, _)| r)
+/// Run one scene; a record it names is resolved in `library` (a scene depends on nothing
+/// else).
+pub fn run(scene: &Scene, library: &Library) -> Result<SceneResult, SimError> {
+    run_with_history(scene, library, false).map(|(r, _)| r)
 }
 
 pub fn run_with_history(
     scene: &Scene,
+    library: &Library,
     record_history: bool,
 ) -> Result<(SceneResult, Option<History>), SimError> {
     scene
         .validate()
         .map_err(|e| SimError::Invalid(e.to_string()))?;
-    let motion = motion_for(scene)?;
+    let motion = motion_for(scene, library)?;
     let mut history = record_history.then(History::default);
     let started = Instant::now();
     let mut form_used = None;
@@ -131,30 +133,11 @@ pub fn run_with_history(
             form_used = Some(block.form);
             let mut model =
                 RigidModel::new(block, device, scene.impact, &motion, scene.initial_rotation);
-            let p = scene.structure.p();
-            let a = block.alpha;
-            let x = block.size * a;
-            // Characteristic magnitudes: rotations ~α, rates ~pα. A flywheel position enters
-            // the physics only through the spring deflection δ = x − y, whose scale is the
-            // deflection that carries the uplift force m g tanα: resolving y to rtol·Rα left
-            // clutch forces with ~1e-3 relative error and peaks drifting by 1% at rtol 1e-6.
-            let deflection = match device {
-                DeviceModel::Spring { k, .. } => block.mass * crate::excitation::G * a.tan() / k,
-                DeviceModel::Clutch(c) => block.mass * crate::excitation::G * a.tan() / c.k,
-                _ => x,
-            }
-            .min(x);
-            let scales = [a, p * a, deflection, p * x, deflection, p * x];
-            // Energies ~ the work to tip the block over its pivot.
-            let energy = block.mass * crate::excitation::G * block.size * a * a;
-            let s = Scales {
-                state: &scales,
-                energy,
-            };
-            match RigidModel::state_len(&device) {
-                6 => drive::<6, _>(&mut model, &motion, scene, s, history.as_mut()),
-                8 => drive::<8, _>(&mut model, &motion, scene, s, history.as_mut()),
-                _ => drive::<10, _>(&mut model, &motion, scene, s, history.as_mut()),
+            let h = history.as_mut();
+            match model.state_len() {
+                6 => drive::<6, _>(&mut model, &motion, scene, h),
+                8 => drive::<8, _>(&mut model, &motion, scene, h),
+                _ => drive::<10, _>(&mut model, &motion, scene, h),
             }?
         }
         Structure::Flexible(flex) => {
@@ -168,16 +151,12 @@ pub fn run_with_history(
             let p = scene.structure.p();
             let device = DeviceModel::new(&scene.device, flex.mass, p);
             let mut model = FlexibleModel::new(flex, device, &motion, scene.initial_rotation)
-                .with_exact_contact(scene.exact_contact);
-            let (state, energy) = FlexibleModel::scales(flex, &motion, p);
-            let s = Scales {
-                state: &state,
-                energy,
-            };
-            match FlexibleModel::state_len(&device) {
-                8 => drive::<8, _>(&mut model, &motion, scene, s, history.as_mut()),
-                10 => drive::<10, _>(&mut model, &motion, scene, s, history.as_mut()),
-                _ => drive::<12, _>(&mut model, &motion, scene, s, history.as_mut()),
+                .with_closed_form_contact(scene.closed_form_contact);
+            let h = history.as_mut();
+            match model.state_len() {
+                8 => drive::<8, _>(&mut model, &motion, scene, h),
+                10 => drive::<10, _>(&mut model, &motion, scene, h),
+                _ => drive::<12, _>(&mut model, &motion, scene, h),
             }?
         }
     };
@@ -187,14 +166,6 @@ pub fn run_with_history(
     Ok((result, history))
 }
 
-/// Characteristic magnitudes for error control: of the leading state components, and of the
-/// energies in the four trailing accumulators.
-#[derive(Clone, Copy)]
-pub struct Scales<'a> {
-    pub state: &'a [f64],
-    pub energy: f64,
-}
-
 /// The event loop, generic over the model and its state size N. The energy accumulators are
 /// error controlled too: with a sharp friction law (η large) an uncontrolled quadrature of the
 /// friction work left 5e-3 of the balance unexplained at rtol 1e-6.
@@ -202,16 +173,16 @@ fn drive<const N: usize, M: SimModel<N>>(
     model: &mut M,
     motion: &Motion,
     scene: &Scene,
-    scales: Scales,
     mut history: Option<&mut History>,
 ) -> Result<SceneResult, SimError> {
     let duration = scene.duration;
     let controlled = N - 4;
+    let (state_scales, energy_unit) = model.tolerance_scales();
     let atol: [f64; N] = std::array::from_fn(|i| {
         if i < controlled {
-            scene.rtol * scales.state[i]
+            scene.rtol * state_scales[i]
         } else {
-            scene.rtol * scales.energy
+            scene.rtol * energy_unit
         }
     });
     let mut integ = Integrator::new(Options {
@@ -227,7 +198,7 @@ fn drive<const N: usize, M: SimModel<N>>(
     let e0 = model.energy(&y);
     let initial_stored = e0.structure + e0.inerter;
     let mut energy_scale = initial_stored.abs();
-    let mut exact_steps = 0;
+    let mut closed_form_steps = 0;
     model.observe_point(t, &y);
     if let Some(h) = history.as_deref_mut() {
         h.columns = model.history_columns();
@@ -255,7 +226,8 @@ fn drive<const N: usize, M: SimModel<N>>(
                     history: history.as_deref_mut(),
                     energy_scale: &mut energy_scale,
                 };
-                if let Some(next) = run.advance_exactly(&mut t, &mut y, &mut exact_steps) {
+                if let Some(next) = run.advance_closed_form(&mut t, &mut y, &mut closed_form_steps)
+                {
                     action = next;
                     continue;
                 }
@@ -274,32 +246,6 @@ fn drive<const N: usize, M: SimModel<N>>(
             let e = model.energy(&y);
             energy_scale = energy_scale.max(e.input.abs()).max(e.structure + e.inerter);
             match outcome {
-                // A model may settle between breakpoints (a flexible column's free vibration
-                // decays with no event to mark it).
-                StepOutcome::Stepped if t >= motion.end() => {
-                    if model.at_rest(t, &y) {
-                        record(&mut history, model, t, &y);
-                        break 'run EndReason::Rest;
-                    }
-                    if scene.stop_when_settled && model.settled(&y) {
-                        record(&mut history, model, t, &y);
-                        break 'run EndReason::Settled;
-                    }
-                }
-                StepOutcome::Stepped => {}
-                StepOutcome::Reached => {
-                    if t >= duration {
-                        record(&mut history, model, t, &y);
-                        break 'run EndReason::Duration;
-                    }
-                    if motion.jumps_at(t) {
-                        integ.refresh(model);
-                    }
-                    if t >= motion.end() && model.at_rest(t, &y) {
-                        record(&mut history, model, t, &y);
-                        break 'run EndReason::Rest;
-                    }
-                }
                 StepOutcome::Event(index) => {
                     break Run {
                         model: &mut *model,
@@ -310,6 +256,18 @@ fn drive<const N: usize, M: SimModel<N>>(
                     }
                     .event(index, t, &mut y);
                 }
+                StepOutcome::Reached if t >= duration => {
+                    record(&mut history, model, t, &y);
+                    break 'run EndReason::Duration;
+                }
+                StepOutcome::Reached if motion.jumps_at(t) => integ.refresh(model),
+                StepOutcome::Reached | StepOutcome::Stepped => {}
+            }
+            // A model may settle between breakpoints (a flexible column's free vibration decays
+            // with no event to mark it).
+            if let Some(reason) = stop_after_ground(model, motion, scene, t, &y) {
+                record(&mut history, model, t, &y);
+                break 'run reason;
             }
             record(&mut history, model, t, &y);
         };
@@ -329,7 +287,7 @@ fn drive<const N: usize, M: SimModel<N>>(
         energy,
         energy_residual: imbalance.abs() / scale,
         stats: Stats {
-            exact_steps,
+            closed_form_steps,
             ..integ.stats
         },
         wall_seconds: 0.0,
@@ -359,13 +317,10 @@ impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
         let next = model.on_event(index, t, y);
         model.observe_point(t, y);
         record(&mut self.history, model, t, y);
-        if next == Action::Continue && t >= self.motion.end() {
-            if model.at_rest(t, y) {
-                return Action::Stop(EndReason::Rest);
-            }
-            if self.scene.stop_when_settled && model.settled(y) {
-                return Action::Stop(EndReason::Settled);
-            }
+        if next == Action::Continue
+            && let Some(reason) = stop_after_ground(model, self.motion, self.scene, t, y)
+        {
+            return Action::Stop(reason);
         }
         next
     }
@@ -373,7 +328,7 @@ impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
     /// Advance in closed form while the model offers it, with the integrator path's stops
     /// (duration, rest, settled) and a history row per interval. `None` when the model has no
     /// closed form in its current phase: the integrator takes over at (t, y).
-    fn advance_exactly(
+    fn advance_closed_form(
         &mut self,
         t: &mut f64,
         y: &mut [f64; N],
@@ -381,7 +336,7 @@ impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
     ) -> Option<Action> {
         let duration = self.scene.duration;
         loop {
-            let (t1, how) = self.model.advance_exact(*t, duration, y)?;
+            let (t1, how) = self.model.advance_closed_form(*t, duration, y)?;
             *t = t1;
             *steps += 1;
             let e = self.model.energy(y);
@@ -389,22 +344,38 @@ impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
                 .energy_scale
                 .max(e.input.abs())
                 .max(e.structure + e.inerter);
-            if let Exact::Event(index) = how {
+            if let ClosedFormEnd::Event(index) = how {
                 return Some(self.event(index, *t, y));
             }
             record(&mut self.history, self.model, *t, y);
             if *t >= duration {
                 return Some(Action::Stop(EndReason::Duration));
             }
-            if *t >= self.motion.end() {
-                if self.model.at_rest(*t, y) {
-                    return Some(Action::Stop(EndReason::Rest));
-                }
-                if self.scene.stop_when_settled && self.model.settled(y) {
-                    return Some(Action::Stop(EndReason::Settled));
-                }
+            if let Some(reason) = stop_after_ground(self.model, self.motion, self.scene, *t, y) {
+                return Some(Action::Stop(reason));
             }
         }
+    }
+}
+
+/// The one stop check of the event loop, after every step, event and closed-form interval:
+/// once the ground has stopped, the run ends when the model is at rest or, if the scene asks
+/// for it, settled (no reachable motion can raise a peak).
+fn stop_after_ground<const N: usize, M: SimModel<N>>(
+    model: &M,
+    motion: &Motion,
+    scene: &Scene,
+    t: f64,
+    y: &[f64; N],
+) -> Option<EndReason> {
+    if t < motion.end() {
+        None
+    } else if model.at_rest(t, y) {
+        Some(EndReason::Rest)
+    } else if scene.stop_when_settled && model.settled(y) {
+        Some(EndReason::Settled)
+    } else {
+        None
     }
 }
 

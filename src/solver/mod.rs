@@ -7,7 +7,7 @@
 //! restart after a switching event (clutch contact, pivot switch) is never ambiguous about which
 //! side it is on, (3) cheap stops at forcing breakpoints (record samples) that keep the FSAL
 //! derivative, and (4) a step budget and per-call statistics. That is ~300 lines here, tested
-//! against closed forms in `tests/solver.rs`.
+//! against closed forms in this module's unit tests.
 //!
 //! Method: Dormand–Prince 5(4) (Hairer, Nørsett & Wanner, Solving ODEs I, §II.5) with its
 //! 4th-order continuous extension and a PI step-size controller.
@@ -78,8 +78,8 @@ pub struct Stats {
     pub events: u64,
     /// Intervals advanced in closed form instead of integrated (no RHS evaluations; not
     /// counted in `steps`). Set by the simulation driver.
-    #[serde(default)]
-    pub exact_steps: u64,
+    #[serde(default, rename = "exact_steps")]
+    pub closed_form_steps: u64,
 }
 
 #[derive(Clone, Debug, Error, PartialEq)]

@@ -97,7 +97,7 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
                 rtol: study.rtol,
                 initial_rotation: 0.0,
                 stop_when_settled: study.stop_when_settled,
-                exact_contact: study.exact_contact,
+                closed_form_contact: study.closed_form_contact,
             };
             scene
                 .validate()

@@ -59,8 +59,11 @@ pub struct Study {
     pub stop_when_settled: bool,
     /// Advance full contact of a flexible structure with a linear device under a record in
     /// closed form (exact) instead of with the integrator; `false` forces the integrator.
-    #[serde(default = "crate::scene::default_exact_contact")]
-    pub exact_contact: bool,
+    #[serde(
+        default = "crate::scene::default_closed_form_contact",
+        rename = "exact_contact"
+    )]
+    pub closed_form_contact: bool,
 }
 
 fn yes() -> bool {
@@ -148,7 +151,7 @@ pub enum DeviceVariant {
         label: Option<String>,
     },
     /// Twin clutched inerters with the paper's mechanistic clutch. Stiffness: `k_theta` or
-    /// `clutch_frequency_ratio` (default ratio 50); damping: `cbar` (default 1 s⁻¹) or `xi_theta`.
+    /// `clutch_frequency_ratio` (default ratio 25: ξθ = 0.02 ⇔ c̄ ≈ 1 s⁻¹ on the §6 structure); damping: `cbar` (default 1 s⁻¹) or `xi_theta`.
     Mechanistic {
         sigma: Values,
         #[serde(default, skip_serializing_if = "Option::is_none")]

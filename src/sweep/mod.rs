@@ -2,6 +2,7 @@
 //! stop cleanly on cancel. Results come back in expansion order whatever the thread count, so
 //! a sweep is deterministic.
 
+use crate::excitation::Library;
 use crate::sim::{self, SceneResult};
 use crate::study::{ScenePoint, Study, StudyError};
 pub mod journal;
@@ -101,21 +102,23 @@ pub fn reusable(previous: &SweepResults) -> bool {
 pub fn run_study(
     study: &Study,
     opts: &SweepOptions,
+    library: &Library,
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<SweepResults, StudyError> {
     let points = study.expand()?;
-    let mut results = run(&points, opts, cancel, progress);
+    let mut results = run(&points, opts, library, cancel, progress);
     results.study_hash = study.hash();
     results.study = Some(study.clone());
     Ok(results)
 }
 
 /// Run `points` (or the shard's slice of them). Never panics on a bad scene: failures are
-/// recorded with their reason and the sweep goes on.
+/// recorded with their reason and the sweep goes on. Records are resolved in `library`.
 pub fn run(
     points: &[ScenePoint],
     opts: &SweepOptions,
+    library: &Library,
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> SweepResults {
@@ -126,7 +129,7 @@ pub fn run(
         .filter(reusable)
         .map(cache_by_key)
         .unwrap_or_default();
-    run_checkpointed(points, opts, None, reuse, cancel, progress)
+    run_checkpointed(points, opts, library, None, reuse, cancel, progress)
 }
 
 /// [`run`] with each finished scene appended to `journal` as it completes, reusing the
@@ -136,6 +139,7 @@ pub fn run(
 pub fn run_checkpointed(
     points: &[ScenePoint],
     opts: &SweepOptions,
+    library: &Library,
     journal: Option<&Journal>,
     mut reuse: HashMap<String, Result<SceneResult, String>>,
     cancel: &AtomicBool,
@@ -176,7 +180,7 @@ pub fn run_checkpointed(
             Some(r) => r,
             None if stopped() => return None,
             None => {
-                let result = run_guarded(point, cancel)?;
+                let result = run_guarded(point, library, cancel)?;
                 if let Some(journal) = journal
                     && !journal.append(point.index, &point.key, &result)
                 {
@@ -224,12 +228,13 @@ pub fn run_into(
     study: &Study,
     points: &[ScenePoint],
     opts: &SweepOptions,
+    library: &Library,
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> anyhow::Result<SweepResults> {
     let reuse = std::mem::take(&mut output.reuse);
-    let mut results =
-        run_checkpointed(points, opts, Some(&output.journal), reuse, cancel, progress);
+    let journal = Some(&output.journal);
+    let mut results = run_checkpointed(points, opts, library, journal, reuse, cancel, progress);
     results.study_hash = study.hash();
     results.study = Some(study.clone());
     let journal = output.journal.path().display().to_string();
@@ -256,9 +261,13 @@ pub fn in_shard(index: usize, shard: Option<(usize, usize)>) -> bool {
 
 /// One scene, with a panic in the core recorded as a failure instead of ending the sweep.
 /// None if `cancel` stopped it before it finished.
-fn run_guarded(point: &ScenePoint, cancel: &AtomicBool) -> Option<Result<SceneResult, String>> {
+fn run_guarded(
+    point: &ScenePoint,
+    library: &Library,
+    cancel: &AtomicBool,
+) -> Option<Result<SceneResult, String>> {
     let _ = cancel;
-    Some(guarded(|| sim::run(&point.scene)))
+    Some(guarded(|| sim::run(&point.scene, library)))
 }
 
 /// Run `f`, with a panic turned into an error: a failure of one scene, never of the caller.

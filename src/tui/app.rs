@@ -273,6 +273,9 @@ impl App {
         if points.is_empty() {
             return;
         }
+        let Ok(library) = crate::excitation::library::global() else {
+            return;
+        };
         let n = points.len();
         let sample: Vec<ScenePoint> = [0, n / 2, n - 1]
             .iter()
@@ -285,7 +288,7 @@ impl App {
                 if cancel.load(Ordering::Relaxed) {
                     break;
                 }
-                let _ = sim::run(&p.scene);
+                let _ = sim::run(&p.scene, library);
                 timed += 1;
             }
             started.elapsed().as_secs_f64() / f64::from(timed.max(1))

@@ -95,6 +95,7 @@ fn sweep_into(
     points: &[ScenePoint],
     out_dir: &Path,
     jobs: Option<usize>,
+    library: &crate::excitation::Library,
     cancel: &std::sync::atomic::AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> SweepOutcome {
@@ -117,13 +118,14 @@ fn sweep_into(
         shard: None,
         cache: None,
     };
-    let results = match sweep::run_into(&mut output, study, points, &opts, cancel, progress) {
-        Ok(results) => results,
-        Err(e) => {
-            outcome.error = Some(format!("{e:#}"));
-            return outcome;
-        }
-    };
+    let results =
+        match sweep::run_into(&mut output, study, points, &opts, library, cancel, progress) {
+            Ok(results) => results,
+            Err(e) => {
+                outcome.error = Some(format!("{e:#}"));
+                return outcome;
+            }
+        };
     let written = report::save_results(&output.results_path, &results)
         .and_then(|()| report::write_tables(out_dir, study, &results));
     if let Err(e) = written {
@@ -183,12 +185,25 @@ impl RunScreen {
                 }
             })
             .collect();
+        // The command line's record library (a broken records index already fails the study
+        // check for a record study).
+        let Ok(library) = crate::excitation::library::global() else {
+            return;
+        };
         let thread_points = points.clone();
         let study = study.clone();
         let dir = out_dir.clone();
         self.sweep.spawn(move |reporter, cancel| {
             let progress = |p| reporter.report(p);
-            sweep_into(&study, &thread_points, &dir, jobs, cancel, &progress)
+            sweep_into(
+                &study,
+                &thread_points,
+                &dir,
+                jobs,
+                library,
+                cancel,
+                &progress,
+            )
         });
         self.state = Some(RunState {
             total: points.len(),

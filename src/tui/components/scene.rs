@@ -39,8 +39,10 @@ impl SceneScreen {
     /// Rerun `point` with histories; a newer request replaces one still running.
     pub fn open(&mut self, point: ScenePoint) {
         let scene = point.scene.clone();
-        self.job
-            .spawn(move |_, _| sim::run_with_history(&scene, true).map_err(|e| e.to_string()));
+        self.job.spawn(move |_, _| {
+            let library = crate::excitation::library::global().map_err(|e| e.to_string())?;
+            sim::run_with_history(&scene, library, true).map_err(|e| e.to_string())
+        });
         self.view = Some(SceneView {
             point,
             state: SceneState::Running,

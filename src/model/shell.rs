@@ -1,0 +1,754 @@
+//! The rocking shell: everything a rocking structure with an inerter device does the same way
+//! whatever the structure is. The device and its flywheels, the event table (impact,
+//! overturning, uplift to either side, the sequential switch, the mechanistic clutch events),
+//! the phase (flat on the ground or rocking) and the pivot, the sequential clutch's state, the
+//! energy ledger, the peaks, and the [`OdeSystem`] and [`SimModel`] plumbing.
+//!
+//! A structure family implements [`Body`]: its kinematics (the horizontal coordinate X the
+//! device acts on), its accelerations, the uplift and overturning tests, the impact jump and
+//! its own energy. [`super::rigid`] and [`super::flexible`] are the two bodies.
+
+use super::device::{ClutchEvent, DeviceModel, resync_sequential, toggle_sequential};
+use super::{
+    Action, ClosedFormEnd, Counters, EndReason, Energy, Ledger, Peaks, SimModel, refined_max,
+};
+use crate::excitation::{G, Motion};
+use crate::solver::{Dense, Direction, MAX_EVENTS, OdeSystem};
+
+/// Whether the base is flat on the ground or rocking about a corner.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Phase {
+    /// Base flat on the ground: θ ≡ 0.
+    Contact,
+    Rocking,
+}
+
+/// Where each part of the state lives:
+/// `[structure coordinates and rates | flywheels (y, ẏ each) | accumulators]`.
+/// The four accumulators are named by [`Accumulator`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Layout {
+    /// Number of structure coordinates and rates (the leading components).
+    pub coordinates: usize,
+    pub flywheels: usize,
+}
+
+/// The time integrals at the end of the state.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Accumulator {
+    /// Work of the ground motion, ∫ −m a_g Ẋ dt.
+    Input = 0,
+    DeviceDamping = 1,
+    Friction = 2,
+    /// What the structure dissipates continuously ([`Body::OWN_LOSS`]).
+    Own = 3,
+}
+
+impl Layout {
+    pub fn new(coordinates: usize, device: &DeviceModel) -> Self {
+        Layout {
+            coordinates,
+            flywheels: device.flywheels(),
+        }
+    }
+
+    /// Number of state components.
+    pub fn state_len(&self) -> usize {
+        self.coordinates + 2 * self.flywheels + 4
+    }
+
+    /// Index of flywheel i's position (its velocity follows it).
+    pub fn flywheel(&self, i: usize) -> usize {
+        self.coordinates + 2 * i
+    }
+
+    /// The flywheel states `[y_a, ẏ_a, y_b, ẏ_b]` (as many as the device has).
+    pub fn flywheel_states<'y>(&self, y: &'y [f64]) -> &'y [f64] {
+        &y[self.coordinates..self.flywheel(self.flywheels)]
+    }
+
+    pub fn flywheel_states_mut<'y>(&self, y: &'y mut [f64]) -> &'y mut [f64] {
+        &mut y[self.coordinates..self.flywheel(self.flywheels)]
+    }
+
+    pub fn accumulator(&self, which: Accumulator) -> usize {
+        self.flywheel(self.flywheels) + which as usize
+    }
+
+    /// Velocity of flywheel i, 0 if the device has no such flywheel (for histories).
+    fn flywheel_velocity(&self, y: &[f64], i: usize) -> f64 {
+        if i < self.flywheels {
+            y[self.flywheel(i) + 1]
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The discrete mode the body's equations depend on, plus what they need of the device and
+/// the ground.
+pub struct Mode<'m> {
+    pub dev: DeviceModel,
+    pub motion: &'m Motion,
+    pub layout: Layout,
+    pub phase: Phase,
+    /// s = ±1: the corner the base rocks about (θ > 0 rocks about x = +B).
+    pub pivot: f64,
+    pub sequential_engaged: bool,
+}
+
+impl Mode<'_> {
+    pub fn rocking(&self) -> bool {
+        self.phase == Phase::Rocking
+    }
+
+    /// Apparent mass rigidly attached to X right now.
+    pub fn coupled_mass(&self) -> f64 {
+        self.dev.coupled_mass(self.sequential_engaged)
+    }
+
+    /// Kinetic energy of the coupled mass at Ẋ.
+    pub fn coupled_kinetic(&self, xdot: f64) -> f64 {
+        0.5 * self.coupled_mass() * xdot * xdot
+    }
+}
+
+/// What the last accumulator of the state integrates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OwnLoss {
+    /// Work of the rigid block's Dirac impact moment (booked with the impacts).
+    Impact,
+    /// Viscous damping of the flexible column, ∫ c u̇² dt.
+    ColumnDamping,
+}
+
+/// How an impact ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Landing {
+    /// Rocking on about the other corner.
+    Rocking,
+    /// Base flat on the ground.
+    Flat,
+}
+
+/// Energy the device can still give back to the structure once the ground has stopped
+/// (see [`Rocking::returnable`]), and the springs through which it can push.
+#[derive(Clone, Copy, Debug)]
+pub struct Returnable {
+    pub energy: f64,
+    /// Stiffness of the device springs (0 without).
+    pub k: f64,
+    /// Number of springs that can push on the structure.
+    pub springs: f64,
+}
+
+/// What a structure family supplies to the rocking shell. `m` is the shell's [`Mode`]; `y`
+/// the whole state, whose leading [`Body::COORDINATES`] components are the body's.
+pub trait Body {
+    /// History names of the body's state components, in state order.
+    const COORDINATES: &'static [&'static str];
+    /// Indices of θ and θ̇ in the state.
+    const THETA: usize;
+    const THETA_DOT: usize;
+    /// Whether X moves while the base is flat (a flexible column vibrates; a rigid block rides
+    /// the ground, so X ≡ 0 and nothing moves until it lifts).
+    const MOVES_IN_CONTACT: bool;
+    const OWN_LOSS: OwnLoss;
+
+    /// The mass the ground's inertial load acts on.
+    fn mass(&self) -> f64;
+    /// Horizontal position X and velocity Ẋ of the point the device acts on.
+    fn x_xdot(&self, m: &Mode, y: &[f64]) -> (f64, f64);
+    /// Ẍ from the state and its time derivative.
+    fn xddot(&self, m: &Mode, y: &[f64], dy: &[f64]) -> f64;
+    /// Write the body's state derivatives under ground acceleration `ag`, device force `fd`
+    /// (not counting a coupled mass) and coupled mass `mc`; return the rate of the
+    /// [`Accumulator::Own`] integral.
+    fn derivatives(&self, m: &Mode, ag: f64, y: &[f64], fd: f64, mc: f64, dy: &mut [f64]) -> f64;
+    /// Ẍ of the structure without a coupled mass: the sequential law decides on it.
+    fn bare_xddot(&self, m: &Mode, t: f64, y: &[f64]) -> f64;
+    /// Uplift test toward side s while flat: positive when the base lifts off.
+    fn uplift_margin(&self, m: &Mode, side: f64, t: f64, y: &[f64]) -> f64;
+    /// Rocking: non-negative once the structure has passed over its pivot.
+    fn overturn_margin(&self, m: &Mode, y: &[f64]) -> f64;
+    /// The impact jump at θ = 0 (after the shell counted it): velocities, pivot, energy lost.
+    fn impact(&mut self, m: &mut Mode, ledger: &mut Ledger, y: &mut [f64]) -> Landing;
+    /// Kinetic plus potential (plus strain) energy of the structure.
+    fn energy(&self, m: &Mode, y: &[f64]) -> f64;
+    /// The ground has stopped: can the energy left (the body's plus what the device can give
+    /// back) no longer raise any peak?
+    fn settled(&self, m: &Mode, y: &[f64], device: Returnable, peaks: &Peaks) -> bool;
+    /// Rotation, deformation and drift peaks over an accepted step.
+    fn observe_step<const N: usize>(
+        &self,
+        m: &Mode,
+        dense: &Dense<N>,
+        t_end: f64,
+        peaks: &mut Peaks,
+    );
+    /// Rotation, deformation and drift peaks at one point.
+    fn observe_point(&self, m: &Mode, y: &[f64], peaks: &mut Peaks);
+    /// Characteristic magnitudes for the error control: of the body's components, of one
+    /// flywheel's (y, ẏ), and of the energies.
+    fn tolerance_scales(&self, m: &Mode) -> (Vec<f64>, [f64; 2], f64);
+
+    /// Flat on the ground at t with nothing moving: skip to this time (see [`Action::Idle`]).
+    fn idle_until(&self, _m: &Mode, _t: f64) -> Option<f64> {
+        None
+    }
+    /// End of an idle period: the side the base lifts toward, or None (at rest for good).
+    fn wake_side(&self, _m: &Mode, _t: f64) -> Option<f64> {
+        None
+    }
+    /// Advance full contact in closed form from t to at most `t_stop` (see
+    /// [`SimModel::advance_closed_form`]); `Some(side)` in the result: it ends at an uplift.
+    fn advance_closed_form(
+        &mut self,
+        _m: &Mode,
+        _peaks: &mut Peaks,
+        _t: f64,
+        _t_stop: f64,
+        _y: &mut [f64],
+    ) -> Option<(f64, Option<f64>)> {
+        None
+    }
+
+    /// Events of the body's own beyond the shell's (the rigid block's Dirac zone).
+    fn own_events(&self) -> usize {
+        0
+    }
+    fn own_event_value(&self, _m: &Mode, _index: usize, _y: &[f64]) -> f64 {
+        1.0
+    }
+    fn own_event_direction(&self, _index: usize) -> Direction {
+        Direction::Either
+    }
+    fn own_event_name(&self, _index: usize) -> &'static str {
+        "own"
+    }
+    fn apply_own_event(&mut self, _index: usize, _y: &mut [f64]) {}
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Ev {
+    Impact,
+    Overturn,
+    Uplift(f64),
+    Sequential,
+    Own(usize),
+    Clutch(ClutchEvent),
+}
+
+/// A rocking structure `B` with its device: the model the simulation driver runs.
+pub struct Rocking<'m, B: Body> {
+    pub(super) body: B,
+    pub(super) mode: Mode<'m>,
+    initial_rotation: f64,
+    events: [Ev; MAX_EVENTS],
+    n_events: usize,
+    /// Time of the last uplift, to recognise a grazing lift-off that lands at once.
+    last_uplift: f64,
+    pub(super) ledger: Ledger,
+    counters: Counters,
+    peaks: Peaks,
+}
+
+impl<'m, B: Body> Rocking<'m, B> {
+    pub fn with_body(
+        body: B,
+        device: DeviceModel,
+        motion: &'m Motion,
+        initial_rotation: f64,
+    ) -> Self {
+        let mut events = [Ev::Impact; MAX_EVENTS];
+        let mut n = 0;
+        let mut push = |e| {
+            events[n] = e;
+            n += 1;
+        };
+        push(Ev::Impact);
+        push(Ev::Overturn);
+        push(Ev::Uplift(1.0));
+        push(Ev::Uplift(-1.0));
+        if matches!(device, DeviceModel::Sequential { .. }) {
+            push(Ev::Sequential);
+        }
+        for i in 0..body.own_events() {
+            push(Ev::Own(i));
+        }
+        if let DeviceModel::Mechanistic(c) = device {
+            for e in c.events() {
+                push(Ev::Clutch(*e));
+            }
+        }
+        Rocking {
+            body,
+            mode: Mode {
+                dev: device,
+                motion,
+                layout: Layout::new(B::COORDINATES.len(), &device),
+                phase: Phase::Contact,
+                pivot: 1.0,
+                sequential_engaged: false,
+            },
+            initial_rotation,
+            events,
+            n_events: n,
+            last_uplift: f64::NEG_INFINITY,
+            ledger: Ledger::default(),
+            counters: Counters::default(),
+            peaks: Peaks::default(),
+        }
+    }
+
+    /// Number of state components this model needs.
+    pub fn state_len(&self) -> usize {
+        self.mode.layout.state_len()
+    }
+
+    fn x_xdot(&self, y: &[f64]) -> (f64, f64) {
+        self.body.x_xdot(&self.mode, y)
+    }
+
+    fn rhs_slice(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        dy.fill(0.0);
+        let m = &self.mode;
+        let layout = m.layout;
+        let ag = m.motion.accel(t);
+        let (x, xdot) = self.x_xdot(y);
+        let (fa, fb) = m.dev.spring_forces(x, layout.flywheel_states(y));
+        let (mut visc, mut fric) = (0.0, 0.0);
+        for (i, f) in [fa, fb].into_iter().take(layout.flywheels).enumerate() {
+            let j = layout.flywheel(i);
+            let (a, pv, pf) = m.dev.flywheel_accel(f, y[j + 1]);
+            dy[j] = y[j + 1];
+            dy[j + 1] = a;
+            visc += pv;
+            fric += pf;
+        }
+        let own = self
+            .body
+            .derivatives(m, ag, y, -(fa + fb), m.coupled_mass(), dy);
+        dy[layout.accumulator(Accumulator::Input)] = -self.body.mass() * ag * xdot;
+        dy[layout.accumulator(Accumulator::DeviceDamping)] = visc;
+        dy[layout.accumulator(Accumulator::Friction)] = fric;
+        dy[layout.accumulator(Accumulator::Own)] = own;
+    }
+
+    fn event_value(&self, ev: Ev, t: f64, y: &[f64]) -> f64 {
+        let m = &self.mode;
+        let rocking = m.rocking();
+        match ev {
+            Ev::Impact if rocking => m.pivot * y[B::THETA],
+            Ev::Impact => 1.0,
+            Ev::Overturn if rocking => self.body.overturn_margin(m, y),
+            Ev::Overturn => -1.0,
+            Ev::Uplift(_) if rocking => -1.0,
+            Ev::Uplift(side) => self.body.uplift_margin(m, side, t, y),
+            Ev::Sequential if rocking || B::MOVES_IN_CONTACT => {
+                self.x_xdot(y).1 * self.body.bare_xddot(m, t, y)
+            }
+            // X ≡ 0 while flat: the switch keeps its side until the base lifts.
+            Ev::Sequential if m.sequential_engaged => 1.0,
+            Ev::Sequential => -1.0,
+            Ev::Own(i) => self.body.own_event_value(m, i, y),
+            Ev::Clutch(e) => {
+                let DeviceModel::Mechanistic(c) = &m.dev else {
+                    return 1.0;
+                };
+                let (x, xdot) = self.x_xdot(y);
+                c.event_value(e, x, xdot, m.layout.flywheel_states(y))
+            }
+        }
+    }
+
+    /// Re-decide the sequential clutch after a jump or a phase change (Ẋ is continuous across
+    /// both, Ẍ is not), booking the energy the law creates or destroys.
+    fn resync_sequential(&mut self, t: f64, y: &[f64]) {
+        if !matches!(self.mode.dev, DeviceModel::Sequential { .. }) {
+            return;
+        }
+        let xdot = self.x_xdot(y).1;
+        let bare = self.body.bare_xddot(&self.mode, t, y);
+        resync_sequential(
+            self.mode.dev.mr(),
+            xdot,
+            bare,
+            &mut self.mode.sequential_engaged,
+            &mut self.ledger,
+            &mut self.counters,
+        );
+    }
+
+    /// From rest |Ẋ| can only grow: the sequential clutch engages (at Ẋ = 0, no energy).
+    fn engage_sequential_from_rest(&mut self) {
+        if matches!(self.mode.dev, DeviceModel::Sequential { .. }) {
+            self.mode.sequential_engaged = true;
+            self.counters.engagements += 1;
+        }
+    }
+
+    fn uplift(&mut self, side: f64, t: f64, y: &mut [f64]) -> Action {
+        self.mode.phase = Phase::Rocking;
+        self.mode.pivot = side;
+        y[B::THETA] = 0.0;
+        y[B::THETA_DOT] = 0.0;
+        self.last_uplift = t;
+        self.counters.uplifts += 1;
+        if !self.mode.sequential_engaged && self.x_xdot(y).1 == 0.0 {
+            self.engage_sequential_from_rest();
+        } else {
+            self.resync_sequential(t, y);
+        }
+        Action::Continue
+    }
+
+    /// The base comes down flat at t: it lifts again at once if the ground asks for it,
+    /// otherwise it stays in full contact (idle, if nothing moves).
+    fn land(&mut self, t: f64, y: &mut [f64]) -> Action {
+        self.mode.phase = Phase::Contact;
+        // A lift-off that landed within roundoff of its start (the margin was positive but
+        // already falling) would lift and land again forever at the same instant: stay down,
+        // the margin is on its way below zero.
+        let grazing = t - self.last_uplift <= 1e-12 * t.abs().max(1.0);
+        for side in [1.0, -1.0] {
+            if !grazing && self.body.uplift_margin(&self.mode, side, t, y) > 0.0 {
+                return self.uplift(side, t, y);
+            }
+        }
+        self.resync_sequential(t, y);
+        match self.body.idle_until(&self.mode, t) {
+            Some(until) => Action::Idle { until },
+            None => Action::Continue,
+        }
+    }
+
+    fn impact(&mut self, t: f64, y: &mut [f64]) -> Action {
+        self.counters.impacts += 1;
+        match self.body.impact(&mut self.mode, &mut self.ledger, y) {
+            Landing::Rocking => {
+                self.resync_sequential(t, y);
+                Action::Continue
+            }
+            Landing::Flat => self.land(t, y),
+        }
+    }
+
+    /// The jump of event `index` at t.
+    fn apply_event(&mut self, index: usize, t: f64, y: &mut [f64]) -> Action {
+        match self.events[index] {
+            Ev::Impact => self.impact(t, y),
+            Ev::Overturn => Action::Stop(EndReason::Overturned),
+            Ev::Uplift(side) => self.uplift(side, t, y),
+            Ev::Sequential => {
+                let xdot = self.x_xdot(y).1;
+                toggle_sequential(
+                    self.mode.dev.mr(),
+                    xdot,
+                    &mut self.mode.sequential_engaged,
+                    &mut self.ledger,
+                    &mut self.counters,
+                );
+                Action::Continue
+            }
+            Ev::Own(i) => {
+                self.body.apply_own_event(i, y);
+                Action::Continue
+            }
+            Ev::Clutch(e) => {
+                if let DeviceModel::Mechanistic(c) = self.mode.dev {
+                    let (x, _) = self.x_xdot(y);
+                    let fly = self.mode.layout.flywheel_states_mut(y);
+                    c.apply(e, x, fly, &mut self.ledger, &mut self.counters);
+                }
+                Action::Continue
+            }
+        }
+    }
+
+    /// Two events can fall within the location tolerance of each other (the sequential clutch
+    /// switches where Ẍ = 0, which is exactly where a flexible structure's mass passes over
+    /// the pivot). The located one is returned on its post-crossing side, possibly past the
+    /// other's root, and a function already past its root at a restart never reports the
+    /// crossing: catch up with overturning and landing here.
+    fn catch_up(&mut self, action: Action, t: f64, y: &mut [f64]) -> Action {
+        if action != Action::Continue || !self.mode.rocking() {
+            return action;
+        }
+        if self.body.overturn_margin(&self.mode, y) >= 0.0 {
+            return Action::Stop(EndReason::Overturned);
+        }
+        if self.mode.pivot * y[B::THETA] < 0.0 {
+            return self.impact(t, y);
+        }
+        action
+    }
+
+    /// Energy the device can still give back once the ground has stopped. A coupled mass and
+    /// a two-way spring give back all they hold. The sequential law gives nothing back (mr's
+    /// energy is lost at disengagement). A one-way clutch pushes flywheel a only forward
+    /// (f_a ≥ 0, ẏ_a ≥ 0) and b only backward, so flywheel energy never returns: only the
+    /// clutch springs' can.
+    fn returnable(&self, y: &[f64]) -> Returnable {
+        let m = &self.mode;
+        let (x, xdot) = self.x_xdot(y);
+        let fly = m.layout.flywheel_states(y);
+        let (energy, springs, k) = match m.dev {
+            DeviceModel::None | DeviceModel::Sequential { .. } => (0.0, 0.0, 0.0),
+            DeviceModel::RigidInerter { .. } => (m.coupled_kinetic(xdot), 0.0, 0.0),
+            DeviceModel::FlywheelInerter { k, .. } => (m.dev.stored_energy(x, fly), 1.0, k),
+            DeviceModel::Mechanistic(c) => (
+                c.potential_a(x - fly[0]).max(0.0) + c.potential_b(x - fly[2]).max(0.0),
+                2.0,
+                c.k,
+            ),
+        };
+        Returnable { energy, k, springs }
+    }
+
+    fn absolute_acceleration(&self, t: f64, y: &[f64], dy: &[f64]) -> f64 {
+        self.body.xddot(&self.mode, y, dy) + self.mode.motion.accel(t)
+    }
+
+    /// Clutch forces (f_a, f_b) and the device force Fd; a coupled mass pushes with −mc Ẍ.
+    fn device_force(&self, t: f64, y: &[f64]) -> (f64, f64, f64) {
+        let (x, _) = self.x_xdot(y);
+        let (fa, fb) = self
+            .mode
+            .dev
+            .spring_forces(x, self.mode.layout.flywheel_states(y));
+        let mc = self.mode.coupled_mass();
+        if mc > 0.0 {
+            let mut dy = vec![0.0; y.len()];
+            self.rhs_slice(t, y, &mut dy);
+            return (0.0, 0.0, -mc * self.body.xddot(&self.mode, y, &dy));
+        }
+        (fa, fb, -(fa + fb))
+    }
+
+    fn energy_of(&self, y: &[f64]) -> Energy {
+        let m = &self.mode;
+        let layout = m.layout;
+        let (x, xdot) = self.x_xdot(y);
+        let own = y[layout.accumulator(Accumulator::Own)];
+        let (column_damping, impact) = match B::OWN_LOSS {
+            OwnLoss::Impact => (0.0, self.ledger.impact + own),
+            OwnLoss::ColumnDamping => (own, self.ledger.impact),
+        };
+        Energy {
+            input: y[layout.accumulator(Accumulator::Input)],
+            structure: self.body.energy(m, y),
+            inerter: m.coupled_kinetic(xdot) + m.dev.stored_energy(x, layout.flywheel_states(y)),
+            column_damping,
+            device_damping: y[layout.accumulator(Accumulator::DeviceDamping)],
+            friction: y[layout.accumulator(Accumulator::Friction)],
+            impact,
+            disengagement: self.ledger.disengagement,
+            reset: self.ledger.reset,
+        }
+    }
+}
+
+impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
+    #[inline]
+    fn rhs(&self, t: f64, y: &[f64; N], dydt: &mut [f64; N]) {
+        self.rhs_slice(t, y, dydt)
+    }
+
+    fn event_count(&self) -> usize {
+        self.n_events
+    }
+
+    fn event_direction(&self, index: usize) -> Direction {
+        match self.events[index] {
+            Ev::Impact => Direction::Falling,
+            Ev::Overturn | Ev::Uplift(_) => Direction::Rising,
+            Ev::Clutch(e) => e.direction(),
+            Ev::Sequential if self.mode.sequential_engaged => Direction::Falling,
+            Ev::Sequential => Direction::Rising,
+            Ev::Own(i) => self.body.own_event_direction(i),
+        }
+    }
+
+    fn events(&self, t: f64, y: &[f64; N], g: &mut [f64]) {
+        for (i, gi) in g.iter_mut().enumerate() {
+            *gi = self.event_value(self.events[i], t, y);
+        }
+    }
+
+    fn sign_after_zero(&self, index: usize, _t: f64, y: &[f64; N]) -> f64 {
+        match self.events[index] {
+            // At uplift (θ = θ̇ = 0, sθ̈ > 0) the base moves onto its pivot's side. Knowing
+            // this matters: after an impact the uplift margin can already be falling, so the
+            // base lands again within the first step, a crossing an undetermined start misses.
+            Ev::Impact if y[B::THETA_DOT] == 0.0 => 1.0,
+            Ev::Impact => (self.mode.pivot * y[B::THETA_DOT]).signum(),
+            // From rest (Ẋ = 0) |Ẋ| grows.
+            Ev::Sequential if self.x_xdot(y).1 == 0.0 => 1.0,
+            _ => 0.0,
+        }
+    }
+}
+
+impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
+    fn start(&mut self, y: &mut [f64; N]) -> Action {
+        let action = if self.initial_rotation != 0.0 {
+            self.mode.phase = Phase::Rocking;
+            self.mode.pivot = self.initial_rotation.signum();
+            y[B::THETA] = self.initial_rotation;
+            // Released from rest with the device relaxed: flywheels sit where X is.
+            let (x, _) = self.x_xdot(y);
+            for i in 0..self.mode.layout.flywheels {
+                y[self.mode.layout.flywheel(i)] = x;
+            }
+            Action::Continue
+        } else {
+            self.land(0.0, y)
+        };
+        if B::MOVES_IN_CONTACT {
+            self.engage_sequential_from_rest();
+        }
+        action
+    }
+
+    fn on_event(&mut self, index: usize, t: f64, y: &mut [f64; N]) -> Action {
+        let action = self.apply_event(index, t, y);
+        self.catch_up(action, t, y)
+    }
+
+    fn wake(&mut self, t: f64, y: &mut [f64; N]) -> Action {
+        match self.body.wake_side(&self.mode, t) {
+            Some(side) => self.uplift(side, t, y),
+            None => Action::Stop(EndReason::Rest),
+        }
+    }
+
+    /// Flat after the ground stopped, a body that cannot move in contact stays put: a
+    /// flywheel can only spin down and drift away from engagement (its velocity never changes
+    /// sign), so nothing can lift it. A flexible column decays but never stops (see
+    /// [`SimModel::settled`] for its early stop).
+    fn at_rest(&self, _t: f64, _y: &[f64; N]) -> bool {
+        !B::MOVES_IN_CONTACT && self.mode.phase == Phase::Contact
+    }
+
+    fn settled(&self, y: &[f64; N]) -> bool {
+        self.body
+            .settled(&self.mode, y, self.returnable(y), &self.peaks)
+    }
+
+    fn advance_closed_form(
+        &mut self,
+        t: f64,
+        t_stop: f64,
+        y: &mut [f64; N],
+    ) -> Option<(f64, ClosedFormEnd)> {
+        let (t1, uplift) =
+            self.body
+                .advance_closed_form(&self.mode, &mut self.peaks, t, t_stop, y)?;
+        let end = match uplift {
+            None => ClosedFormEnd::Reached,
+            Some(side) => ClosedFormEnd::Event(
+                self.events[..self.n_events]
+                    .iter()
+                    .position(|e| *e == Ev::Uplift(side))
+                    .expect("uplift events exist in both directions"),
+            ),
+        };
+        Some((t1, end))
+    }
+
+    fn observe_step(&mut self, dense: &Dense<N>, t_end: f64) {
+        self.body
+            .observe_step(&self.mode, dense, t_end, &mut self.peaks);
+        let accel_g = |t: f64| {
+            self.absolute_acceleration(t, &dense.state(t), &dense.derivative(t))
+                .abs()
+                / G
+        };
+        let peak = refined_max(accel_g, dense.t0, t_end, 4, self.peaks.abs_acceleration_g);
+        self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(peak);
+    }
+
+    fn observe_point(&mut self, t: f64, y: &[f64; N]) {
+        let mut dy = [0.0; N];
+        self.rhs_slice(t, y, &mut dy);
+        self.body.observe_point(&self.mode, y, &mut self.peaks);
+        let a = self.absolute_acceleration(t, y, &dy);
+        self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a.abs() / G);
+    }
+
+    fn observe_idle(&mut self, t0: f64, t1: f64) {
+        let a = self.mode.motion.peak_abs(t0, t1);
+        self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a / G);
+    }
+
+    fn energy(&self, y: &[f64; N]) -> Energy {
+        self.energy_of(y)
+    }
+
+    fn peaks(&self) -> Peaks {
+        self.peaks
+    }
+
+    fn counters(&self) -> Counters {
+        self.counters
+    }
+
+    fn tolerance_scales(&self) -> (Vec<f64>, f64) {
+        let (mut state, flywheel, energy) = self.body.tolerance_scales(&self.mode);
+        for _ in 0..self.mode.layout.flywheels {
+            state.extend(flywheel);
+        }
+        (state, energy)
+    }
+
+    fn event_name(&self, index: usize) -> &'static str {
+        match self.events[index] {
+            Ev::Impact => "impact",
+            Ev::Overturn => "overturn",
+            Ev::Uplift(_) => "uplift",
+            Ev::Sequential => "sequential_switch",
+            Ev::Own(i) => self.body.own_event_name(i),
+            Ev::Clutch(e) => e.name(),
+        }
+    }
+
+    fn history_columns(&self) -> Vec<&'static str> {
+        let device = [
+            "ground_accel",
+            "x",
+            "x_dot",
+            "flywheel_a_vel",
+            "flywheel_b_vel",
+            "clutch_force_a",
+            "clutch_force_b",
+            "device_force",
+        ];
+        std::iter::once("t")
+            .chain(B::COORDINATES.iter().copied())
+            .chain(device)
+            .chain(Energy::COLUMNS)
+            .collect()
+    }
+
+    fn history_row(&self, t: f64, y: &[f64; N]) -> Vec<f64> {
+        let layout = self.mode.layout;
+        let (x, xdot) = self.x_xdot(y);
+        let (fa, fb, fd) = self.device_force(t, y);
+        let device = [
+            self.mode.motion.accel(t),
+            x,
+            xdot,
+            layout.flywheel_velocity(y, 0),
+            layout.flywheel_velocity(y, 1),
+            fa,
+            fb,
+            fd,
+        ];
+        std::iter::once(t)
+            .chain(y[..layout.coordinates].iter().copied())
+            .chain(device)
+            .chain(self.energy_of(y).terms())
+            .collect()
+    }
+}
