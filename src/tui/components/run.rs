@@ -376,7 +376,7 @@ impl RunScreen {
         match key.code {
             KeyCode::Char('r') => Action::StartRun,
             KeyCode::Char('d') if !self.is_running() => Action::Prompt(Prompt::OutDir(
-                LineEdit::new(&shared.output_dir().display().to_string()),
+                LineEdit::new(shared.output_dir().display().to_string()),
             )),
             KeyCode::Char('c') | KeyCode::Esc => match self.stop_question(false) {
                 Some(stop) => Action::Prompt(Prompt::StopSweep(stop)),
