@@ -87,10 +87,17 @@ pub fn readable_by_all(file: &std::fs::File) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// A name safe to use as one path component: path separators, `..`, leading dots and control
-/// characters replaced, so a study named "../../x" or "/etc/y" stays inside `out/`.
+/// A name safe to use as one path component: `.`/`..` parts dropped, the rest joined by `_`,
+/// control characters replaced, no leading dot, so a study named "../../x" is "x" and
+/// "/etc/y" is "etc_y", both inside `out/`.
 pub fn single_component(name: &str) -> String {
-    let cleaned: String = name
+    let joined = name
+        .split(['/', '\\'])
+        .map(str::trim)
+        .filter(|part| !part.is_empty() && *part != "." && *part != "..")
+        .collect::<Vec<_>>()
+        .join("_");
+    let cleaned: String = joined
         .chars()
         .map(|c| {
             if c == '/' || c == '\\' || c.is_control() || c == ':' {
@@ -129,6 +136,8 @@ mod tests {
             assert!(!c.starts_with('.') && !c.contains('/'), "{name:?} -> {c:?}");
         }
         assert_eq!(single_component("fig12_rigid"), "fig12_rigid");
+        assert_eq!(single_component("../../x"), "x");
+        assert_eq!(single_component("/etc/y"), "etc_y");
     }
 
     #[test]

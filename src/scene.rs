@@ -433,6 +433,10 @@ fn positive(field: &'static str, v: f64) -> Result<(), Invalid> {
     check(field, v, v > 0.0, "must be a finite number > 0")
 }
 
+fn at_least(field: &'static str, v: f64, min: f64, expected: &'static str) -> Result<(), Invalid> {
+    check(field, v, v >= min, expected)
+}
+
 fn non_negative(field: &'static str, v: f64) -> Result<(), Invalid> {
     check(field, v, v >= 0.0, "must be a finite number ≥ 0")
 }
@@ -449,9 +453,9 @@ impl Scene {
         )?;
         positive("mass", self.structure.mass())?;
         match &self.structure {
-            Structure::Rigid(b) => positive("size", b.size)?,
+            Structure::Rigid(b) => at_least("size", b.size, MIN_SIZE, "must be ≥ 1 mm (0.001 m)")?,
             Structure::Flexible(f) => {
-                positive("size", f.r0)?;
+                at_least("size", f.r0, MIN_SIZE, "must be ≥ 1 mm (0.001 m)")?;
                 non_negative("xi", f.xi)?;
                 positive("omega_n", f.omega_n)?;
             }
@@ -509,12 +513,19 @@ impl Scene {
                     Frequency::RadPerSec(w) | Frequency::Ratio(w) => w,
                 };
                 positive("frequency", w)?;
+                let omega = frequency.absolute(self.structure.p());
+                check(
+                    "frequency",
+                    w,
+                    2.0 * std::f64::consts::PI / omega >= MIN_PULSE_PERIOD,
+                    "the pulse period 2π/ω must be ≥ 1 ms",
+                )?;
                 if let PulseShape::MavroeidisPapageorgiou { gamma, nu } = shape {
                     check_mp(*gamma, *nu)?;
                 }
             }
             Excitation::MpPulse { tp, pgv, gamma, nu } => {
-                positive("tp", *tp)?;
+                at_least("tp", *tp, MIN_PULSE_PERIOD, "pulse period must be ≥ 1 ms")?;
                 check("pgv", *pgv, true, "must be a finite number")?;
                 check_mp(*gamma, *nu)?;
             }
@@ -549,12 +560,19 @@ impl Scene {
     }
 }
 
+/// Bounds of what a scene can resolve: below these sizes and pulse periods the time scales
+/// fall under what a step can resolve in f64 over a run, and a pulse of γ half-cycles beyond
+/// `MAX_MP_GAMMA` is no longer pulse-like (fitted records have γ of a few).
+pub const MIN_SIZE: f64 = 1e-3;
+pub const MIN_PULSE_PERIOD: f64 = 1e-3;
+pub const MAX_MP_GAMMA: f64 = 20.0;
+
 fn check_mp(gamma: f64, nu: f64) -> Result<(), Invalid> {
     check(
         "gamma",
         gamma,
-        gamma > 1.0,
-        "Mavroeidis–Papageorgiou γ must be > 1",
+        gamma > 1.0 && gamma <= MAX_MP_GAMMA,
+        "Mavroeidis–Papageorgiou γ must be in (1, 20]",
     )?;
     check("nu", nu, true, "must be a finite phase (rad)")
 }

@@ -3,15 +3,19 @@
 
 mod util;
 
+mod checkpoint;
 mod cli_simulate;
+mod compare;
 mod exact_contact;
 mod excitation;
 mod flexible;
+mod fuzz;
 mod hard_cases;
 mod paper;
 mod records_cli;
 mod records_sim;
 mod rigid;
+mod robustness;
 mod slurm;
 mod studies;
 mod study;

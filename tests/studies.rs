@@ -40,7 +40,7 @@ fn summary(results: &SweepResults) -> String {
     let spectra = report::spectra(results);
     let width = spectra
         .iter()
-        .map(|sp| sp.group.chars().count())
+        .map(|sp| sp.label.chars().count())
         .max()
         .unwrap_or(0);
     let mut last = None;
@@ -73,7 +73,7 @@ fn summary(results: &SweepResults) -> String {
         let _ = writeln!(
             s,
             "  {:width$}  {}  {key}",
-            sp.group,
+            sp.label,
             report::sparkline(&quantised(&sp.ys)),
         );
     }
@@ -81,7 +81,7 @@ fn summary(results: &SweepResults) -> String {
         let _ = writeln!(
             s,
             "\noverturning map, {}: {} (→ {} … {}) × {} (↑); █ overturned, · safe, ? missing",
-            m.group,
+            m.label,
             m.x_axis,
             m.xs.first().map_or("-".into(), |v| sig4(*v)),
             m.xs.last().map_or("-".into(), |v| sig4(*v)),

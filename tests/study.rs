@@ -82,7 +82,7 @@ fn a_clutch_grid_expands_to_the_cartesian_product_with_the_frequency_fastest() {
     );
     assert_eq!(points[0].group, "bare α=0.15");
     let last = points.last().unwrap();
-    assert_eq!(last.group, "mechanistic α=0.2 kθ=10 ξθ=0.2");
+    assert_eq!(last.group, "mechanistic kθ=10 ξθ=0.2 α=0.2");
     match &last.scene.device {
         Device::Mechanistic(c) => {
             assert_eq!(c.stiffness, ClutchStiffness::KTheta(10.0));
@@ -254,7 +254,7 @@ fn flexible_omega_ratio_becomes_omega_n_and_records_become_scenes() {
     // 3 devices × 40 ωn × 5 records; ωn is the spectrum axis.
     assert_eq!(points.len(), 600);
     assert!(points.iter().all(|p| p.coords[0].0 == "ωn"));
-    assert_eq!(points[0].group, "landers · bare");
+    assert_eq!(points[0].group, "bare · landers");
     assert_eq!(points[0].coords[0].1, 2.0);
     assert!((points[39 * 5].coords[0].1 - 29.3).abs() < 1e-12);
     match &points[1].scene.excitation {

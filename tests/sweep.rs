@@ -306,7 +306,7 @@ fn spectra_and_maps_are_the_scene_results_rearranged() {
             o.point.coord("ωg/p").unwrap(),
             o.point.coord("A/(g·tanα)").unwrap(),
         );
-        let map = maps.iter().find(|m| m.group == o.point.group).unwrap();
+        let map = maps.iter().find(|m| m.label == o.point.group).unwrap();
         assert_eq!(map.xs, vec![2.0, 4.0, 6.0]);
         let (ix, iy) = (
             map.xs.iter().position(|v| *v == x).unwrap(),
@@ -316,7 +316,7 @@ fn spectra_and_maps_are_the_scene_results_rearranged() {
         let sp = spectra
             .iter()
             .find(|s| {
-                s.group
+                s.label
                     == format!(
                         "{} A/(g·tanα)={}",
                         o.point.group,
@@ -465,7 +465,7 @@ fn run_prints_a_summary_and_compare_and_plot_read_the_results() {
     );
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(
-        text.contains("sequential vs bare") && text.contains("b/a"),
+        text.contains("A = sequential, B = bare") && text.contains("B/A"),
         "{text}"
     );
     let out = rocklab(&[
@@ -560,8 +560,7 @@ fn record_studies_run_each_record_at_each_scale() {
         let r = o.result.as_ref().unwrap();
         let scale = o.point.coord("scale").unwrap();
         assert!(
-            o.point.group.starts_with("northridge · ")
-                || o.point.group.starts_with("palm_springs · ")
+            o.point.group.ends_with(" · northridge") || o.point.group.ends_with(" · palm_springs")
         );
         if scale == 0.0 {
             // No ground motion: the structure never leaves the ground.
@@ -579,7 +578,7 @@ fn record_studies_run_each_record_at_each_scale() {
         .outcomes
         .iter()
         .find(|o| {
-            o.point.group == "northridge · bare scale=1" && o.point.coords[0] == ("p".into(), 1.5)
+            o.point.group == "bare scale=1 · northridge" && o.point.coords[0] == ("p".into(), 1.5)
         })
         .unwrap();
     let r = full.result.as_ref().unwrap();

@@ -542,7 +542,7 @@ fn edit_run_and_read_results_by_keys() {
         let data = app.shared.results.as_ref().unwrap();
         let b = app.browser.rows(data)[app.browser.compare.b];
         let x = app.browser.spectra.x;
-        assert!(b.group.contains("mechanistic"), "{}", b.group);
+        assert!(b.label.contains("mechanistic"), "{}", b.label);
         (b.ys[x], b.xs[x])
     };
     let expected = expected.expect("B survives at the cursor");

@@ -18,9 +18,14 @@ pub fn rocklab(args: &[&str]) -> Output {
 pub fn run_study_file(path: &std::path::Path) -> rocklab::sweep::SweepResults {
     let study = rocklab::study::Study::load(path).unwrap_or_else(|e| panic!("{e}"));
     let cancel = std::sync::atomic::AtomicBool::new(false);
-    let library = rocklab::excitation::library::global().unwrap_or_else(|e| panic!("{e}"));
-    rocklab::sweep::run_study(&study, &Default::default(), library, &cancel, &|_| {})
-        .unwrap_or_else(|e| panic!("{e}"))
+    rocklab::sweep::run_study(
+        &study,
+        &Default::default(),
+        rocklab::excitation::library::global().unwrap(),
+        &cancel,
+        &|_| {},
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// `v` at 4 significant digits (scientific outside [1e-3, 1e5)), so snapshots and reports do

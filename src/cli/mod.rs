@@ -90,6 +90,19 @@ fn tui(args: &TuiArgs) -> anyhow::Result<()> {
     }
 }
 
+/// An explicit `--records-dir` must exist: falling back to the embedded records would run a
+/// silently different study.
+pub fn existing_records_dir(dir: &std::path::Path) -> Result<(), UsageError> {
+    if dir.is_dir() {
+        Ok(())
+    } else {
+        Err(UsageError::new(format!(
+            "--records-dir {}: no such directory",
+            dir.display()
+        )))
+    }
+}
+
 /// Bad flags or values: reported in one line, exit code 2.
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
@@ -101,7 +114,13 @@ impl UsageError {
     }
 
     pub fn invalid(flag: &str, value: f64, expected: &str) -> Self {
-        UsageError(format!("invalid value {value} for {flag}: {expected}"))
+        // 1e-300 as 1e-300, not as 300 digits.
+        let shown = if value != 0.0 && !(1e-4..1e9).contains(&value.abs()) {
+            format!("{value:e}")
+        } else {
+            format!("{value}")
+        };
+        UsageError(format!("invalid value {shown} for {flag}: {expected}"))
     }
 
     /// Name the CLI flag behind a scene field.
@@ -116,8 +135,33 @@ impl UsageError {
     }
 }
 
+/// Commands that only print (`compare … | head`) end quietly when the reader goes away, as
+/// Unix tools do: the default SIGPIPE action instead of Rust's ignore-and-panic. Not for
+/// `run` (a closed stderr pipe must not kill a sweep; it writes through `print_out`) nor the
+/// workbench.
+fn quiet_on_broken_pipe() {
+    #[cfg(unix)]
+    // SAFETY: setting a signal disposition to its default, before any thread is started.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    if matches!(
+        cli.command,
+        Some(
+            Command::Simulate(_)
+                | Command::Records(_)
+                | Command::Bench(_)
+                | Command::Compare(_)
+                | Command::Plot(_)
+                | Command::Status(_)
+        )
+    ) {
+        quiet_on_broken_pipe();
+    }
     let outcome = match cli.command {
         Some(Command::Simulate(args)) => simulate::run(&args),
         Some(Command::Records(args)) => records::run(&args),

@@ -50,9 +50,12 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
                     results.outcomes.last().map_or(0, |o| o.point.index)
                 ))
             })?;
+        // Under the sweep's guard: a scene that panics fails here as it did in the sweep.
         let library = crate::excitation::library::global()?;
-        let (_, history) = crate::sim::run_with_history(&outcome.point.scene, library, true)
-            .map_err(|e| anyhow::anyhow!("scene {index} failed: {e}"))?;
+        let (_, history) = crate::sweep::guarded(|| {
+            crate::sim::run_with_history(&outcome.point.scene, library, true)
+        })
+        .map_err(|e| anyhow::anyhow!("scene {index} failed: {e}"))?;
         let history = history.context("no history recorded")?;
         let path = dir.join(format!(
             "scene-{index}.{}",

@@ -65,6 +65,9 @@ fn row_json(r: &Record) -> serde_json::Value {
 }
 
 pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
+    if let Some(dir) = &args.records_dir {
+        super::existing_records_dir(dir)?;
+    }
     let dir = args.records_dir.clone().or_else(Library::default_dir);
     let library = Library::open(dir)?;
     let mut rows = Vec::new();

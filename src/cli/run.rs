@@ -35,6 +35,10 @@ pub struct RunArgs {
     /// Use an output directory that holds another study's results (they are moved aside).
     #[arg(long)]
     pub force: bool,
+    /// Wall-clock limit of one scene in seconds (0: none); a scene over it is recorded as
+    /// failed with the reason.
+    #[arg(long, default_value_t = 600.0, value_parser = parse_seconds)]
+    pub scene_time_limit: f64,
     /// Do not print the summary.
     #[arg(long)]
     pub quiet: bool,
@@ -58,6 +62,13 @@ pub struct MergeArgs {
     pub out: PathBuf,
     #[arg(long)]
     pub quiet: bool,
+}
+
+fn parse_seconds(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("invalid time `{s}`: expected seconds ≥ 0")),
+    }
 }
 
 fn parse_shard(s: &str) -> Result<(usize, usize), String> {
@@ -187,12 +198,15 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let reporter = Reporter::new(std::io::stderr().is_terminal());
     let started = Instant::now();
     let library = crate::excitation::library::global()?;
+    let scene_time_limit =
+        (args.scene_time_limit > 0.0).then(|| Duration::from_secs_f64(args.scene_time_limit));
     let results = sweep::run_into(
         &mut output,
         &study,
         &points,
         &opts,
         library,
+        scene_time_limit,
         &CANCEL,
         &|p| reporter.report(p),
     );

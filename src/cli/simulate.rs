@@ -395,6 +395,9 @@ impl SimulateArgs {
             if self.pulse.is_some() {
                 return Err(UsageError::new("--pulse and --record exclude each other"));
             }
+            if let Some(dir) = &self.records_dir {
+                super::existing_records_dir(dir)?;
+            }
             if let Some(dir) = &self.records_dir
                 && !library::set_records_dir(dir.clone())
             {
@@ -608,7 +611,15 @@ pub fn result_json(scene: &Scene, r: &SceneResult) -> serde_json::Value {
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let scene = args.scene()?;
     let library = library::global()?;
-    let (result, history) = sim::run_with_history(&scene, library, args.history.is_some())?;
+    let (result, history) =
+        crate::sweep::guarded(|| sim::run_with_history(&scene, library, args.history.is_some()))
+            .map_err(|e| match e {
+                // A scene the model refuses is bad input: exit 2 like a bad flag.
+                crate::sweep::Guarded::Sim(sim::SimError::Invalid(msg)) => {
+                    anyhow::Error::from(UsageError::new(msg))
+                }
+                e => e.into(),
+            })?;
     if let (Some(path), Some(h)) = (&args.history, &history) {
         crate::report::write_history_csv(path, h)?;
     }

@@ -62,6 +62,42 @@ impl Units {
     }
 }
 
+/// The smallest time step accepted (s). Recorded motions are sampled at 0.001–0.02 s; steps
+/// far below 1 µs are typos or garbage, and they would make a scene's breakpoints closer than
+/// the integrator can resolve.
+pub const MIN_DT: f64 = 1e-6;
+
+/// A time step that is finite and at least [`MIN_DT`].
+fn checked_dt(dt: f64, origin: &str, line: usize, what: &str) -> Result<f64, ParseError> {
+    if dt.is_finite() && dt >= MIN_DT {
+        Ok(dt)
+    } else {
+        Err(err(
+            origin,
+            line,
+            format!(
+                "{what} {dt:e} s is not a usable time step: it must be finite and ≥ {MIN_DT:e} s"
+            ),
+        ))
+    }
+}
+
+/// Samples in m/s², each finite after the unit conversion.
+fn scaled(
+    values: impl Iterator<Item = f64>,
+    scale: f64,
+    origin: &str,
+) -> Result<Vec<f64>, ParseError> {
+    values
+        .map(|v| v * scale)
+        .map(|a| {
+            a.is_finite()
+                .then_some(a)
+                .ok_or_else(|| err(origin, 0, "an acceleration overflows to infinity in m/s²"))
+        })
+        .collect()
+}
+
 fn err(origin: &str, line: usize, message: impl Into<String>) -> ParseError {
     ParseError {
         origin: origin.to_string(),
@@ -144,7 +180,10 @@ fn parse_at2(text: &str, origin: &str) -> Result<Series, ParseError> {
         .iter()
         .find_map(|l| Units::named_in(l))
         .unwrap_or(Units::G);
-    let mut values = Vec::with_capacity(npts);
+    let dt = checked_dt(dt, origin, header_line, "DT")?;
+    // Never trust the header with the allocation (NPTS = 1E12 asked for 8 TB): reserve what
+    // the text can hold at most (two bytes per number), then compare with NPTS.
+    let mut values = Vec::with_capacity(npts.min(text.len() / 2 + 1));
     let mut last_data_line = header_line;
     for (i, line) in lines.iter().enumerate().skip(header_idx + 1) {
         if values.len() >= npts {
@@ -167,12 +206,8 @@ fn parse_at2(text: &str, origin: &str) -> Result<Series, ParseError> {
         ));
     }
     values.truncate(npts);
-    let scale = units.to_mps2();
-    Ok(Series::new(
-        0.0,
-        dt,
-        values.iter().map(|v| v * scale).collect(),
-    ))
+    let accel = scaled(values.into_iter(), units.to_mps2(), origin)?;
+    Ok(Series::new(0.0, dt, accel))
 }
 
 fn at2_npts_dt(line: &str, origin: &str, line_no: usize) -> Result<(usize, f64), ParseError> {
@@ -209,6 +244,11 @@ fn at2_npts_dt(line: &str, origin: &str, line_no: usize) -> Result<(usize, f64),
             _ => return Err(bad("NPTS and DT must precede 'NPTS, DT'")),
         }
     };
+    if npts > usize::MAX as f64 {
+        return Err(bad(&format!(
+            "NPTS = {npts:e} is more values than any file holds"
+        )));
+    }
     if !(npts >= 1.0 && npts.fract() == 0.0) {
         return Err(bad(&format!("NPTS = {npts} is not a positive integer")));
     }
@@ -287,11 +327,9 @@ fn parse_columns(text: &str, origin: &str, dt_given: Option<f64>) -> Result<Seri
                         "a one-column file needs a time step > 0: add a '# dt: 0.01' header line",
                     )
                 })?;
-            Ok(Series::new(
-                0.0,
-                dt,
-                rows.iter().map(|(_, r)| r[0] * scale).collect(),
-            ))
+            let dt = checked_dt(dt, origin, 0, "dt")?;
+            let accel = scaled(rows.iter().map(|(_, r)| r[0]), scale, origin)?;
+            Ok(Series::new(0.0, dt, accel))
         }
         2 => {
             let n = rows.len();
@@ -307,6 +345,7 @@ fn parse_columns(text: &str, origin: &str, dt_given: Option<f64>) -> Result<Seri
             if dt.is_nan() || dt <= 0.0 {
                 return Err(err(origin, rows[n - 1].0, "times must increase"));
             }
+            let dt = checked_dt(dt, origin, rows[n - 1].0, "the time step")?;
             if t0 < 0.0 {
                 return Err(err(
                     origin,
@@ -329,11 +368,8 @@ fn parse_columns(text: &str, origin: &str, dt_given: Option<f64>) -> Result<Seri
                     ));
                 }
             }
-            Ok(Series::new(
-                t0,
-                dt,
-                rows.iter().map(|(_, r)| r[1] * scale).collect(),
-            ))
+            let accel = scaled(rows.iter().map(|(_, r)| r[1]), scale, origin)?;
+            Ok(Series::new(t0, dt, accel))
         }
         _ => Err(err(
             origin,

@@ -1,29 +1,114 @@
 //! Aggregation of sweep results: spectra, overturning maps, comparisons, sparklines. Pure
 //! functions of the results.
 
-use crate::study::Quantity;
-use crate::sweep::SweepResults;
+use crate::study::{Axis, DeviceKind, Layout, MapAxes, Part, Quantity};
+use crate::sweep::{SceneOutcome, SweepResults};
 use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+
+/// One parameter value that defines a group, by its study field name.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Setting {
+    /// Study field name: `k_theta`, `play`, `omega_n`, `amplitude`, `record`, …
+    pub id: String,
+    pub part: Part,
+    /// Paper notation (`kθ`, `up`, `ωn`).
+    pub label: String,
+    /// The exact value (a record's position in the study's `names`).
+    pub value: f64,
+    /// The record's name, for the `record` setting.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// The value as labels show it (the record's name, or the number with as many digits as
+    /// tell the study's values of this parameter apart): for filters and pickers.
+    pub text: String,
+    /// Whether the study gives this parameter more than one value.
+    pub varies: bool,
+}
+
+/// What a spectrum or map is of, as data: the device variant and every parameter value that
+/// is fixed along it (structure, device with its clutch grid values, excitation and record).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Group {
+    pub device: DeviceKind,
+    /// Position of the variant in the study's `devices`.
+    pub variant: usize,
+    /// The variant's label (its `label: "…"`, or its kind; `bare` for none).
+    pub device_label: String,
+    pub settings: Vec<Setting>,
+}
+
+impl Group {
+    pub fn setting(&self, id: &str) -> Option<&Setting> {
+        self.settings.iter().find(|s| s.id == id)
+    }
+
+    /// The record's name, for record studies.
+    pub fn record(&self) -> Option<&str> {
+        self.setting("record").and_then(|s| s.name.as_deref())
+    }
+
+    /// Whether `self` and `other` agree on `setting` (both lack it, or both have the same).
+    pub fn same(&self, other: &Group, id: &str) -> bool {
+        match (self.setting(id), other.setting(id)) {
+            (Some(a), Some(b)) => a.value == b.value && a.name == b.name,
+            (None, None) => true,
+            _ => false,
+        }
+    }
+}
+
+/// What became of the scene behind a spectrum or map point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PointState {
+    /// Ran and did not overturn: the value is a response.
+    Survived,
+    Overturned,
+    /// The scene failed (its reason is in the outcome).
+    Failed,
+    /// Not in the results (cancelled, another shard's).
+    NotRun,
+}
+
+impl PointState {
+    pub fn of(outcome: &SceneOutcome) -> PointState {
+        match &outcome.result {
+            Ok(r) if r.overturned => PointState::Overturned,
+            Ok(_) => PointState::Survived,
+            Err(_) => PointState::Failed,
+        }
+    }
+}
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Spectrum {
     pub quantity: Quantity,
-    pub group: String,
+    /// Display label, derived from `group` (never parse it).
+    pub label: String,
+    pub group: Group,
     pub axis: String,
     pub xs: Vec<f64>,
-    /// None: overturned or failed.
+    /// None: overturned or failed (`states` says which).
     pub ys: Vec<Option<f64>>,
+    pub states: Vec<PointState>,
+    /// Index in `SweepResults::outcomes` of each point.
+    pub outcomes: Vec<usize>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct OverturningMap {
-    pub group: String,
+    /// Display label, derived from `group` (never parse it).
+    pub label: String,
+    pub group: Group,
     pub x_axis: String,
     pub y_axis: String,
     pub xs: Vec<f64>,
     pub ys: Vec<f64>,
     /// [iy][ix]: Some(true) overturned, Some(false) survived, None failed or not run.
     pub cells: Vec<Vec<Option<bool>>>,
+    /// [iy][ix]: index in `SweepResults::outcomes` of the cell's scene, if it ran.
+    pub outcomes: Vec<Vec<Option<usize>>>,
 }
 
 /// The study's quantities (or the peak rotation ratio for ad-hoc point lists).
@@ -35,115 +120,224 @@ pub fn quantities(results: &SweepResults) -> Vec<Quantity> {
         .unwrap_or_else(|| vec![Quantity::PeakRotationRatio])
 }
 
-/// One spectrum per group (plus the map's y value when the study has a map) and quantity,
-/// over the first coordinate of the points (the study's spectrum axis), sorted by x.
+/// How outcomes are grouped: by the study's layout (exact parameter values, from each
+/// point's expansion index), or, for ad-hoc point lists without a study, by label.
+struct Grouping {
+    layout: Option<(Layout, Option<MapAxes>, Axis)>,
+}
+
+/// A group's identity: the variant and the value position of every parameter not on a
+/// free axis (free ones are `usize::MAX`), or the label when there is no layout.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum GroupKey {
+    Grid(usize, Vec<usize>),
+    Label(String),
+}
+
+impl Grouping {
+    fn new(results: &SweepResults) -> Grouping {
+        Grouping {
+            layout: results
+                .study
+                .as_ref()
+                .and_then(|s| Some((s.layout().ok()?, s.map, s.spectrum))),
+        }
+    }
+
+    /// The variant and value positions of a point, if the layout knows it (and it agrees
+    /// with the point's scene, as a check that the results belong to this study).
+    fn locate(&self, outcome: &SceneOutcome) -> Option<(usize, Vec<usize>)> {
+        let (layout, ..) = self.layout.as_ref()?;
+        let (v, at) = layout.locate(outcome.point.index)?;
+        (layout.variants[v].kind.name() == outcome.point.scene.device.name()).then_some((v, at))
+    }
+
+    fn key(&self, outcome: &SceneOutcome, free: &[Axis]) -> GroupKey {
+        match (self.locate(outcome), &self.layout) {
+            (Some((v, mut at)), Some((layout, ..))) => {
+                for (p, i) in layout.variants[v].params.iter().zip(at.iter_mut()) {
+                    if p.axis.is_some_and(|a| free.contains(&a)) {
+                        *i = usize::MAX;
+                    }
+                }
+                GroupKey::Grid(v, at)
+            }
+            _ => GroupKey::Label(outcome.point.group.clone()),
+        }
+    }
+
+    /// Label and structured group of a key.
+    fn describe(&self, key: &GroupKey, outcome: &SceneOutcome, free: &[Axis]) -> (String, Group) {
+        match (key, &self.layout) {
+            (GroupKey::Grid(v, at), Some((layout, ..))) => {
+                let variant = &layout.variants[*v];
+                let settings = variant
+                    .params
+                    .iter()
+                    .zip(at)
+                    .filter(|(_, i)| **i != usize::MAX)
+                    .map(|(p, &i)| Setting {
+                        id: p.id.to_string(),
+                        part: p.part,
+                        label: p.label.clone(),
+                        value: p.values[i],
+                        name: p.names.as_ref().map(|n| n[i].clone()),
+                        text: layout.value_text(p, i),
+                        varies: p.varies(),
+                    })
+                    .collect();
+                let full_at = self.locate(outcome).map(|(_, a)| a).unwrap_or_default();
+                (
+                    layout.label(*v, &full_at, free),
+                    Group {
+                        device: variant.kind,
+                        variant: *v,
+                        device_label: variant.label.clone(),
+                        settings,
+                    },
+                )
+            }
+            _ => (
+                outcome.point.group.clone(),
+                Group {
+                    device: DeviceKind::from_name(outcome.point.scene.device.name())
+                        .unwrap_or(DeviceKind::None),
+                    variant: 0,
+                    device_label: outcome.point.scene.device.name().to_string(),
+                    settings: vec![],
+                },
+            ),
+        }
+    }
+}
+
+/// One spectrum per group and quantity over the study's spectrum axis (the first coordinate
+/// of the points), sorted by x. A group holds every point with the same exact values of all
+/// other parameters (a map's other axis included), in order of first appearance.
 pub fn spectra(results: &SweepResults) -> Vec<Spectrum> {
-    // Map axes other than the spectrum axis separate spectra (one per amplitude, say).
-    let map_labels: Vec<String> = results
-        .study
+    let grouping = Grouping::new(results);
+    let free: Vec<Axis> = grouping
+        .layout
         .as_ref()
-        .and_then(|s| s.map.map(|m| [s.axis_label(m.x), s.axis_label(m.y)]))
-        .map(Vec::from)
+        .map(|(_, _, s)| vec![*s])
         .unwrap_or_default();
-    // (group, axis, points (x, outcome)) in order of first appearance.
-    type Series<'a> = (String, String, Vec<(f64, &'a crate::sweep::SceneOutcome)>);
+    // (key, axis, points (x, outcome index)) in order of first appearance.
+    type Series = (GroupKey, String, Vec<(f64, usize)>);
     let mut series: Vec<Series> = Vec::new();
-    for o in &results.outcomes {
+    let mut index: HashMap<GroupKey, usize> = HashMap::new();
+    for (i, o) in results.outcomes.iter().enumerate() {
         let Some((axis, x)) = o.point.coords.first() else {
             continue;
         };
-        let mut group = o.point.group.clone();
-        for (label, v) in &o.point.coords[1..] {
-            if map_labels.contains(label) {
-                group = format!("{group} {label}={}", crate::study::fmt_num(*v));
+        let key = grouping.key(o, &free);
+        match index.get(&key) {
+            Some(&s) => series[s].2.push((*x, i)),
+            None => {
+                index.insert(key.clone(), series.len());
+                series.push((key, axis.clone(), vec![(*x, i)]));
             }
         }
-        match series.iter_mut().find(|(g, _, _)| *g == group) {
-            Some((_, _, pts)) => pts.push((*x, o)),
-            None => series.push((group, axis.clone(), vec![(*x, o)])),
-        }
     }
+    let described: Vec<(String, Group)> = series
+        .iter()
+        .map(|(key, _, pts)| grouping.describe(key, &results.outcomes[pts[0].1], &free))
+        .collect();
     let mut out = Vec::new();
     for q in quantities(results) {
-        for (group, axis, pts) in &series {
+        for ((_, axis, pts), (label, group)) in series.iter().zip(&described) {
             let mut pts = pts.clone();
             pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let outcome = |i: usize| &results.outcomes[i];
             out.push(Spectrum {
                 quantity: q,
+                label: label.clone(),
                 group: group.clone(),
                 axis: axis.clone(),
                 xs: pts.iter().map(|(x, _)| *x).collect(),
                 ys: pts
                     .iter()
-                    .map(|(_, o)| o.result.as_ref().ok().and_then(|r| q.of(r)))
+                    .map(|(_, i)| outcome(*i).result.as_ref().ok().and_then(|r| q.of(r)))
                     .collect(),
+                states: pts
+                    .iter()
+                    .map(|(_, i)| PointState::of(outcome(*i)))
+                    .collect(),
+                outcomes: pts.iter().map(|(_, i)| *i).collect(),
             });
         }
     }
     out
 }
 
-/// One overturning map per group, if the study asks for one.
+/// One overturning map per group (every parameter but the map's two axes), if the study asks
+/// for one. The axes hold every value of the study, so a partial run shows its gaps.
 pub fn maps(results: &SweepResults) -> Vec<OverturningMap> {
-    let Some(study) = &results.study else {
+    let grouping = Grouping::new(results);
+    let Some((layout, Some(axes), _)) = &grouping.layout else {
         return vec![];
     };
-    let Some(axes) = study.map else {
-        return vec![];
-    };
+    let study = results.study.as_ref().expect("a layout comes from a study");
     let (xl, yl) = (study.axis_label(axes.x), study.axis_label(axes.y));
-    let mut groups: Vec<String> = Vec::new();
-    for o in &results.outcomes {
-        if !groups.contains(&o.point.group) {
-            groups.push(o.point.group.clone());
+    let free = [axes.x, axes.y];
+    let mut keys: Vec<(GroupKey, usize)> = Vec::new();
+    let mut index: HashMap<GroupKey, usize> = HashMap::new();
+    let mut members: Vec<Vec<usize>> = Vec::new();
+    for (i, o) in results.outcomes.iter().enumerate() {
+        let key = grouping.key(o, &free);
+        if !matches!(key, GroupKey::Grid(..)) {
+            continue;
+        }
+        match index.get(&key) {
+            Some(&g) => members[g].push(i),
+            None => {
+                index.insert(key.clone(), keys.len());
+                keys.push((key, i));
+                members.push(vec![i]);
+            }
         }
     }
-    // Axis values come from the full expansion, so a partial run shows its gaps (or from the
-    // results alone where the study cannot be expanded here, e.g. without its records).
-    let all: Vec<crate::study::ScenePoint> = study
-        .expand()
-        .unwrap_or_else(|_| results.outcomes.iter().map(|o| o.point.clone()).collect());
-    groups
-        .into_iter()
-        .map(|group| {
-            let in_group = |g: &String| *g == group;
-            let mut xs: Vec<f64> = Vec::new();
-            let mut ys: Vec<f64> = Vec::new();
-            for p in all.iter().filter(|p| in_group(&p.group)) {
-                if let (Some(x), Some(y)) = (p.coord(&xl), p.coord(&yl)) {
-                    push_unique(&mut xs, x);
-                    push_unique(&mut ys, y);
-                }
-            }
-            xs.sort_by(f64::total_cmp);
-            ys.sort_by(f64::total_cmp);
+    keys.into_iter()
+        .zip(members)
+        .filter_map(|((key, first), members)| {
+            let GroupKey::Grid(v, _) = &key else {
+                return None;
+            };
+            let params = &layout.variants[*v].params;
+            let axis_values = |axis: Axis| -> Option<(usize, Vec<f64>)> {
+                let i = params.iter().position(|p| p.axis == Some(axis))?;
+                let mut vs = params[i].values.clone();
+                vs.sort_by(f64::total_cmp);
+                Some((i, vs))
+            };
+            let ((ixp, xs), (iyp, ys)) = (axis_values(axes.x)?, axis_values(axes.y)?);
             let mut cells = vec![vec![None; xs.len()]; ys.len()];
-            for o in results.outcomes.iter().filter(|o| in_group(&o.point.group)) {
-                let (Some(x), Some(y)) = (o.point.coord(&xl), o.point.coord(&yl)) else {
+            let mut outcomes = vec![vec![None; xs.len()]; ys.len()];
+            for i in members {
+                let o = &results.outcomes[i];
+                let Some((_, at)) = grouping.locate(o) else {
                     continue;
                 };
+                let (x, y) = (params[ixp].values[at[ixp]], params[iyp].values[at[iyp]]);
                 let ix = xs.iter().position(|v| *v == x);
                 let iy = ys.iter().position(|v| *v == y);
                 if let (Some(ix), Some(iy)) = (ix, iy) {
                     cells[iy][ix] = o.result.as_ref().ok().map(|r| r.overturned);
+                    outcomes[iy][ix] = Some(i);
                 }
             }
-            OverturningMap {
+            let (label, group) = grouping.describe(&key, &results.outcomes[first], &free);
+            Some(OverturningMap {
+                label,
                 group,
                 x_axis: xl.clone(),
                 y_axis: yl.clone(),
                 xs,
                 ys,
                 cells,
-            }
+                outcomes,
+            })
         })
         .collect()
-}
-
-fn push_unique(v: &mut Vec<f64>, x: f64) {
-    if !v.contains(&x) {
-        v.push(x);
-    }
 }
 
 /// Ratio b/a per point of two spectra over the same axis (matched by x); None where either is
@@ -196,8 +390,16 @@ mod tests {
     fn compare_matches_points_by_x() {
         let s = |xs: Vec<f64>, ys: Vec<Option<f64>>| Spectrum {
             quantity: Quantity::PeakRotationRatio,
-            group: String::new(),
+            label: String::new(),
+            group: Group {
+                device: DeviceKind::None,
+                variant: 0,
+                device_label: "bare".into(),
+                settings: vec![],
+            },
             axis: "x".into(),
+            states: vec![PointState::Survived; xs.len()],
+            outcomes: (0..xs.len()).collect(),
             xs,
             ys,
         };

@@ -156,7 +156,7 @@ pub fn summary(results: &SweepResults) -> String {
     });
     let width = spectra
         .iter()
-        .map(|sp| sp.group.chars().count())
+        .map(|sp| sp.label.chars().count())
         .max()
         .unwrap_or(0);
     let mut last_q = None;
@@ -185,7 +185,7 @@ pub fn summary(results: &SweepResults) -> String {
         let _ = writeln!(
             s,
             "  {:width$}  {}  {peak}",
-            sp.group,
+            sp.label,
             sparkline(&sp.ys),
             width = width
         );
@@ -196,6 +196,10 @@ pub fn summary(results: &SweepResults) -> String {
             "  … {hidden} more spectra in results.csv / results.json (`rocklab plot` draws them all)"
         );
     }
+    s.push_str(&super::compare::suite_summary(
+        results,
+        &super::aggregate::spectra(results),
+    ));
     let maps = maps(results);
     const MAPS_SHOWN: usize = 6;
     if maps.len() > MAPS_SHOWN {
@@ -209,7 +213,7 @@ pub fn summary(results: &SweepResults) -> String {
         let _ = writeln!(
             s,
             "\noverturning map, {}: {} (→) × {} (↑); █ overturned, · safe, ? missing",
-            m.group, m.x_axis, m.y_axis
+            m.label, m.x_axis, m.y_axis
         );
         for (iy, row) in m.cells.iter().enumerate().rev() {
             let line: String = row

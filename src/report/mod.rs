@@ -2,13 +2,18 @@
 //! (spectra, overturning maps, comparisons).
 
 mod aggregate;
+pub mod compare;
 mod export;
 mod plot;
+pub mod select;
 
 pub use crate::fsutil::{readable_by_all, write_atomic};
 pub use crate::study::Quantity;
 pub use crate::sweep::load_results;
-pub use aggregate::{OverturningMap, Spectrum, compare, maps, quantities, sparkline, spectra};
+pub use aggregate::{
+    Group, OverturningMap, PointState, Setting, Spectrum, compare, maps, quantities, sparkline,
+    spectra,
+};
 pub use export::{results_csv, results_json, save_results, summary, write_tables};
 pub use plot::{ImageFormat, plot_history, plot_maps, plot_spectra, scene_title};
 

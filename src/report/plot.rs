@@ -151,7 +151,7 @@ fn draw_spectra<DB: DrawingBackend>(
                 .draw_series(LineSeries::new(seg.clone(), color.stroke_width(2)))
                 .map_err(err)?;
             if !labelled {
-                series.label(s.group.as_str()).legend(move |(x, y)| {
+                series.label(s.label.as_str()).legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
                 });
                 labelled = true;
@@ -198,7 +198,7 @@ fn draw_map<DB: DrawingBackend>(
     let (ex, ey) = (edges(&map.xs), edges(&map.ys));
     let mut chart = ChartBuilder::on(&root)
         .caption(
-            format!("overturning map: {} (red: overturned)", map.group),
+            format!("overturning map: {} (red: overturned)", map.label),
             (FONT, 20),
         )
         .margin(12)
@@ -349,7 +349,7 @@ pub fn plot_maps(
     for (i, map) in maps.iter().enumerate() {
         let path = dir.join(format!(
             "map-{i}-{}.{}",
-            slug(&map.group),
+            slug(&map.label),
             format.extension()
         ));
         render(

@@ -10,7 +10,8 @@ use crate::scene::{Excitation, Impact, RigidBlock, Scene, Structure};
 use crate::solver::{Integrator, Options, SolverError, Stats, StepOutcome};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
-use std::time::Instant;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
 use thiserror::Error;
 
 /// Accepted + rejected steps allowed per scene before it is reported as failed.
@@ -20,8 +21,15 @@ pub const STEP_BUDGET: u64 = 5_000_000;
 pub enum SimError {
     #[error("invalid scene: {0}")]
     Invalid(String),
-    #[error("{0}")]
+    // Transparent: the solver's message once, not "msg: msg" through the error chain.
+    #[error(transparent)]
     Solver(#[from] SolverError),
+    #[error("stopped (cancelled while running)")]
+    Cancelled,
+    #[error(
+        "wall-clock limit of {0:.0} s per scene reached at t = {1:.6} s (raise it with --scene-time-limit)"
+    )]
+    TimeLimit(f64, f64),
 }
 
 /// Everything a scene produces besides its histories.
@@ -111,10 +119,75 @@ pub fn run(scene: &Scene, library: &Library) -> Result<SceneResult, SimError> {
     run_with_history(scene, library, false).map(|(r, _)| r)
 }
 
+/// Limits on one running scene besides the step budget (which counts closed-form steps too):
+/// a cancel flag and a wall-clock limit, checked inside the step loops.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Bounds<'a> {
+    pub cancel: Option<&'a AtomicBool>,
+    pub time_limit: Option<Duration>,
+}
+
+/// The bounds of a scene that started at `started`, checked every few steps.
+struct Watch<'a> {
+    bounds: Bounds<'a>,
+    started: Instant,
+    checks: std::cell::Cell<u64>,
+}
+
+impl Watch<'_> {
+    /// An error once `steps` (integrator steps, rejected ones and closed-form intervals)
+    /// exceed the budget, the scene is cancelled, or its time is up.
+    fn check(&self, steps: u64, t: f64) -> Result<(), SimError> {
+        if steps >= STEP_BUDGET {
+            return Err(SolverError::StepBudget {
+                t,
+                budget: STEP_BUDGET,
+            }
+            .into());
+        }
+        // Reading the clock costs ~20 ns; every 64th check (the first included) is plenty.
+        let n = self.checks.get();
+        self.checks.set(n + 1);
+        if n.is_multiple_of(64) {
+            if self
+                .bounds
+                .cancel
+                .is_some_and(|c| c.load(Ordering::Relaxed))
+            {
+                return Err(SimError::Cancelled);
+            }
+            if let Some(limit) = self.bounds.time_limit
+                && self.started.elapsed() > limit
+            {
+                return Err(SimError::TimeLimit(limit.as_secs_f64(), t));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// [`run`] within `bounds`.
+pub fn run_bounded(
+    scene: &Scene,
+    library: &Library,
+    bounds: Bounds,
+) -> Result<SceneResult, SimError> {
+    run_with_history_bounded(scene, library, false, bounds).map(|(r, _)| r)
+}
+
 pub fn run_with_history(
     scene: &Scene,
     library: &Library,
     record_history: bool,
+) -> Result<(SceneResult, Option<History>), SimError> {
+    run_with_history_bounded(scene, library, record_history, Bounds::default())
+}
+
+pub fn run_with_history_bounded(
+    scene: &Scene,
+    library: &Library,
+    record_history: bool,
+    bounds: Bounds,
 ) -> Result<(SceneResult, Option<History>), SimError> {
     scene
         .validate()
@@ -122,6 +195,11 @@ pub fn run_with_history(
     let motion = motion_for(scene, library)?;
     let mut history = record_history.then(History::default);
     let started = Instant::now();
+    let watch = &Watch {
+        bounds,
+        started,
+        checks: Default::default(),
+    };
     let mut form_used = None;
     let mut result = match &scene.structure {
         Structure::Rigid(block) => {
@@ -135,9 +213,9 @@ pub fn run_with_history(
                 RigidModel::new(block, device, scene.impact, &motion, scene.initial_rotation);
             let h = history.as_mut();
             match model.state_len() {
-                6 => drive::<6, _>(&mut model, &motion, scene, h),
-                8 => drive::<8, _>(&mut model, &motion, scene, h),
-                _ => drive::<10, _>(&mut model, &motion, scene, h),
+                6 => drive::<6, _>(&mut model, &motion, scene, h, watch),
+                8 => drive::<8, _>(&mut model, &motion, scene, h, watch),
+                _ => drive::<10, _>(&mut model, &motion, scene, h, watch),
             }?
         }
         Structure::Flexible(flex) => {
@@ -154,9 +232,9 @@ pub fn run_with_history(
                 .with_closed_form_contact(scene.closed_form_contact);
             let h = history.as_mut();
             match model.state_len() {
-                8 => drive::<8, _>(&mut model, &motion, scene, h),
-                10 => drive::<10, _>(&mut model, &motion, scene, h),
-                _ => drive::<12, _>(&mut model, &motion, scene, h),
+                8 => drive::<8, _>(&mut model, &motion, scene, h, watch),
+                10 => drive::<10, _>(&mut model, &motion, scene, h, watch),
+                _ => drive::<12, _>(&mut model, &motion, scene, h, watch),
             }?
         }
     };
@@ -174,6 +252,7 @@ fn drive<const N: usize, M: SimModel<N>>(
     motion: &Motion,
     scene: &Scene,
     mut history: Option<&mut History>,
+    watch: &Watch,
 ) -> Result<SceneResult, SimError> {
     let duration = scene.duration;
     let controlled = N - 4;
@@ -199,6 +278,7 @@ fn drive<const N: usize, M: SimModel<N>>(
     let initial_stored = e0.structure + e0.inerter;
     let mut energy_scale = initial_stored.abs();
     let mut closed_form_steps = 0;
+    let mut stalls = 0;
     model.observe_point(t, &y);
     if let Some(h) = history.as_deref_mut() {
         h.columns = model.history_columns();
@@ -226,8 +306,14 @@ fn drive<const N: usize, M: SimModel<N>>(
                     history: history.as_deref_mut(),
                     energy_scale: &mut energy_scale,
                 };
-                if let Some(next) = run.advance_closed_form(&mut t, &mut y, &mut closed_form_steps)
-                {
+                let integrated = integ.stats.steps + integ.stats.rejected;
+                if let Some(next) = run.advance_closed_form(
+                    &mut t,
+                    &mut y,
+                    &mut closed_form_steps,
+                    integrated,
+                    watch,
+                )? {
                     action = next;
                     continue;
                 }
@@ -239,8 +325,16 @@ fn drive<const N: usize, M: SimModel<N>>(
                 .next_breakpoint(t)
                 .map_or(duration, |b| b.min(duration));
             let outcome = integ.step(model, t_stop)?;
-            let dense = *integ.dense().expect("a step was taken");
-            model.observe_step(&dense, integ.t());
+            // No step is taken when the stop lies within rounding of t (intervals below what
+            // f64 resolves at this t): nothing to observe then, but it counts as work.
+            match integ.dense().copied() {
+                Some(dense) => model.observe_step(&dense, integ.t()),
+                None => stalls += 1,
+            }
+            watch.check(
+                integ.stats.steps + integ.stats.rejected + closed_form_steps + stalls,
+                integ.t(),
+            )?;
             t = integ.t();
             y = *integ.y();
             let e = model.energy(&y);
@@ -333,26 +427,31 @@ impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
         t: &mut f64,
         y: &mut [f64; N],
         steps: &mut u64,
-    ) -> Option<Action> {
+        integrated: u64,
+        watch: &Watch,
+    ) -> Result<Option<Action>, SimError> {
         let duration = self.scene.duration;
         loop {
-            let (t1, how) = self.model.advance_closed_form(*t, duration, y)?;
+            let Some((t1, how)) = self.model.advance_closed_form(*t, duration, y) else {
+                return Ok(None);
+            };
             *t = t1;
             *steps += 1;
+            watch.check(*steps + integrated, *t)?;
             let e = self.model.energy(y);
             *self.energy_scale = self
                 .energy_scale
                 .max(e.input.abs())
                 .max(e.structure + e.inerter);
             if let ClosedFormEnd::Event(index) = how {
-                return Some(self.event(index, *t, y));
+                return Ok(Some(self.event(index, *t, y)));
             }
             record(&mut self.history, self.model, *t, y);
             if *t >= duration {
-                return Some(Action::Stop(EndReason::Duration));
+                return Ok(Some(Action::Stop(EndReason::Duration)));
             }
             if let Some(reason) = stop_after_ground(self.model, self.motion, self.scene, *t, y) {
-                return Some(Action::Stop(reason));
+                return Ok(Some(Action::Stop(reason)));
             }
         }
     }

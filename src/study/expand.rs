@@ -3,37 +3,104 @@
 //! record scale) varies fastest.
 
 use super::{
-    AmplitudeAxis, Axis, DeviceVariant, ExcitationFamily, FrequencyAxis, RecordScaling, ScenePoint,
-    StructureFamily, Study, StudyError, VERSION, Values, scene_key,
+    AmplitudeAxis, Axis, DeviceVariant, ExcitationFamily, FrequencyAxis, MapAxes, RecordScaling,
+    ScenePoint, StructureFamily, Study, StudyError, VERSION, Values, scene_key,
 };
 use crate::scene::{
     Amplitude, Clutch, ClutchStiffness, Damping, Device, Excitation, FlexibleStructure, Frequency,
     RecordScale, RigidBlock, Scene, Structure,
 };
+use serde::{Deserialize, Serialize};
 
 /// Studies larger than this are almost certainly a typo in a range.
 pub const MAX_SCENES: usize = 1_000_000;
 
+/// Where a parameter sits in the study file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Part {
+    Structure,
+    Device,
+    Excitation,
+}
+
+/// The kind of a device variant, named as in study files (`none` is the bare structure).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DeviceKind {
+    None,
+    Inerter,
+    Sequential,
+    Mechanistic,
+}
+
+impl DeviceKind {
+    pub const ALL: [DeviceKind; 4] = [
+        DeviceKind::None,
+        DeviceKind::Inerter,
+        DeviceKind::Sequential,
+        DeviceKind::Mechanistic,
+    ];
+
+    pub fn of(device: &DeviceVariant) -> DeviceKind {
+        match device {
+            DeviceVariant::None => DeviceKind::None,
+            DeviceVariant::Inerter { .. } => DeviceKind::Inerter,
+            DeviceVariant::Sequential { .. } => DeviceKind::Sequential,
+            DeviceVariant::Mechanistic { .. } => DeviceKind::Mechanistic,
+        }
+    }
+
+    /// The name in study files (`none`), as `Device::name` gives it for scenes.
+    pub fn name(self) -> &'static str {
+        match self {
+            DeviceKind::None => "none",
+            DeviceKind::Inerter => "inerter",
+            DeviceKind::Sequential => "sequential",
+            DeviceKind::Mechanistic => "mechanistic",
+        }
+    }
+
+    /// A kind by its study-file name, or `bare` for `none`.
+    pub fn from_name(name: &str) -> Option<DeviceKind> {
+        match name {
+            "bare" => Some(DeviceKind::None),
+            _ => DeviceKind::ALL.into_iter().find(|k| k.name() == name),
+        }
+    }
+}
+
 /// One grid parameter of a device variant's expansion.
-struct Param {
-    /// Study field name (also the key used to build the scene).
-    id: &'static str,
+#[derive(Clone, Debug, PartialEq)]
+pub struct Parameter {
+    /// Study field name (also the key used to build the scene), e.g. `k_theta`, `record`.
+    pub id: &'static str,
+    pub part: Part,
     /// Path of the field in the study file, for messages.
-    path: String,
+    pub path: String,
     /// Axis label in coordinates and groups (paper notation).
-    label: String,
-    axis: Option<Axis>,
-    values: Vec<f64>,
+    pub label: String,
+    pub axis: Option<Axis>,
+    /// The values in expansion order (exact, as the study gives them).
+    pub values: Vec<f64>,
     /// Names for a categorical parameter (records); values are then indices.
-    names: Option<Vec<String>>,
+    pub names: Option<Vec<String>>,
     /// What is wrong with the list or range itself, if anything.
     shape_error: Option<(String, &'static str)>,
 }
 
-impl Param {
-    fn new(id: &'static str, path: String, label: &str, axis: Option<Axis>, v: &Values) -> Self {
-        Param {
+impl Parameter {
+    fn new(
+        id: &'static str,
+        part: Part,
+        path: String,
+        label: &str,
+        axis: Option<Axis>,
+        v: &Values,
+    ) -> Self {
+        Parameter {
             id,
+            part,
             path,
             label: label.to_string(),
             axis,
@@ -47,6 +114,230 @@ impl Param {
             shape_error: v.shape_error(),
         }
     }
+
+    /// Whether the study gives this parameter more than one value.
+    pub fn varies(&self) -> bool {
+        self.values.len() > 1
+    }
+}
+
+/// The shape of a study's expansion, known without running or loading anything: per device
+/// variant its parameters (last varies fastest) and the range of expansion indices it covers.
+/// A scene's index alone then says every parameter value that defines it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layout {
+    pub variants: Vec<VariantLayout>,
+    /// Significant digits per parameter id in labels: the fewest (at least 4) that tell
+    /// every value of that parameter in the study apart.
+    digits: Vec<(&'static str, usize)>,
+    spectrum: Axis,
+    map: Option<MapAxes>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct VariantLayout {
+    pub kind: DeviceKind,
+    /// The variant's label: its `label: "…"` or its kind (`bare` for none).
+    pub label: String,
+    pub params: Vec<Parameter>,
+    /// Expansion index of the variant's first scene, and its scene count.
+    pub first: usize,
+    pub count: usize,
+}
+
+impl Layout {
+    /// The layout of a valid study's expansion (records are not loaded).
+    pub fn of(study: &Study) -> Result<Layout, StudyError> {
+        let mut variants = Vec::new();
+        let mut first = 0usize;
+        for (d, device) in study.devices.iter().enumerate() {
+            let mut params = structure_params(&study.structure);
+            params.extend(device_params(device, d)?);
+            params.extend(excitation_params(&study.excitation)?);
+            for p in &params {
+                if let Some((message, hint)) = &p.shape_error {
+                    return Err(StudyError::field(p.path.clone(), message.clone(), hint));
+                }
+            }
+            let count: usize = params
+                .iter()
+                .map(|p| p.values.len())
+                .try_fold(1usize, |acc, n| acc.checked_mul(n))
+                .unwrap_or(usize::MAX);
+            if first.saturating_add(count) > MAX_SCENES {
+                return Err(StudyError::field(
+                    "devices",
+                    format!("the study expands to more than {MAX_SCENES} scenes"),
+                    "shorten a range or list; every list multiplies the scene count",
+                ));
+            }
+            variants.push(VariantLayout {
+                kind: DeviceKind::of(device),
+                label: device_label(device),
+                params,
+                first,
+                count,
+            });
+            first += count;
+        }
+        let mut layout = Layout {
+            variants,
+            digits: Vec::new(),
+            spectrum: study.spectrum,
+            map: study.map,
+        };
+        layout.digits = label_digits(&layout.variants);
+        Ok(layout)
+    }
+
+    /// Total number of scenes.
+    pub fn len(&self) -> usize {
+        self.variants.last().map_or(0, |v| v.first + v.count)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The variant and the position in each of its parameters' values of the scene with
+    /// expansion index `index`.
+    pub fn locate(&self, index: usize) -> Option<(usize, Vec<usize>)> {
+        let v = self
+            .variants
+            .iter()
+            .position(|v| (v.first..v.first + v.count).contains(&index))?;
+        let variant = &self.variants[v];
+        let mut rest = index - variant.first;
+        let mut at = vec![0; variant.params.len()];
+        for (i, p) in variant.params.iter().enumerate().rev() {
+            at[i] = rest % p.values.len();
+            rest /= p.values.len();
+        }
+        Some((v, at))
+    }
+
+    /// A value of a parameter as labels show it: the record's name, or the number with as
+    /// many digits as tell the study's values of this parameter apart.
+    pub fn value_text(&self, p: &Parameter, i: usize) -> String {
+        match &p.names {
+            Some(names) => names[i].clone(),
+            None => {
+                let digits = self
+                    .digits
+                    .iter()
+                    .find(|(id, _)| *id == p.id)
+                    .map_or(MIN_LABEL_DIGITS, |(_, d)| *d);
+                fmt_digits(p.values[i], digits)
+            }
+        }
+    }
+
+    /// Label of the scenes of `variant` at `at`, leaving out parameters on the `free` axes
+    /// (a spectrum's x, a map's x and y): the device, then the parameters that vary in the
+    /// study (device grid first, then structure, then excitation), then ` · record`.
+    pub fn label(&self, variant: usize, at: &[usize], free: &[Axis]) -> String {
+        self.label_with(variant, at, free, true)
+    }
+
+    /// [`Layout::label`] without the record: the label of a variant's record suite.
+    pub fn suite_label(&self, variant: usize, at: &[usize], free: &[Axis]) -> String {
+        self.label_with(variant, at, free, false)
+    }
+
+    fn label_with(&self, variant: usize, at: &[usize], free: &[Axis], with_record: bool) -> String {
+        let v = &self.variants[variant];
+        let mut text = v.label.clone();
+        let mut record = None;
+        for part in [Part::Device, Part::Structure, Part::Excitation] {
+            for (p, &i) in v.params.iter().zip(at).filter(|(p, _)| p.part == part) {
+                if p.axis.is_some_and(|a| free.contains(&a)) {
+                    continue;
+                }
+                if p.names.is_some() {
+                    record = Some(self.value_text(p, i));
+                } else if p.varies() {
+                    text = format!("{text} {}={}", p.label, self.value_text(p, i));
+                }
+            }
+        }
+        if let Some(r) = record.filter(|_| with_record) {
+            text = format!("{text} · {r}");
+        }
+        text
+    }
+
+    /// The axes a scene's group leaves free: the spectrum axis and the map's axes.
+    pub fn point_axes(&self) -> Vec<Axis> {
+        let mut axes = vec![self.spectrum];
+        if let Some(m) = self.map {
+            axes.extend([m.x, m.y]);
+        }
+        axes
+    }
+}
+
+/// Fewest significant digits a label shows.
+const MIN_LABEL_DIGITS: usize = 4;
+
+/// Per parameter id, the fewest significant digits (at least 4) that keep every distinct
+/// value of that parameter in the study distinct in labels.
+fn label_digits(variants: &[VariantLayout]) -> Vec<(&'static str, usize)> {
+    let mut values: Vec<(&'static str, Vec<f64>)> = Vec::new();
+    for p in variants.iter().flat_map(|v| &v.params) {
+        if p.names.is_some() {
+            continue;
+        }
+        let entry = match values.iter_mut().find(|(id, _)| *id == p.id) {
+            Some(e) => e,
+            None => {
+                values.push((p.id, Vec::new()));
+                values.last_mut().expect("just pushed")
+            }
+        };
+        for v in &p.values {
+            if !entry.1.contains(v) {
+                entry.1.push(*v);
+            }
+        }
+    }
+    values
+        .into_iter()
+        .map(|(id, vs)| {
+            let digits = (MIN_LABEL_DIGITS..=17)
+                .find(|&d| {
+                    let mut texts: Vec<String> = vs.iter().map(|v| fmt_digits(*v, d)).collect();
+                    texts.sort();
+                    texts.dedup();
+                    texts.len() == vs.len()
+                })
+                .unwrap_or(17);
+            (id, digits)
+        })
+        .collect()
+}
+
+/// `v` rounded to `digits` significant digits, without trailing zeros: plain decimals from
+/// 1e-3 to 1e6, scientific notation (`5.623e-5`) beyond.
+pub fn fmt_digits(v: f64, digits: usize) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    let sci = format!("{:.*e}", digits.max(1) - 1, v);
+    let (mantissa, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
+    let exp: i32 = exp.parse().unwrap_or(0);
+    let trim = |s: &str| -> String {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s.to_string()
+        }
+    };
+    if (-3..6).contains(&exp) {
+        let decimals = (digits as i32 - 1 - exp).max(0) as usize;
+        trim(&format!("{v:.decimals$}"))
+    } else {
+        format!("{}e{exp}", trim(mantissa))
+    }
 }
 
 pub fn validate(study: &Study) -> Result<(), StudyError> {
@@ -56,29 +347,12 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
 pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
     check_top_level(study)?;
     check_records(study)?;
-    let mut points = Vec::new();
-    for (d, device) in study.devices.iter().enumerate() {
-        let mut params = structure_params(&study.structure);
-        params.extend(device_params(device, d)?);
-        params.extend(excitation_params(&study.excitation)?);
-        for p in &params {
-            if let Some((message, hint)) = &p.shape_error {
-                return Err(StudyError::field(p.path.clone(), message.clone(), hint));
-            }
-        }
-        let count: usize = params
-            .iter()
-            .map(|p| p.values.len())
-            .try_fold(1usize, |acc, n| acc.checked_mul(n))
-            .unwrap_or(usize::MAX);
-        if points.len().saturating_add(count) > MAX_SCENES {
-            return Err(StudyError::field(
-                "devices",
-                format!("the study expands to more than {MAX_SCENES} scenes"),
-                "shorten a range or list; every list multiplies the scene count",
-            ));
-        }
-        check_axes(study, &params)?;
+    let layout = Layout::of(study)?;
+    let free = layout.point_axes();
+    let mut points = Vec::with_capacity(layout.len());
+    for (d, (device, variant)) in study.devices.iter().zip(&layout.variants).enumerate() {
+        let params = &variant.params;
+        check_axes(study, params)?;
         let mut odometer = vec![0usize; params.len()];
         loop {
             let value = |id: &str| {
@@ -92,7 +366,7 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
                 structure: build_structure(&study.structure, &value),
                 device: build_device(device, &value),
                 impact: study.impact,
-                excitation: build_excitation(&study.excitation, &params, &odometer)?,
+                excitation: build_excitation(&study.excitation, params, &odometer)?,
                 duration: study.duration,
                 rtol: study.rtol,
                 initial_rotation: 0.0,
@@ -101,16 +375,15 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
             };
             scene
                 .validate()
-                .map_err(|e| invalid_scene(e, study, &params, d))?;
-            let (group, coords) = label(study, device, &params, &odometer);
+                .map_err(|e| invalid_scene(e, study, params, d))?;
             points.push(ScenePoint {
                 index: points.len(),
                 key: scene_key(&scene),
                 scene,
-                group,
-                coords,
+                group: layout.label(d, &odometer, &free),
+                coords: coords(study, params, &odometer),
             });
-            if !advance(&mut odometer, &params) {
+            if !advance(&mut odometer, params) {
                 break;
             }
         }
@@ -119,7 +392,7 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
 }
 
 /// Step the odometer (last parameter fastest); false when it wraps around.
-fn advance(odometer: &mut [usize], params: &[Param]) -> bool {
+fn advance(odometer: &mut [usize], params: &[Parameter]) -> bool {
     for i in (0..params.len()).rev() {
         odometer[i] += 1;
         if odometer[i] < params[i].values.len() {
@@ -225,8 +498,17 @@ fn check_top_level(study: &Study) -> Result<(), StudyError> {
     Ok(())
 }
 
-fn structure_params(s: &StructureFamily) -> Vec<Param> {
-    let f = |id, label, axis, v: &Values| Param::new(id, format!("structure.{id}"), label, axis, v);
+fn structure_params(s: &StructureFamily) -> Vec<Parameter> {
+    let f = |id, label, axis, v: &Values| {
+        Parameter::new(
+            id,
+            Part::Structure,
+            format!("structure.{id}"),
+            label,
+            axis,
+            v,
+        )
+    };
     match s {
         StructureFamily::Rigid {
             size,
@@ -271,8 +553,17 @@ fn structure_params(s: &StructureFamily) -> Vec<Param> {
     }
 }
 
-fn device_params(device: &DeviceVariant, d: usize) -> Result<Vec<Param>, StudyError> {
-    let f = |id, label, v: &Values| Param::new(id, format!("devices[{d}].{id}"), label, None, v);
+fn device_params(device: &DeviceVariant, d: usize) -> Result<Vec<Parameter>, StudyError> {
+    let f = |id, label, v: &Values| {
+        Parameter::new(
+            id,
+            Part::Device,
+            format!("devices[{d}].{id}"),
+            label,
+            None,
+            v,
+        )
+    };
     Ok(match device {
         DeviceVariant::None => vec![],
         DeviceVariant::Inerter { sigma, .. } | DeviceVariant::Sequential { sigma, .. } => {
@@ -340,7 +631,7 @@ fn device_params(device: &DeviceVariant, d: usize) -> Result<Vec<Param>, StudyEr
     })
 }
 
-fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Param>, StudyError> {
+fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Parameter>, StudyError> {
     Ok(match e {
         ExcitationFamily::Pulse {
             amplitude,
@@ -357,15 +648,17 @@ fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Param>, StudyError> {
                 FrequencyAxis::Ratio(v) => ("ωg/p", v),
             };
             vec![
-                Param::new(
+                Parameter::new(
                     "amplitude",
+                    Part::Excitation,
                     "excitation.amplitude".into(),
                     alabel,
                     Some(Axis::Amplitude),
                     avalues,
                 ),
-                Param::new(
+                Parameter::new(
                     "frequency",
+                    Part::Excitation,
                     "excitation.frequency".into(),
                     flabel,
                     Some(Axis::Frequency),
@@ -374,8 +667,9 @@ fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Param>, StudyError> {
             ]
         }
         ExcitationFamily::Record { names, scale, .. } => {
-            let mut record = Param::new(
+            let mut record = Parameter::new(
                 "record",
+                Part::Excitation,
                 "excitation.names".into(),
                 "record",
                 None,
@@ -384,8 +678,9 @@ fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Param>, StudyError> {
             record.names = Some(names.clone());
             vec![
                 record,
-                Param::new(
+                Parameter::new(
                     "scale",
+                    Part::Excitation,
                     "excitation.scale".into(),
                     "scale",
                     Some(Axis::Scale),
@@ -397,7 +692,7 @@ fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Param>, StudyError> {
 }
 
 /// The spectrum and map axes must be parameters of the study; all values well formed.
-fn check_axes(study: &Study, params: &[Param]) -> Result<(), StudyError> {
+fn check_axes(study: &Study, params: &[Parameter]) -> Result<(), StudyError> {
     let has = |axis: Axis| params.iter().any(|p| p.axis == Some(axis));
     if !has(study.spectrum) {
         return Err(StudyError::field(
@@ -430,6 +725,34 @@ fn check_axes(study: &Study, params: &[Param]) -> Result<(), StudyError> {
                 path,
                 format!("{v} is not a finite number"),
                 "",
+            ));
+        }
+    }
+    // A value given twice would run the same scenes twice under one label.
+    for p in params {
+        if let Some(names) = &p.names {
+            if let Some((i, name)) = names
+                .iter()
+                .enumerate()
+                .find(|(i, n)| names[..*i].contains(n))
+            {
+                return Err(StudyError::field(
+                    format!("{}[{i}]", p.path),
+                    format!("record `{name}` is listed twice"),
+                    "list each record once",
+                ));
+            }
+        } else if let Some(v) = p
+            .values
+            .iter()
+            .enumerate()
+            .find(|(i, v)| p.values[..*i].contains(v))
+            .map(|(_, v)| *v)
+        {
+            return Err(StudyError::field(
+                p.path.clone(),
+                format!("the value {v} is given twice"),
+                "each value of a list or range must be distinct (a range needs from ≠ to)",
             ));
         }
     }
@@ -506,7 +829,7 @@ fn build_device(d: &DeviceVariant, value: &dyn Fn(&str) -> Option<f64>) -> Devic
 
 fn build_excitation(
     e: &ExcitationFamily,
-    params: &[Param],
+    params: &[Parameter],
     odometer: &[usize],
 ) -> Result<Excitation, StudyError> {
     let value = |id: &str| {
@@ -592,7 +915,7 @@ fn check_records(study: &Study) -> Result<(), StudyError> {
 fn invalid_scene(
     e: crate::scene::Invalid,
     study: &Study,
-    params: &[Param],
+    params: &[Parameter],
     d: usize,
 ) -> StudyError {
     let path = match e.field {
@@ -620,44 +943,27 @@ fn invalid_scene(
     )
 }
 
-/// Group label and coordinates of the point at `odometer`.
-fn label(
-    study: &Study,
-    device: &DeviceVariant,
-    params: &[Param],
-    odometer: &[usize],
-) -> (String, Vec<(String, f64)>) {
+/// Coordinates of the point at `odometer`: the spectrum axis first, then the map's axes,
+/// then the other varying parameters (records are named in the group, not here).
+fn coords(study: &Study, params: &[Parameter], odometer: &[usize]) -> Vec<(String, f64)> {
     let map_axes: Vec<Axis> = study.map.map(|m| vec![m.x, m.y]).unwrap_or_default();
     let mut first: Vec<(String, f64)> = Vec::new();
     let mut rest: Vec<(String, f64)> = Vec::new();
-    let mut record = None;
-    let mut group_parts = Vec::new();
     for (p, &i) in params.iter().zip(odometer) {
-        let v = p.values[i];
-        if let Some(names) = &p.names {
-            record = Some(names[i].clone());
+        if p.names.is_some() {
             continue;
         }
-        let is_spectrum = p.axis == Some(study.spectrum);
-        let is_map = p.axis.is_some_and(|a| map_axes.contains(&a));
-        if is_spectrum {
+        let v = p.values[i];
+        if p.axis == Some(study.spectrum) {
             first.insert(0, (p.label.clone(), v));
-        } else if is_map {
+        } else if p.axis.is_some_and(|a| map_axes.contains(&a)) {
             first.push((p.label.clone(), v));
-        } else if p.values.len() > 1 {
+        } else if p.varies() {
             rest.push((p.label.clone(), v));
-            group_parts.push(format!("{}={}", p.label, fmt_num(v)));
         }
     }
-    let mut group = device_label(device);
-    if !group_parts.is_empty() {
-        group = format!("{group} {}", group_parts.join(" "));
-    }
-    if let Some(r) = record {
-        group = format!("{r} · {group}");
-    }
     first.extend(rest);
-    (group, first)
+    first
 }
 
 pub fn device_label(device: &DeviceVariant) -> String {

@@ -11,10 +11,13 @@ mod error;
 mod expand;
 pub mod fields;
 mod quantity;
+mod strict;
 mod values;
 
 pub use error::StudyError;
-pub use expand::{device_label, fmt_num};
+pub use expand::{
+    DeviceKind, Layout, Parameter, Part, VariantLayout, device_label, fmt_digits, fmt_num,
+};
 pub use quantity::Quantity;
 pub use values::Values;
 
@@ -276,7 +279,9 @@ pub struct ScenePoint {
     /// Position in the study's expansion order.
     pub index: usize,
     pub scene: Scene,
-    /// Variant label: the device plus every varying parameter that is not an axis.
+    /// Display label of the scene's group: the device, every parameter that varies in the
+    /// study and is not an axis, and the record. Never parse it: [`Layout::locate`] gives the
+    /// exact parameter values of a point from its index.
     pub group: String,
     /// Axis name → value; the spectrum axis first, then the map's y axis if any, then the
     /// other varying parameters.
@@ -326,6 +331,7 @@ impl Study {
 
     /// Parse and validate.
     pub fn from_ron_str(text: &str, origin: &str) -> Result<Study, StudyError> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let study = Study::parse_ron(text, origin)?;
         study.validate().map_err(|e| e.located(text, origin))?;
         Ok(study)
@@ -333,6 +339,9 @@ impl Study {
 
     /// Parse only (schema errors), without the physical validation of [`Study::validate`].
     pub fn parse_ron(text: &str, origin: &str) -> Result<Study, StudyError> {
+        // A byte-order mark (some Windows editors write one) is no part of the study.
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        strict::check_names(text, origin)?;
         ron_options()
             .from_str(text)
             .map_err(|e| StudyError::from_ron(e, origin))
@@ -373,6 +382,11 @@ impl Study {
 
     pub fn expand(&self) -> Result<Vec<ScenePoint>, StudyError> {
         expand::expand(self)
+    }
+
+    /// The parameters of each device variant and where its scenes sit in the expansion.
+    pub fn layout(&self) -> Result<Layout, StudyError> {
+        Layout::of(self)
     }
 
     /// Hash of the canonical RON: identifies the study a results file came from.

@@ -129,22 +129,44 @@ pub fn run(
         .filter(reusable)
         .map(cache_by_key)
         .unwrap_or_default();
-    run_checkpointed(points, opts, library, None, reuse, cancel, progress)
+    let checkpoint = Checkpoint {
+        reuse,
+        ..Default::default()
+    };
+    run_checkpointed(points, opts, library, checkpoint, cancel, progress)
 }
 
-/// [`run`] with each finished scene appended to `journal` as it completes, reusing the
-/// finished scenes in `reuse` (by scene key). A scene stopped by `cancel` while it runs is
-/// not finished: it is neither journalled nor returned. If the journal cannot be written
-/// (full disk), no further scene starts; [`Journal::failure`] says why.
+/// What a sweep keeps across stops: the journal it appends to, the finished scenes it
+/// reuses (by scene key), and the wall-clock limit of one scene.
+#[derive(Debug, Default)]
+pub struct Checkpoint<'a> {
+    pub journal: Option<&'a Journal>,
+    pub reuse: HashMap<String, Result<SceneResult, String>>,
+    /// A scene running longer is stopped and recorded as failed, with the reason.
+    pub scene_time_limit: Option<std::time::Duration>,
+}
+
+/// [`run`] with each finished scene appended to the checkpoint's journal as it completes,
+/// reusing its finished scenes. A scene stopped by `cancel` while it runs is not finished: it
+/// is neither journalled nor returned. If the journal cannot be written (full disk), no
+/// further scene starts; [`Journal::failure`] says why.
 pub fn run_checkpointed(
     points: &[ScenePoint],
     opts: &SweepOptions,
     library: &Library,
-    journal: Option<&Journal>,
-    mut reuse: HashMap<String, Result<SceneResult, String>>,
+    checkpoint: Checkpoint,
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> SweepResults {
+    let Checkpoint {
+        journal,
+        mut reuse,
+        scene_time_limit,
+    } = checkpoint;
+    let bounds = sim::Bounds {
+        cancel: Some(cancel),
+        time_limit: scene_time_limit,
+    };
     let selected: Vec<&ScenePoint> = points
         .iter()
         .filter(|p| in_shard(p.index, opts.shard))
@@ -180,7 +202,7 @@ pub fn run_checkpointed(
             Some(r) => r,
             None if stopped() => return None,
             None => {
-                let result = run_guarded(point, library, cancel)?;
+                let result = run_guarded(point, library, bounds)?;
                 if let Some(journal) = journal
                     && !journal.append(point.index, &point.key, &result)
                 {
@@ -229,12 +251,16 @@ pub fn run_into(
     points: &[ScenePoint],
     opts: &SweepOptions,
     library: &Library,
+    scene_time_limit: Option<std::time::Duration>,
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> anyhow::Result<SweepResults> {
-    let reuse = std::mem::take(&mut output.reuse);
-    let journal = Some(&output.journal);
-    let mut results = run_checkpointed(points, opts, library, journal, reuse, cancel, progress);
+    let checkpoint = Checkpoint {
+        journal: Some(&output.journal),
+        reuse: std::mem::take(&mut output.reuse),
+        scene_time_limit,
+    };
+    let mut results = run_checkpointed(points, opts, library, checkpoint, cancel, progress);
     results.study_hash = study.hash();
     results.study = Some(study.clone());
     let journal = output.journal.path().display().to_string();
@@ -260,37 +286,45 @@ pub fn in_shard(index: usize, shard: Option<(usize, usize)>) -> bool {
 }
 
 /// One scene, with a panic in the core recorded as a failure instead of ending the sweep.
-/// None if `cancel` stopped it before it finished.
+/// None if it was cancelled before it finished.
 fn run_guarded(
     point: &ScenePoint,
     library: &Library,
-    cancel: &AtomicBool,
+    bounds: sim::Bounds,
 ) -> Option<Result<SceneResult, String>> {
-    let _ = cancel;
-    Some(guarded(|| sim::run(&point.scene, library)))
+    let result = match guarded(|| sim::run_bounded(&point.scene, library, bounds)) {
+        Err(Guarded::Sim(sim::SimError::Cancelled)) => return None,
+        other => other.map_err(|e| e.to_string()),
+    };
+    Some(result.and_then(|r| {
+        if all_finite(&r) {
+            Ok(r)
+        } else {
+            Err("the result holds a non-finite number (NaN or ∞)".into())
+        }
+    }))
+}
+
+/// Why a guarded run failed.
+#[derive(Debug, thiserror::Error)]
+pub enum Guarded {
+    #[error(transparent)]
+    Sim(#[from] sim::SimError),
+    #[error("internal error (panic): {0}")]
+    Panic(String),
 }
 
 /// Run `f`, with a panic turned into an error: a failure of one scene, never of the caller.
-pub fn guarded(
-    f: impl FnOnce() -> Result<SceneResult, sim::SimError>,
-) -> Result<SceneResult, String> {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f))
-        .map_err(|panic| {
-            let msg = panic
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| panic.downcast_ref::<String>().cloned())
-                .unwrap_or_default();
-            format!("internal error (panic): {msg}")
-        })?
-        .map_err(|e| e.to_string())
-        .and_then(|r| {
-            if all_finite(&r) {
-                Ok(r)
-            } else {
-                Err("the result holds a non-finite number (NaN or ∞)".into())
-            }
-        })
+pub fn guarded<T>(f: impl FnOnce() -> Result<T, sim::SimError>) -> Result<T, Guarded> {
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).map_err(|panic| {
+        let msg = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        Guarded::Panic(msg)
+    })?;
+    Ok(outcome?)
 }
 
 /// Whether the numbers of a result are finite (JSON cannot carry NaN or ∞, and a peak that is

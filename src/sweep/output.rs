@@ -252,6 +252,10 @@ pub fn open_output(
 
     let mut reuse = HashMap::new();
     let journal = if resume_journal {
+        // Continuing a run that set an older journal aside (--fresh, then stopped): that
+        // one goes once this run completes.
+        let previous = journal_path.with_extension("journal.previous");
+        set_aside = previous.exists().then_some(previous);
         let contents = journal::read_journal(&journal_path, true)?;
         if contents.damaged_lines > 0 {
             notes.push(format!(

@@ -118,14 +118,24 @@ fn sweep_into(
         shard: None,
         cache: None,
     };
-    let results =
-        match sweep::run_into(&mut output, study, points, &opts, library, cancel, progress) {
-            Ok(results) => results,
-            Err(e) => {
-                outcome.error = Some(format!("{e:#}"));
-                return outcome;
-            }
-        };
+    // `rocklab run`'s default scene time limit: a stuck scene fails instead of hanging.
+    let limit = Some(Duration::from_secs(600));
+    let results = match sweep::run_into(
+        &mut output,
+        study,
+        points,
+        &opts,
+        library,
+        limit,
+        cancel,
+        progress,
+    ) {
+        Ok(results) => results,
+        Err(e) => {
+            outcome.error = Some(format!("{e:#}"));
+            return outcome;
+        }
+    };
     let written = report::save_results(&output.results_path, &results)
         .and_then(|()| report::write_tables(out_dir, study, &results));
     if let Err(e) = written {

@@ -27,33 +27,12 @@ impl Default for CompareView {
 }
 
 impl CompareView {
-    /// Two device variants with the same other parameters (the spectra names differ only in
-    /// their first word): sequential vs mechanistic if there, else the pair with the most
-    /// points where both survive; else the first two spectra.
+    /// Two device variants paired by meaning (same record, structure and excitation):
+    /// sequential vs mechanistic if there, else the pair with the most points where both
+    /// survive; else the first two spectra.
     pub fn default_pair(rows: &[&Spectrum]) -> Self {
-        let split = |g: &str| -> (String, String) {
-            let g = g.to_lowercase();
-            match g.split_once(' ') {
-                Some((device, rest)) => (device.to_string(), rest.to_string()),
-                None => (g, String::new()),
-            }
-        };
-        let mut best: Option<((bool, usize), usize, usize)> = None;
-        for (a, sa) in rows.iter().enumerate() {
-            for (b, sb) in rows.iter().enumerate().skip(a + 1) {
-                let ((da, ra), (db, rb)) = (split(&sa.group), split(&sb.group));
-                if da == db || ra != rb {
-                    continue;
-                }
-                let classic = da.contains("sequential") && db.contains("mechanistic");
-                let score = (classic, report::compare(sa, sb).iter().flatten().count());
-                if best.as_ref().is_none_or(|(s, _, _)| score > *s) {
-                    best = Some((score, a, b));
-                }
-            }
-        }
-        match best {
-            Some((_, a, b)) => CompareView { a, b },
+        match report::compare::default_pair(rows) {
+            Some((a, b)) => CompareView { a, b },
             None => CompareView {
                 a: 0,
                 b: rows.len().saturating_sub(1).min(1),
@@ -108,11 +87,10 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
         series_lines(label, label_width, values, marks, style, &layout)
     };
     let (a_marks, b_marks) = (data.marks_of(a), data.marks_of(b));
-    // The ratio is missing where either is: it shows the worse of the two marks.
+    // The ratio is missing where either is: it shows the first missing mark of the two.
     let ratio_marks: Vec<Mark> = (0..ratio.len())
         .map(|i| {
-            let (ma, mb) = (a_marks.get(i).copied(), b_marks.get(i).copied());
-            [ma, mb]
+            [a_marks.get(i).copied(), b_marks.get(i).copied()]
                 .into_iter()
                 .flatten()
                 .find(|m| *m != Mark::Value)
@@ -120,13 +98,13 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
         })
         .collect();
     lines.extend(block(
-        format!("A {}", a.group),
+        format!("A {}", a.label),
         &a.ys,
         a_marks,
         theme.series(0),
     ));
     lines.extend(block(
-        format!("B {}", b.group),
+        format!("B {}", b.label),
         &b.ys,
         b_marks,
         theme.series(1),

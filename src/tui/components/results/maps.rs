@@ -49,7 +49,7 @@ impl MapsView {
         };
         let mut lines = vec![Line::from(vec![
             Span::styled("[ ] ", theme.key()),
-            Span::styled(map.group.clone(), theme.title()),
+            Span::styled(map.label.clone(), theme.title()),
             Span::styled(
                 format!("  (map {}/{})", self.map + 1, data.maps.len()),
                 theme.dim(),

@@ -34,8 +34,9 @@ const NOT_RUN: &str = "\u{0}not run";
 pub struct Results {
     /// The results as computed (what `w` writes).
     pub results: SweepResults,
-    /// The results plus a placeholder for every point of the study not run.
-    padded: Vec<crate::sweep::SceneOutcome>,
+    /// The results plus a placeholder for every point of the study not run: what the spectra
+    /// and maps are aggregated from (their outcome indices point here).
+    padded: SweepResults,
     /// Per spectrum (as in `spectra`), what each of its points stands for.
     pub spectrum_marks: Vec<Vec<Mark>>,
     /// Per map (as in `maps`), [iy][ix] what each cell stands for.
@@ -52,133 +53,86 @@ impl Results {
     pub fn new(results: SweepResults, cancelled: bool) -> Self {
         // Aggregate over the study's every point, the unrun ones as placeholders, so the axes
         // keep the study's full range while a partial run is shown.
-        let mut padded_results = SweepResults {
-            outcomes: Vec::new(),
-            ..results.clone()
-        };
         let ran: std::collections::HashSet<usize> =
             results.outcomes.iter().map(|o| o.point.index).collect();
-        let unrun: Vec<crate::sweep::SceneOutcome> = results
-            .study
-            .as_ref()
-            .and_then(|s| s.expand().ok())
-            .unwrap_or_default()
-            .into_iter()
-            .filter(|p| !ran.contains(&p.index) && crate::sweep::in_shard(p.index, results.shard))
-            .map(|point| crate::sweep::SceneOutcome {
-                point,
-                result: Err(NOT_RUN.into()),
-            })
-            .collect();
-        padded_results.outcomes = results.outcomes.clone();
-        padded_results.outcomes.extend(unrun);
-        padded_results.outcomes.sort_by_key(|o| o.point.index);
-        let spectra = report::spectra(&padded_results);
-        let maps = report::maps(&padded_results);
-        let padded = padded_results.outcomes;
-        let mut quantities: Vec<Quantity> = Vec::new();
-        for s in &spectra {
-            if !quantities.contains(&s.quantity) {
-                quantities.push(s.quantity);
-            }
-        }
-        let mut data = Results {
-            results,
-            padded,
-            spectrum_marks: Vec::new(),
-            map_marks: Vec::new(),
-            spectra,
-            maps,
-            quantities,
-            cancelled,
+        let mut padded = results.clone();
+        padded.outcomes.extend(
+            results
+                .study
+                .as_ref()
+                .and_then(|s| s.expand().ok())
+                .unwrap_or_default()
+                .into_iter()
+                .filter(|p| {
+                    !ran.contains(&p.index) && crate::sweep::in_shard(p.index, results.shard)
+                })
+                .map(|point| crate::sweep::SceneOutcome {
+                    point,
+                    result: Err(NOT_RUN.into()),
+                }),
+        );
+        padded.outcomes.sort_by_key(|o| o.point.index);
+        let spectra = report::spectra(&padded);
+        let maps = report::maps(&padded);
+        let mark = |outcome: Option<usize>, has_value: bool| match outcome
+            .and_then(|i| padded.outcomes.get(i))
+            .map(|o| &o.result)
+        {
+            _ if has_value => Mark::Value,
+            Some(Err(e)) if e == NOT_RUN => Mark::NotRun,
+            Some(Err(_)) => Mark::Failed,
+            Some(Ok(_)) => Mark::Overturned,
+            None => Mark::NotRun,
         };
-        data.spectrum_marks = data
-            .spectra
+        let spectrum_marks = spectra
             .iter()
             .map(|s| {
-                (s.xs.iter().zip(&s.ys))
-                    .map(|(x, y)| match y {
-                        Some(_) => Mark::Value,
-                        None => data.mark(&s.group, &[(&s.axis, *x)]),
-                    })
+                (s.outcomes.iter().zip(&s.ys))
+                    .map(|(i, y)| mark(Some(*i), y.is_some()))
                     .collect()
             })
             .collect();
-        data.map_marks = data
-            .maps
+        let map_marks = maps
             .iter()
             .map(|m| {
-                (m.ys.iter().zip(&m.cells))
-                    .map(|(y, row)| {
-                        (m.xs.iter().zip(row))
-                            .map(|(x, cell)| match cell {
+                (m.outcomes.iter().zip(&m.cells))
+                    .map(|(row, cells)| {
+                        (row.iter().zip(cells))
+                            .map(|(i, cell)| match cell {
                                 Some(true) => Mark::Overturned,
                                 Some(false) => Mark::Value,
-                                None => data.mark(&m.group, &[(&m.x_axis, *x), (&m.y_axis, *y)]),
+                                None => mark(*i, false),
                             })
                             .collect()
                     })
                     .collect()
             })
             .collect();
-        data
-    }
-
-    /// What a point without a value stands for.
-    fn mark(&self, group: &str, coords: &[(&String, f64)]) -> Mark {
-        match self.find_outcome(group, coords).map(|o| &o.result) {
-            Some(Err(e)) if e == NOT_RUN => Mark::NotRun,
-            Some(Err(_)) => Mark::Failed,
-            Some(Ok(_)) => Mark::Overturned,
-            None => Mark::NotRun,
+        let mut quantities: Vec<Quantity> = Vec::new();
+        for s in &spectra {
+            if !quantities.contains(&s.quantity) {
+                quantities.push(s.quantity);
+            }
+        }
+        Results {
+            results,
+            padded,
+            spectrum_marks,
+            map_marks,
+            spectra,
+            maps,
+            quantities,
+            cancelled,
         }
     }
 
-    /// The marks of one of `spectra` (all values if it is not one of them).
+    /// The marks of one of `spectra` (none if it is not one of them).
     pub fn marks_of(&self, spectrum: &Spectrum) -> &[Mark] {
         self.spectra
             .iter()
             .position(|s| std::ptr::eq(s, spectrum))
             .and_then(|i| self.spectrum_marks.get(i))
             .map_or(&[], Vec::as_slice)
-    }
-
-    fn find_point(&self, group: &str, coords: &[(&String, f64)]) -> Option<&ScenePoint> {
-        self.find_outcome(group, coords).map(|o| &o.point)
-    }
-
-    /// The outcome (or unrun placeholder) of a spectrum or map point. A spectrum of a study
-    /// with a map is named after its group and the other map axis
-    /// (`"{group} {label}={value}"`): match that too.
-    fn find_outcome(
-        &self,
-        group: &str,
-        coords: &[(&String, f64)],
-    ) -> Option<&crate::sweep::SceneOutcome> {
-        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1e-300);
-        let same_group = |p: &ScenePoint| {
-            if p.group == group {
-                return true;
-            }
-            let Some(rest) = group
-                .strip_prefix(p.group.as_str())
-                .and_then(|r| r.strip_prefix(' '))
-            else {
-                return false;
-            };
-            rest.rsplit_once('=').is_some_and(|(label, value)| {
-                p.coord(label).map(crate::study::fmt_num).as_deref() == Some(value)
-            })
-        };
-        self.padded.iter().find(|o| {
-            let p = &o.point;
-            same_group(p)
-                && coords.iter().all(|(axis, v)| {
-                    p.coords
-                        .iter()
-                        .any(|(name, value)| name == *axis && close(*value, *v))
-                })
-        })
     }
 }
 
@@ -224,7 +178,8 @@ impl ResultsScreen {
 
     /// The scene behind the point under the cursor (in the comparison: B's).
     pub fn point_at_cursor<'a>(&self, data: &'a Results) -> Option<&'a ScenePoint> {
-        match self.tab {
+        // Spectra and maps carry the index of each point's outcome: no label matching.
+        let outcome = match self.tab {
             ResultsTab::Spectra | ResultsTab::Compare => {
                 let rows = self.rows(data);
                 let idx = if self.tab == ResultsTab::Compare {
@@ -232,17 +187,14 @@ impl ResultsScreen {
                 } else {
                     self.spectra.row
                 };
-                let s = rows.get(idx)?;
-                let x = *s.xs.get(self.spectra.x)?;
-                data.find_point(&s.group, &[(&s.axis, x)])
+                *rows.get(idx)?.outcomes.get(self.spectra.x)?
             }
             ResultsTab::Maps => {
                 let m = data.maps.get(self.maps.map)?;
-                let x = *m.xs.get(self.maps.cell.0)?;
-                let y = *m.ys.get(self.maps.cell.1)?;
-                data.find_point(&m.group, &[(&m.x_axis, x), (&m.y_axis, y)])
+                (*m.outcomes.get(self.maps.cell.1)?.get(self.maps.cell.0)?)?
             }
-        }
+        };
+        data.padded.outcomes.get(outcome).map(|o| &o.point)
     }
 
     /// `[ ] quantity (i/n)`: the header of the spectra and the comparison.
@@ -313,13 +265,12 @@ impl Component for ResultsScreen {
     }
 
     fn hints(&self, _: &Shared) -> Vec<Hint> {
-        // Most useful first: an 80-column status line keeps the first ones whole.
         vec![
-            ("Enter", "scene"),
             ("s/m/c", "spectra/maps/compare"),
-            ("w", "write"),
             ("←→↑↓", "cursor"),
             ("[ ]", "quantity"),
+            ("Enter", "scene"),
+            ("w", "write results"),
         ]
     }
 
@@ -374,7 +325,7 @@ impl Component for ResultsScreen {
 fn label_width(rows: &[&Spectrum], extra: usize, area: Rect) -> usize {
     let longest = rows
         .iter()
-        .map(|s| s.group.chars().count() + extra)
+        .map(|s| s.label.chars().count() + extra)
         .max()
         .unwrap_or(0);
     longest.clamp(8, (area.width as usize / 3).max(8))

@@ -73,7 +73,7 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
     for (i, s) in rows.iter().enumerate().skip(offset).take(visible) {
         let selected = i == view.row;
         let label = Span::styled(
-            pad(&truncate(&s.group, label_width), label_width),
+            pad(&truncate(&s.label, label_width), label_width),
             if selected {
                 theme.selected()
             } else {
@@ -116,7 +116,7 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
             "{} = {}  {}: {}",
             sel.axis,
             at.map_or("–".into(), fmt_num),
-            sel.group,
+            sel.label,
             value.map_or_else(|| missing(sel, view.x).into(), fmt_num)
         )),
         Span::styled("  Enter: open scene", theme.dim()),
@@ -127,7 +127,7 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
             let v = s.ys.get(view.x).copied().flatten();
             format!(
                 "{} {}",
-                s.group,
+                s.label,
                 v.map_or_else(|| missing(s, view.x).into(), fmt_num)
             )
         })

@@ -1,0 +1,255 @@
+//! Property-based fuzzing (proptest) of the three input surfaces: the record reader (AT2 and
+//! column files), the study parser, and the `simulate` flag set. The property: any input
+//! gives a value or a clear error, never a panic (a panic fails the case and proptest shrinks
+//! it to a minimal reproduction). Bounded: a fixed number of cases per target so `cargo test`
+//! stays quick and deterministic (a fixed seed); raise PROPTEST_CASES and set
+//! ROCKLAB_FUZZ_SEED to fuzz longer or elsewhere.
+
+use clap::Parser;
+use proptest::prelude::*;
+use rocklab::excitation::reader;
+use rocklab::study::Study;
+use std::time::Duration;
+
+fn config(cases: u32) -> ProptestConfig {
+    ProptestConfig {
+        cases: std::env::var("PROPTEST_CASES")
+            .ok()
+            .and_then(|c| c.parse().ok())
+            .unwrap_or(cases),
+        failure_persistence: None,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(
+            std::env::var("ROCKLAB_FUZZ_SEED")
+                .ok()
+                .and_then(|s| s.parse().ok())
+                .unwrap_or(12),
+        ),
+        ..ProptestConfig::default()
+    }
+}
+
+/// Numbers as record files write them, and as careless or hostile ones do.
+fn number() -> impl Strategy<Value = String> {
+    prop_oneof![
+        (-10.0f64..10.0).prop_map(|v| format!("{v:.6}")),
+        (-10.0f64..10.0).prop_map(|v| format!("{v:.4E}")),
+        (-10.0f64..10.0).prop_map(|v| format!("{v:.4}").replace('E', "D")),
+        Just("1E12".to_string()),
+        Just("1E20".to_string()),
+        Just("1e-310".to_string()),
+        Just("-0".to_string()),
+        Just("NaN".to_string()),
+        Just("inf".to_string()),
+        Just("1e308".to_string()),
+        Just("0.1-0.2".to_string()),
+        Just("abc".to_string()),
+        Just(String::new()),
+    ]
+}
+
+/// A record file: an optional AT2 header (both styles) or comment lines, then data rows.
+fn record_text() -> impl Strategy<Value = String> {
+    let header = prop_oneof![
+        (number(), number()).prop_map(|(n, dt)| format!("NPTS= {n}, DT= {dt} SEC")),
+        (number(), number()).prop_map(|(n, dt)| format!("{n} {dt} NPTS, DT")),
+        number().prop_map(|dt| format!("# dt: {dt}")),
+        Just("# units: cm/s2".to_string()),
+        Just(String::new()),
+    ];
+    (
+        proptest::collection::vec(header, 0..3),
+        0usize..4,
+        proptest::collection::vec(proptest::collection::vec(number(), 0..4), 0..12),
+    )
+        .prop_map(|(headers, free_lines, rows)| {
+            let mut text = String::new();
+            for _ in 0..free_lines {
+                text.push_str("PEER STRONG MOTION DATABASE RECORD\n");
+            }
+            for h in headers {
+                text.push_str(&h);
+                text.push('\n');
+            }
+            for r in rows {
+                text.push_str(&r.join("  "));
+                text.push('\n');
+            }
+            text
+        })
+}
+
+proptest! {
+    #![proptest_config(config(256))]
+
+    #[test]
+    fn the_record_reader_never_panics(text in record_text(), dt in proptest::option::of(number())) {
+        let dt = dt.and_then(|d| d.parse::<f64>().ok());
+        if let Ok(series) = reader::parse(&text, "fuzz.at2", dt) {
+            prop_assert!(series.dt() >= reader::MIN_DT && series.dt().is_finite());
+            prop_assert!(series.npts() >= 1);
+        }
+    }
+
+    #[test]
+    fn the_record_reader_never_panics_on_arbitrary_bytes(bytes in proptest::collection::vec(any::<u8>(), 0..400)) {
+        let text = String::from_utf8_lossy(&bytes);
+        let _ = reader::parse(&text, "fuzz.txt", None);
+        let _ = reader::parse(&text, "fuzz.txt", Some(0.01));
+    }
+}
+
+const BASE_STUDY: &str = include_str!("../studies/default.ron");
+
+/// Tokens a study edit may splice in: names, numbers, punctuation, as typos and hostile edits.
+fn study_token() -> impl Strategy<Value = String> {
+    prop_oneof![
+        Just("(".to_string()),
+        Just(")".to_string()),
+        Just("[".to_string()),
+        Just("]".to_string()),
+        Just(",".to_string()),
+        Just(":".to_string()),
+        Just("\"".to_string()),
+        Just("linspace(".to_string()),
+        Just("(from: 1e-300, to: 1e300, steps: 3, log: true)".to_string()),
+        Just("(from: 0.0, to: 1.0, steps: 1000001)".to_string()),
+        Just("mavroeidis_papageorgiou(gamma: 1e308, nu: 0.0)".to_string()),
+        Just("-1".to_string()),
+        Just("0".to_string()),
+        Just("1e308".to_string()),
+        Just("NaN".to_string()),
+        Just("inf".to_string()),
+        Just("\u{feff}".to_string()),
+        Just("/*".to_string()),
+        Just("//".to_string()),
+        "[a-z_]{1,8}".prop_map(|s| s),
+        (-1e3f64..1e3).prop_map(|v| format!("{v}")),
+    ]
+}
+
+proptest! {
+    #![proptest_config(config(256))]
+
+    #[test]
+    fn the_study_parser_never_panics(
+        edits in proptest::collection::vec((0.0f64..1.0, 0usize..6, study_token()), 1..4)
+    ) {
+        let mut text = BASE_STUDY.to_string();
+        for (at, cut, token) in edits {
+            let mut i = ((text.len() as f64) * at) as usize;
+            while !text.is_char_boundary(i) {
+                i -= 1;
+            }
+            let mut j = (i + cut).min(text.len());
+            while !text.is_char_boundary(j) {
+                j += 1;
+            }
+            text.replace_range(i..j, &token);
+        }
+        if let Ok(study) = Study::from_ron_str(&text, "fuzz.ron") {
+            // A valid study round-trips to the same study.
+            let back = Study::from_ron_str(&study.to_ron_string(), "back.ron");
+            prop_assert_eq!(back.ok(), Some(study));
+        }
+    }
+
+    #[test]
+    fn the_study_parser_never_panics_on_arbitrary_text(text in "\\PC{0,200}") {
+        let _ = Study::from_ron_str(&text, "fuzz.ron");
+    }
+}
+
+/// `simulate` flags with values from typical to absurd.
+fn simulate_flags() -> impl Strategy<Value = Vec<String>> {
+    let value = prop_oneof![
+        (0.01f64..10.0).prop_map(|v| format!("{v}")),
+        Just("1e-300".to_string()),
+        Just("1e308".to_string()),
+        Just("-1".to_string()),
+        Just("0".to_string()),
+        Just("NaN".to_string()),
+        Just("inf".to_string()),
+    ];
+    let flag = prop_oneof![
+        Just("--size"),
+        Just("--p"),
+        Just("--mass"),
+        Just("--sigma"),
+        Just("--k-theta"),
+        Just("--rho"),
+        Just("--epsilon"),
+        Just("--xi-theta"),
+        Just("--friction"),
+        Just("--eta"),
+        Just("--play"),
+        Just("--amplitude-ratio"),
+        Just("--amplitude-g"),
+        Just("--frequency"),
+        Just("--frequency-ratio"),
+        Just("--gamma"),
+        Just("--nu"),
+        Just("--tp"),
+        Just("--pgv"),
+        Just("--duration"),
+        Just("--rtol"),
+        Just("--theta0"),
+        Just("--xi"),
+        Just("--omega-n"),
+        Just("--scale"),
+    ];
+    let choice = prop_oneof![
+        Just(vec!["--device".to_string(), "mechanistic".to_string()]),
+        Just(vec!["--device".to_string(), "sequential".to_string()]),
+        Just(vec!["--structure".to_string(), "flexible".to_string()]),
+        Just(vec!["--pulse".to_string(), "mp".to_string()]),
+        Just(vec!["--record".to_string(), "landers".to_string()]),
+    ];
+    (
+        proptest::collection::vec((flag, value), 0..6),
+        proptest::collection::vec(choice, 0..3),
+        0.01f64..1.5,
+    )
+        .prop_map(|(pairs, choices, alpha)| {
+            let mut args = vec![
+                "rocklab".to_string(),
+                "simulate".to_string(),
+                "--alpha".to_string(),
+                format!("{alpha}"),
+            ];
+            for (f, v) in pairs {
+                args.push(f.to_string());
+                args.push(v);
+            }
+            args.extend(choices.into_iter().flatten());
+            args
+        })
+}
+
+proptest! {
+    #![proptest_config(config(64))]
+
+    #[test]
+    fn the_simulate_flag_set_never_panics(args in simulate_flags()) {
+        let Ok(cli) = rocklab::cli::Cli::try_parse_from(&args) else {
+            return Ok(());
+        };
+        let Some(rocklab::cli::Command::Simulate(sim_args)) = cli.command else {
+            panic!("not a simulate command");
+        };
+        if let Ok(scene) = sim_args.scene() {
+            // Bounded: a case runs at most a fraction of a second.
+            let bounds = rocklab::sim::Bounds {
+                cancel: None,
+                time_limit: Some(Duration::from_millis(200)),
+            };
+            let run = rocklab::sweep::guarded(|| {
+                let records = rocklab::excitation::library::global().unwrap();
+                rocklab::sim::run_bounded(&scene, records, bounds)
+            });
+            prop_assert!(
+                !matches!(run, Err(rocklab::sweep::Guarded::Panic(_))),
+                "{:?}: {:?}", args, run
+            );
+        }
+    }
+}
