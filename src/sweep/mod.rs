@@ -245,6 +245,8 @@ pub fn run_checkpointed(
 /// the scenes the directory's journal (or results) hold are reused, every computed scene is
 /// journalled as it finishes. Errors if the journal could not be written (the scenes
 /// journalled before stay). The caller writes the results file ([`Output::results_path`]).
+// The run's inputs as `rocklab run` names them; a struct of them would only be unpacked here.
+#[allow(clippy::too_many_arguments)]
 pub fn run_into(
     output: &mut Output,
     study: &Study,
