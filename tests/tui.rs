@@ -12,6 +12,7 @@ use rocklab::sweep::SweepResults;
 use rocklab::tui::app::{App, Check, Effect, Options, ResultsTab, SceneState, Screen};
 use rocklab::tui::draw::draw;
 use rocklab::tui::theme::Theme;
+use std::path::PathBuf;
 use std::time::Duration;
 
 use KeyCode::{Backspace, Down, Enter, Esc, Left, Right, Up};
@@ -20,12 +21,31 @@ const SMALL: (u16, u16) = (80, 24);
 const LARGE: (u16, u16) = (160, 48);
 
 fn new_app() -> App {
+    new_app_in(scratch_dir())
+}
+
+/// Where this test's runs write (never into out/): target/tui-tests/<test name>, emptied
+/// first: a fixed path, so frames that show it are reproducible, and fresh, so no journal of
+/// an earlier test run is resumed.
+fn scratch_dir() -> PathBuf {
+    let name = std::thread::current()
+        .name()
+        .unwrap_or("main")
+        .replace("::", "-");
+    let dir = PathBuf::from("target/tui-tests").join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+/// An app whose runs write under `out_root` (as `out/` for the real workbench).
+fn new_app_in(out_root: PathBuf) -> App {
     App::new(
         Study::builtin_default(),
         None,
         Options {
             deterministic: true,
             jobs: Some(2),
+            out_root,
         },
     )
 }
@@ -559,6 +579,8 @@ fn cancel_keeps_what_finished() {
     assert!(app.is_running());
     snap_text(&app, "run_started");
     key(&mut app, KeyCode::Char('c'));
+    assert!(app.prompt.is_some(), "stopping a sweep asks first");
+    key(&mut app, Enter);
     snap(
         "run_cancelling_80x24",
         text(&render(&app, Theme::COLOR, SMALL)),
@@ -651,4 +673,267 @@ fn a_scene_opened_from_a_map_cell_is_that_cell() {
         SceneState::Done(result, _) => assert_eq!(Some(result.overturned), cell),
         _ => panic!("the scene did not finish"),
     }
+}
+
+/// Results of [`small_map_study`] as a stopped sweep leaves them: every third scene never ran,
+/// one failed.
+fn partial_results() -> SweepResults {
+    let mut results = fixed_results();
+    results.outcomes.retain(|o| o.point.index % 3 != 1);
+    results.outcomes[4].result = Err("the solver gave up (test)".into());
+    results.cancelled = true;
+    results
+}
+
+/// A stopped sweep's results: unrun points blank, failed (`?`) and overturned (`×`/`█`)
+/// distinct in glyphs and readouts; the axes keep the study's full range.
+#[test]
+fn partial_results_are_honest() {
+    use rocklab::tui::components::results::Mark;
+    let mut app = new_app();
+    small_map_study(&mut app);
+    let full = {
+        app.show_results(fixed_results(), false);
+        let data = app.shared.results.as_ref().unwrap();
+        (
+            data.spectra[0].xs.clone(),
+            data.maps[0].xs.clone(),
+            data.maps[0].ys.clone(),
+        )
+    };
+    app.show_results(partial_results(), true);
+    key(&mut app, KeyCode::Char('3'));
+    let data = app.shared.results.as_ref().unwrap();
+    assert_eq!(
+        data.results.outcomes.len(),
+        24,
+        "placeholders are never results"
+    );
+    assert_eq!(
+        data.spectra[0].xs, full.0,
+        "spectrum axis keeps the full range"
+    );
+    assert_eq!(
+        (data.maps[0].xs.clone(), data.maps[0].ys.clone()),
+        (full.1, full.2)
+    );
+    let count = |m: Mark| {
+        data.map_marks
+            .iter()
+            .flatten()
+            .flatten()
+            .filter(|x| **x == m)
+            .count()
+    };
+    assert_eq!(
+        count(Mark::NotRun),
+        12,
+        "every third of 36 scenes never ran"
+    );
+    assert_eq!(count(Mark::Failed), 1);
+    snap_text_and_styles(&app, "results_partial_spectra");
+    // The cursor on an unrun point reads "not run", never "overturned".
+    let unrun_x = data.spectrum_marks[0]
+        .iter()
+        .position(|m| *m == Mark::NotRun)
+        .expect("an unrun point on the first spectrum");
+    for _ in 0..unrun_x {
+        key(&mut app, Right);
+    }
+    let screen = text(&render(&app, Theme::COLOR, SMALL));
+    assert!(screen.contains("not run"), "{screen}");
+    key(&mut app, KeyCode::Char('m'));
+    snap_text_and_styles(&app, "results_partial_map");
+}
+
+/// q and Ctrl-C during a sweep ask first (keep finished scenes is the default, n keeps it
+/// running); after a confirmed quit, the finished scenes are on disk, and a restarted
+/// workbench's `r` reuses them instead of computing them again.
+#[test]
+fn quitting_mid_sweep_asks_and_a_restart_reuses_the_finished_scenes() {
+    let root = scratch_dir();
+    let mut app = new_app_in(root.clone());
+    small_map_study(&mut app);
+    let total = scene_count(&app);
+    key(&mut app, KeyCode::Char('r'));
+    assert_eq!(key(&mut app, KeyCode::Char('q')), Effect::None, "q asks");
+    assert!(matches!(
+        app.prompt,
+        Some(rocklab::tui::app::Prompt::StopSweep(_))
+    ));
+    snap(
+        "confirm_quit_80x24",
+        text(&render(&app, Theme::COLOR, SMALL)),
+    );
+    // n: the sweep goes on; Ctrl-C asks the same question.
+    key(&mut app, KeyCode::Char('n'));
+    assert!(app.prompt.is_none() && app.is_running());
+    assert_eq!(ctrl(&mut app, 'c'), Effect::None, "Ctrl-C asks");
+    assert!(matches!(
+        app.prompt,
+        Some(rocklab::tui::app::Prompt::StopSweep(_))
+    ));
+    key(&mut app, Esc);
+    // Esc on the Run screen (cancel) asks too, on every screen the dialog draws.
+    key(&mut app, Esc);
+    assert!(app.prompt.is_some(), "cancel asks");
+    key(&mut app, KeyCode::Char('n'));
+    key(&mut app, KeyCode::Char('1'));
+    key(&mut app, KeyCode::Char('q'));
+    let frame = text(&render(&app, Theme::COLOR, SMALL));
+    assert!(frame.contains("keep finished scenes"), "{frame}");
+    // Let a few scenes finish, then quit keeping them (Enter: the default answer).
+    let until = std::time::Instant::now() + Duration::from_secs(60);
+    while app.runs.state.as_ref().unwrap().done < 2 && std::time::Instant::now() < until {
+        app.tick();
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    key(&mut app, Enter);
+    // The edited study is unsaved: that question comes next.
+    assert_eq!(key(&mut app, KeyCode::Char('y')), Effect::Quit);
+    assert!(app.wait_idle(Duration::from_secs(60)));
+    let kept = app.runs.state.as_ref().unwrap().done;
+    assert!(kept >= 2, "{kept}");
+    let dir = root.join("default");
+    let on_disk = rocklab::report::load_results(&dir.join("results.json")).unwrap();
+    assert_eq!(
+        on_disk.outcomes.len(),
+        kept,
+        "every finished scene is on disk"
+    );
+    drop(app);
+
+    let mut again = new_app_in(root.clone());
+    small_map_study(&mut again);
+    run_to_completion(&mut again);
+    let run = again.runs.state.as_ref().unwrap();
+    assert_eq!(run.finished, Some(false), "{:?}", again.message);
+    assert_eq!(run.done, total);
+    assert_eq!(
+        run.reused, kept,
+        "the finished scenes are reused, not recomputed"
+    );
+    key(&mut again, KeyCode::Char('2'));
+    let shown = text(&render(&again, Theme::COLOR, SMALL));
+    assert!(
+        shown.contains(&format!("{kept} reused from cache")),
+        "{shown}"
+    );
+    let resumed = again.shared.results.as_ref().unwrap();
+    for o in &on_disk.outcomes {
+        let same = resumed
+            .results
+            .outcomes
+            .iter()
+            .find(|r| r.point.index == o.point.index)
+            .unwrap();
+        assert_eq!(same.result, o.result);
+    }
+}
+
+/// `rocklab tui out/x` and `o` open results (a directory or its results.json) for browsing,
+/// with the study they came from.
+#[test]
+fn results_open_from_a_directory_or_file() {
+    let root = tempfile::tempdir().unwrap();
+    let dir = root.path().join("x");
+    std::fs::create_dir_all(&dir).unwrap();
+    rocklab::report::save_results(&dir.join("results.json"), &partial_results()).unwrap();
+    for path in [dir.clone(), dir.join("results.json")] {
+        let mut app = new_app();
+        key(&mut app, KeyCode::Char('o'));
+        typed(&mut app, path.to_str().unwrap());
+        key(&mut app, Enter);
+        assert_eq!(app.screen, Screen::Results, "{:?}", app.message);
+        let data = app.shared.results.as_ref().unwrap();
+        assert_eq!(data.results.outcomes.len(), 24);
+        assert!(data.cancelled);
+        assert_eq!(Some(&app.shared.study), data.results.study.as_ref());
+        assert_eq!(scene_count(&app), 36, "the study they came from");
+        assert_eq!(app.shared.output_dir(), dir, "a rerun resumes there");
+    }
+    let (results, at) = rocklab::tui::app::load_results_at(&dir).unwrap();
+    assert_eq!((results.outcomes.len(), at), (24, dir));
+}
+
+/// The Run screen of a study with more variants than rows scrolls: g/G, PgUp/PgDn, ↑↓.
+#[test]
+fn the_run_screen_scrolls() {
+    // Fig. 24 with four clutch strengths: 6 devices × 5 records = 30 variants to list.
+    let text_of = std::fs::read_to_string("studies/fig24_records.ron").unwrap();
+    let many = text_of
+        .replace(
+            "sequential(sigma: 0.5)",
+            "sequential(sigma: [0.3, 0.5, 0.7, 0.9])",
+        )
+        .replace("duration: 60.0", "duration: 2.0");
+    let file = tempfile::NamedTempFile::new().unwrap();
+    std::fs::write(file.path(), many).unwrap();
+    let study = Study::load(file.path()).unwrap();
+    let mut app = App::new(
+        study,
+        None,
+        Options {
+            deterministic: true,
+            jobs: Some(1),
+            out_root: scratch_dir(),
+        },
+    );
+    key(&mut app, KeyCode::Char('r'));
+    let groups = app.runs.state.as_ref().unwrap().groups.len();
+    assert!(groups > 20, "{groups}");
+    let top = text(&render(&app, Theme::COLOR, SMALL));
+    assert!(top.contains("rows 1–"), "{top}");
+    key(&mut app, KeyCode::Char('G'));
+    snap(
+        "run_scrolled_80x24",
+        text(&render(&app, Theme::COLOR, SMALL)),
+    );
+    let bottom = text(&render(&app, Theme::COLOR, SMALL));
+    let last = &app.runs.state.as_ref().unwrap().groups[groups - 1].name;
+    assert!(bottom.contains(last.as_str()), "{bottom}");
+    assert!(!top.contains(last.as_str()), "{top}");
+    key(&mut app, KeyCode::PageUp);
+    key(&mut app, KeyCode::Char('g'));
+    assert_eq!(text(&render(&app, Theme::COLOR, SMALL)), top);
+    key(&mut app, KeyCode::Char('c'));
+    key(&mut app, Enter);
+    assert!(app.wait_idle(Duration::from_secs(120)));
+}
+
+/// `n` / `N` after `/` find the next / previous match and keep the study.
+#[test]
+fn n_repeats_the_search_and_never_replaces_the_study() {
+    let mut app = new_app();
+    small_map_study(&mut app);
+    let before = app.shared.study.clone();
+    key(&mut app, KeyCode::Char('/'));
+    typed(&mut app, "name");
+    key(&mut app, Enter);
+    let first = app.editor.cursor;
+    key(&mut app, KeyCode::Char('n'));
+    let second = app.editor.cursor;
+    assert!(
+        app.editor.rows[second]
+            .label
+            .to_lowercase()
+            .contains("name")
+    );
+    assert_eq!(app.shared.study, before, "n keeps the study");
+    key(&mut app, KeyCode::Char('N'));
+    assert_eq!(app.editor.cursor, first);
+    // The key hints fit 80 columns whole: the status line is the list cut between hints.
+    let all = "? help  q quit  ↑↓ move  Enter edit  r run  s save  / find  o open  a add  \
+               d del/unset  S save as  n/N next/prev  ^N new";
+    let status = text(&render(&app, Theme::COLOR, SMALL));
+    let shown = status.lines().last().unwrap();
+    assert!(all.starts_with(shown), "{shown}");
+    assert!(
+        all[shown.len()..].starts_with("  "),
+        "cut mid-hint: {shown}"
+    );
+    assert!(
+        shown.contains("r run") && shown.contains("s save"),
+        "{shown}"
+    );
 }

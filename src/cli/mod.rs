@@ -58,7 +58,8 @@ pub enum Command {
 
 #[derive(clap::Args, Debug)]
 pub struct TuiArgs {
-    /// Study file (RON) to open, or `default` for the built-in study (the default).
+    /// Study file (RON) to open, `default` for the built-in study (the default), or results
+    /// to browse: a results directory (out/<study>), a results.json or its journal.
     pub study: Option<std::path::PathBuf>,
     /// No colours: glyphs and reverse video only (also: NO_COLOR).
     #[arg(long)]
@@ -69,7 +70,11 @@ pub struct TuiArgs {
 fn tui(args: &TuiArgs) -> anyhow::Result<()> {
     // `default` names the built-in study, as in `rocklab run default`.
     let path = args.study.clone().filter(|p| p.as_os_str() != "default");
+    let results = path
+        .as_deref()
+        .filter(|p| crate::tui::app::is_results_path(p));
     let study = match &path {
+        _ if results.is_some() => crate::study::Study::builtin_default(),
         Some(path) => {
             crate::study::Study::load(path).map_err(|e| UsageError::new(e.to_string()))?
         }
@@ -82,7 +87,10 @@ fn tui(args: &TuiArgs) -> anyhow::Result<()> {
         )
         .into());
     }
-    crate::tui::run(study, path, args.mono)
+    match results {
+        Some(results) => crate::tui::run_results(results, args.mono),
+        None => crate::tui::run(study, path, args.mono),
+    }
 }
 
 /// An explicit `--records-dir` must exist: falling back to the embedded records would run a

@@ -197,31 +197,24 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     install_signal_handlers();
     let reporter = Reporter::new(std::io::stderr().is_terminal());
     let started = Instant::now();
-    let reuse = std::mem::take(&mut output.reuse);
     let library = crate::excitation::library::global()?;
-    let checkpoint = sweep::Checkpoint {
-        journal: Some(&output.journal),
-        reuse,
-        scene_time_limit: (args.scene_time_limit > 0.0)
-            .then(|| Duration::from_secs_f64(args.scene_time_limit)),
-    };
-    let mut results = sweep::run_checkpointed(&points, &opts, library, checkpoint, &CANCEL, &|p| {
-        reporter.report(p)
-    });
-    drop(points);
-    results.study_hash = study.hash();
-    results.study = Some(study.clone());
+    let scene_time_limit =
+        (args.scene_time_limit > 0.0).then(|| Duration::from_secs_f64(args.scene_time_limit));
+    let results = sweep::run_into(
+        &mut output,
+        &study,
+        &points,
+        &opts,
+        library,
+        scene_time_limit,
+        &CANCEL,
+        &|p| reporter.report(p),
+    );
     reporter.finish();
+    let results = results?;
+    drop(points);
     let elapsed = started.elapsed();
     let journal = output.journal.path().display().to_string();
-    let synced = output.journal.sync();
-    if let Some(why) = output.journal.failure() {
-        anyhow::bail!(
-            "cannot append to the journal {journal}: {why}; the scenes journalled before are \
-             kept: free some space and run the same command again"
-        );
-    }
-    synced?;
     if results.cancelled && output.keep_previous_results {
         anyhow::bail!(
             "cancelled: the previous complete results in {} are kept; this --fresh run's {} \
@@ -232,7 +225,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     }
     let written = report::save_results(&results_path, &results).and_then(|()| {
         if args.shard.is_none() {
-            write_tables(&out, &study, &results)
+            report::write_tables(&out, &study, &results)
         } else {
             Ok(())
         }
@@ -266,20 +259,6 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
-}
-
-/// CSV, summary and the canonical study next to the results file.
-fn write_tables(out: &Path, study: &Study, results: &SweepResults) -> anyhow::Result<()> {
-    report::write_atomic(&out.join("results.csv"), &report::results_csv(results)?)?;
-    report::write_atomic(
-        &out.join("results.columns.csv"),
-        &report::results_columns_csv(results)?,
-    )?;
-    report::write_atomic(
-        &out.join("summary.txt"),
-        report::summary(results).as_bytes(),
-    )?;
-    study.save(&out.join("study.ron"))
 }
 
 /// The results of one merge input: a results file, a journal, or both (the fuller wins: a
@@ -343,7 +322,7 @@ pub fn merge(args: &MergeArgs) -> anyhow::Result<()> {
     let _lock = sweep::output::OutputLock::acquire(&path)?;
     report::save_results(&path, &merged)?;
     if let Some(study) = &merged.study {
-        write_tables(&args.out, study, &merged)?;
+        report::write_tables(&args.out, study, &merged)?;
     }
     if !args.quiet {
         print_out(&report::summary(&merged))?;
@@ -367,6 +346,8 @@ struct Reporter {
     bar: Option<indicatif::ProgressBar>,
     total: AtomicUsize,
     done: AtomicUsize,
+    /// Scenes reused from the journal or cache (not computed: they do not set the pace).
+    reused: AtomicUsize,
     failed: AtomicUsize,
     started: Instant,
     last_line: Mutex<Instant>,
@@ -378,7 +359,7 @@ impl Reporter {
             let bar = indicatif::ProgressBar::new(0);
             bar.set_style(
                 indicatif::ProgressStyle::with_template(
-                    "{bar:40} {pos}/{len} scenes  {elapsed} elapsed, ETA {eta}  {msg}",
+                    "{bar:40} {pos}/{len} scenes  {elapsed} elapsed{msg}",
                 )
                 .expect("valid template"),
             );
@@ -388,6 +369,7 @@ impl Reporter {
             bar,
             total: AtomicUsize::new(0),
             done: AtomicUsize::new(0),
+            reused: AtomicUsize::new(0),
             failed: AtomicUsize::new(0),
             started: Instant::now(),
             last_line: Mutex::new(Instant::now()),
@@ -404,17 +386,18 @@ impl Reporter {
                     None => self.line(0, 0),
                 }
             }
-            Progress::SceneDone { ok, .. } => {
+            Progress::SceneDone { ok, reused, .. } => {
                 let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
                 if !ok {
                     self.failed.fetch_add(1, Ordering::Relaxed);
                 }
+                if reused {
+                    self.reused.fetch_add(1, Ordering::Relaxed);
+                }
                 let failed = self.failed.load(Ordering::Relaxed);
                 if let Some(bar) = &self.bar {
                     bar.inc(1);
-                    if failed > 0 {
-                        bar.set_message(format!("{failed} failed"));
-                    }
+                    bar.set_message(self.tail(done, failed));
                 } else if let Ok(mut last) = self.last_line.lock()
                     && last.elapsed() >= Duration::from_secs(5)
                 {
@@ -426,13 +409,32 @@ impl Reporter {
         }
     }
 
+    /// ETA (from computed scenes only), reused and failed counts, as the bar's message.
+    fn tail(&self, done: usize, failed: usize) -> String {
+        let total = self.total.load(Ordering::Relaxed);
+        let reused = self.reused.load(Ordering::Relaxed);
+        let elapsed = self.started.elapsed().as_secs_f64();
+        let mut tail = match sweep::eta_seconds(elapsed, done - reused, total.saturating_sub(done))
+        {
+            Some(eta) => format!(", ETA {eta:.0} s"),
+            None => ", ETA unknown".to_string(),
+        };
+        if reused > 0 {
+            tail.push_str(&format!(", {reused} reused from cache"));
+        }
+        if failed > 0 {
+            tail.push_str(&format!(", {failed} failed"));
+        }
+        tail
+    }
+
     fn line(&self, done: usize, failed: usize) {
         let total = self.total.load(Ordering::Relaxed).max(1);
         let elapsed = self.started.elapsed().as_secs_f64();
-        let eta = elapsed / done.max(1) as f64 * (total - done.min(total)) as f64;
         say(&format!(
-            "progress: {done}/{total} scenes ({:.0}%), {failed} failed, {elapsed:.0} s elapsed, ETA {eta:.0} s",
-            100.0 * done as f64 / total as f64
+            "progress: {done}/{total} scenes ({:.0}%), {elapsed:.0} s elapsed{}",
+            100.0 * done as f64 / total as f64,
+            self.tail(done, failed)
         ));
     }
 

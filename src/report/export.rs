@@ -27,6 +27,22 @@ pub fn save_results(path: &Path, results: &SweepResults) -> anyhow::Result<()> {
     super::write_atomic(path, &results_json(results)?)
 }
 
+/// CSV (with its column sidecar), summary and the canonical study next to the results file
+/// (`rocklab run`, `merge` and the workbench's runs write the same set).
+pub fn write_tables(
+    out: &Path,
+    study: &crate::study::Study,
+    results: &SweepResults,
+) -> anyhow::Result<()> {
+    super::write_atomic(&out.join("results.csv"), &results_csv(results)?)?;
+    super::write_atomic(
+        &out.join("results.columns.csv"),
+        &results_columns_csv(results)?,
+    )?;
+    super::write_atomic(&out.join("summary.txt"), summary(results).as_bytes())?;
+    study.save(&out.join("study.ron"))
+}
+
 /// A coordinate of the study in files other tools read: an ASCII identifier (valid in MATLAB,
 /// pandas and R without renaming), the study file's field name and the unit.
 #[derive(Clone, Debug, PartialEq)]

@@ -25,10 +25,13 @@ pub enum Progress {
     Started {
         total: usize,
     },
-    /// Scene `index` (expansion index) finished; `ok` is false for a failed scene.
+    /// Scene `index` (expansion index) finished; `ok` is false for a failed scene; `reused`
+    /// is true for a scene taken from the journal or cache instead of computed (progress
+    /// rates and ETAs count only computed scenes).
     SceneDone {
         index: usize,
         ok: bool,
+        reused: bool,
     },
     Finished {
         cancelled: bool,
@@ -194,6 +197,7 @@ pub fn run_checkpointed(
     let journal_broken = AtomicBool::new(false);
     let stopped = || cancel.load(Ordering::Relaxed) || journal_broken.load(Ordering::Relaxed);
     let run_one = |(point, cached): (&ScenePoint, Option<Result<SceneResult, String>>)| {
+        let reused = cached.is_some();
         let result = match cached {
             Some(r) => r,
             None if stopped() => return None,
@@ -210,6 +214,7 @@ pub fn run_checkpointed(
         progress(Progress::SceneDone {
             index: point.index,
             ok: result.is_ok(),
+            reused,
         });
         Some(SceneOutcome {
             point: point.clone(),
@@ -234,6 +239,48 @@ pub fn run_checkpointed(
         shard: opts.shard,
         build: build_id().to_string(),
     }
+}
+
+/// A study's sweep into an opened output directory, as `rocklab run` and the workbench do it:
+/// the scenes the directory's journal (or results) hold are reused, every computed scene is
+/// journalled as it finishes. Errors if the journal could not be written (the scenes
+/// journalled before stay). The caller writes the results file ([`Output::results_path`]).
+// The run's inputs as `rocklab run` names them; a struct of them would only be unpacked here.
+#[allow(clippy::too_many_arguments)]
+pub fn run_into(
+    output: &mut Output,
+    study: &Study,
+    points: &[ScenePoint],
+    opts: &SweepOptions,
+    library: &Library,
+    scene_time_limit: Option<std::time::Duration>,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> anyhow::Result<SweepResults> {
+    let checkpoint = Checkpoint {
+        journal: Some(&output.journal),
+        reuse: std::mem::take(&mut output.reuse),
+        scene_time_limit,
+    };
+    let mut results = run_checkpointed(points, opts, library, checkpoint, cancel, progress);
+    results.study_hash = study.hash();
+    results.study = Some(study.clone());
+    let journal = output.journal.path().display().to_string();
+    let synced = output.journal.sync();
+    if let Some(why) = output.journal.failure() {
+        anyhow::bail!(
+            "cannot append to the journal {journal}: {why}; the scenes journalled before are \
+             kept: free some space and run the same command again"
+        );
+    }
+    synced?;
+    Ok(results)
+}
+
+/// Seconds left at the pace of the scenes computed so far: reused scenes cost nothing and say
+/// nothing about the pace. None before the first computed scene.
+pub fn eta_seconds(elapsed: f64, computed: usize, remaining: usize) -> Option<f64> {
+    (computed > 0 && elapsed > 0.0).then(|| elapsed / computed as f64 * remaining as f64)
 }
 
 pub fn in_shard(index: usize, shard: Option<(usize, usize)>) -> bool {

@@ -25,7 +25,7 @@ use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
-pub use super::components::prompt::{Pending, Prompt};
+pub use super::components::prompt::{Pending, Prompt, StopSweep};
 pub use super::components::results::{Results, ResultsTab};
 pub use super::components::run::{GroupProgress, RunState};
 pub use super::components::scene::{SceneState, SceneView};
@@ -60,13 +60,26 @@ pub enum Effect {
     Quit,
 }
 
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Options {
     /// Hide everything that depends on the wall clock (rates, ETAs, run-time estimates) so
     /// that frames are reproducible; used by the snapshot tests.
     pub deterministic: bool,
     /// Worker threads for sweeps (None: all cores).
     pub jobs: Option<usize>,
+    /// Where a study's results go unless the user picks a directory: `<out_root>/<study
+    /// name>/`, as `rocklab run` does (tests point it at a temporary directory).
+    pub out_root: PathBuf,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            deterministic: false,
+            jobs: None,
+            out_root: PathBuf::from("out"),
+        }
+    }
 }
 
 pub struct App {
@@ -84,6 +97,47 @@ pub struct App {
     calibration: AsyncSingleJob<(), f64>,
     /// Set by a first Ctrl-C with unsaved changes: a second one quits anyway.
     ctrl_c_armed: bool,
+}
+
+/// Whether `path` names results (a results directory, a results or journal file) rather than
+/// a study file.
+pub fn is_results_path(path: &std::path::Path) -> bool {
+    path.is_dir()
+        || path
+            .extension()
+            .is_some_and(|e| e == "json" || e == "journal")
+}
+
+/// Results from a results directory (its `results.json`, or its journal if the run was
+/// stopped before writing it: whichever holds more), a results file or a journal; with the
+/// directory they belong to.
+pub fn load_results_at(path: &std::path::Path) -> anyhow::Result<(SweepResults, PathBuf)> {
+    let file = if path.is_dir() {
+        path.join(crate::sweep::results_name(None))
+    } else {
+        path.with_extension("json")
+    };
+    let dir = file
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .map_or_else(|| PathBuf::from("."), PathBuf::from);
+    let journal = crate::sweep::output::journal_path(&file);
+    let from_file = file.exists().then(|| crate::sweep::load_results(&file));
+    let from_journal = journal
+        .exists()
+        .then(|| crate::sweep::journal::results_from_journal(&journal));
+    let results = match (from_file, from_journal) {
+        (Some(Ok(a)), Some(Ok(b))) if b.outcomes.len() > a.outcomes.len() => b,
+        (Some(Ok(a)), _) => a,
+        (_, Some(Ok(b))) => b,
+        (Some(Err(e)), _) | (None, Some(Err(e))) => return Err(e),
+        (None, None) => anyhow::bail!(
+            "{}: no results there (neither {} nor its journal)",
+            path.display(),
+            file.display()
+        ),
+    };
+    Ok((results, dir))
 }
 
 fn key_press(code: KeyCode) -> KeyEvent {
@@ -110,6 +164,7 @@ impl App {
                 path,
                 dirty: false,
                 results: None,
+                out_dir: None,
                 seconds_per_scene: None,
                 record_names: Library::open(Library::default_dir())
                     .map(|l| l.names())
@@ -167,6 +222,30 @@ impl App {
         let data = Results::new(results, cancelled);
         self.browser.reset(&data);
         self.shared.results = Some(data);
+    }
+
+    /// Browse finished results with the study they came from; a later run of that study goes
+    /// to (and resumes in) the directory they were read from.
+    pub fn open_results(&mut self, results: SweepResults, dir: PathBuf) {
+        let Some(study) = results.study.clone() else {
+            self.complain(
+                "these results carry no study (written by `rocklab merge` of ad-hoc points)",
+            );
+            return;
+        };
+        self.shared.path = None;
+        self.shared.dirty = false;
+        self.shared.out_dir = Some(dir.clone());
+        self.editor.cursor = 0;
+        self.set_study(study, None);
+        let cancelled = results.cancelled;
+        let n = results.outcomes.len();
+        self.show_results(results, cancelled);
+        self.screen = Screen::Results;
+        self.say(format!(
+            "opened {n} scenes of results in {}/",
+            dir.display()
+        ));
     }
 
     /// A new study: its check (the expansion, computed once by the caller or here), the
@@ -297,6 +376,15 @@ impl App {
     }
 
     fn ctrl_c(&mut self) -> Effect {
+        // A first Ctrl-C during a sweep asks; a second one answers with the default (keep
+        // the finished scenes and quit).
+        if !matches!(self.prompt, Some(Prompt::StopSweep(_)))
+            && let Some(stop) = self.runs.stop_question(true)
+        {
+            self.prompt = Some(Prompt::StopSweep(stop));
+            return Effect::None;
+        }
+        self.prompt = None;
         if self.shared.dirty && !self.ctrl_c_armed {
             self.ctrl_c_armed = true;
             self.complain("unsaved changes: press Ctrl-C again to quit without saving, s to save");
@@ -314,8 +402,19 @@ impl App {
         self.screen = Screen::ALL[(i + by) % Screen::ALL.len()];
     }
 
-    /// Do `then` now, or ask first if it would lose unsaved changes.
+    /// Do `then` now, or ask first if it would stop a running sweep or lose unsaved changes.
     fn request(&mut self, then: Pending) -> Effect {
+        if matches!(then, Pending::Quit)
+            && let Some(stop) = self.runs.stop_question(true)
+        {
+            self.prompt = Some(Prompt::StopSweep(stop));
+            return Effect::None;
+        }
+        self.request_unsaved(then)
+    }
+
+    /// Do `then` now, or ask first if it would lose unsaved changes.
+    fn request_unsaved(&mut self, then: Pending) -> Effect {
         if self.shared.dirty {
             self.prompt = Some(Prompt::Discard(then));
             Effect::None
@@ -330,6 +429,10 @@ impl App {
                 self.shutdown();
                 return Effect::Quit;
             }
+            Pending::Open(path) if is_results_path(&path) => match load_results_at(&path) {
+                Ok((results, dir)) => self.open_results(results, dir),
+                Err(e) => self.complain(format!("{e:#}")),
+            },
             Pending::Open(path) => match Study::load(&path) {
                 Ok(study) => {
                     self.shared.path = Some(path.clone());
@@ -351,9 +454,18 @@ impl App {
         Effect::None
     }
 
-    /// Cancel background work before leaving, so that the process exits promptly.
+    /// Cancel background work before leaving, so that the process exits promptly. A sweep
+    /// gets a few seconds to write its results files (its finished scenes are journalled
+    /// already, so a slower stop loses nothing: the next run resumes from the journal).
     pub fn shutdown(&mut self) {
         self.runs.shutdown();
+        if self.is_running() {
+            let until = Instant::now() + Duration::from_secs(3);
+            while self.is_running() && Instant::now() < until {
+                self.runs.poll();
+                std::thread::sleep(Duration::from_millis(10));
+            }
+        }
     }
 
     fn prompt_key(&mut self, key: KeyEvent) -> Effect {
@@ -370,6 +482,17 @@ impl App {
                 }
                 KeyCode::Char('n') | KeyCode::Esc => {}
                 _ => self.prompt = Some(Prompt::Discard(then)),
+            },
+            Prompt::StopSweep(stop) => match key.code {
+                KeyCode::Enter | KeyCode::Char('y') | KeyCode::Char('k') => {
+                    let action = self.runs.cancel();
+                    self.act(action);
+                    if stop.quit {
+                        return self.request_unsaved(Pending::Quit);
+                    }
+                }
+                KeyCode::Char('n') | KeyCode::Esc => {}
+                _ => self.prompt = Some(Prompt::StopSweep(stop)),
             },
             Prompt::SaveAs(mut line) => match line.handle_key(key) {
                 EditOutcome::Editing => self.prompt = Some(Prompt::SaveAs(line)),
@@ -397,6 +520,20 @@ impl App {
                 EditOutcome::Commit => {
                     let action = self.editor.search(&line.text);
                     return self.act(action);
+                }
+            },
+            Prompt::OutDir(mut line) => match line.handle_key(key) {
+                EditOutcome::Editing => self.prompt = Some(Prompt::OutDir(line)),
+                EditOutcome::Cancel => {}
+                EditOutcome::Commit => {
+                    let dir = line.text.trim();
+                    if dir.is_empty() {
+                        self.shared.out_dir = None;
+                    } else {
+                        self.shared.out_dir = Some(PathBuf::from(dir));
+                    }
+                    let shown = self.shared.output_dir().display().to_string();
+                    self.say(format!("results of the next run go to {shown}/"));
                 }
             },
             Prompt::Open(mut line) => match line.handle_key(key) {
@@ -461,8 +598,12 @@ impl App {
             }
         };
         self.calibration.abandon();
-        self.runs
-            .start(&self.shared.study, points, self.shared.options.jobs);
+        self.runs.start(
+            &self.shared.study,
+            points,
+            self.shared.options.jobs,
+            self.shared.output_dir(),
+        );
         self.screen = Screen::Run;
     }
 
@@ -481,6 +622,9 @@ impl App {
         changed |= news.changed;
         if news.lost {
             self.complain("the sweep stopped unexpectedly");
+        }
+        if let Some(error) = news.error {
+            self.complain(error);
         }
         if let Some((results, cancelled)) = news.finished {
             let walls: Vec<f64> = results

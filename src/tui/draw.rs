@@ -5,7 +5,7 @@
 
 use super::app::{App, Screen};
 use super::theme::Theme;
-use super::widgets::{Hint, hint_spans, truncate_left};
+use super::widgets::{Hint, hint_spans_fit, truncate_left};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
@@ -37,10 +37,8 @@ pub fn draw(app: &App, theme: Theme, frame: &mut Frame) {
     draw_tabs(app, theme, frame, top);
     app.component(app.screen)
         .draw(&app.shared, theme, frame, body);
-    // The unsaved-changes dialog shows over the Study screen (elsewhere the status line asks).
-    if app.screen == Screen::Study
-        && let Some(prompt) = &app.prompt
-    {
+    // Questions (unsaved changes, stopping a sweep) show as a dialog over any screen.
+    if let Some(prompt) = &app.prompt {
         prompt.draw_dialog(theme, frame, body);
     }
     draw_status(app, theme, frame, status);
@@ -98,7 +96,7 @@ fn draw_status(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
     } else if let Some(prompt) = &app.prompt {
         prompt.line(theme, area.width)
     } else {
-        Line::from(hint_spans(theme, &hints(app)))
+        Line::from(hint_spans_fit(theme, &hints(app), area.width as usize))
     };
     frame.render_widget(Paragraph::new(line), area);
 }

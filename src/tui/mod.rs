@@ -35,13 +35,34 @@ const TICK: Duration = Duration::from_millis(100);
 const MIN_REDRAW: Duration = Duration::from_millis(250);
 
 pub fn run(study: Study, path: Option<PathBuf>, mono: bool) -> anyhow::Result<()> {
+    run_app(App::new(study, path, Options::default()), mono)
+}
+
+/// Open the workbench on finished results (a results directory, results file or journal),
+/// with the study they came from.
+pub fn run_results(path: &std::path::Path, mono: bool) -> anyhow::Result<()> {
+    let (results, dir) = app::load_results_at(path)?;
+    let study = results
+        .study
+        .clone()
+        .ok_or_else(|| anyhow::anyhow!("{}: these results carry no study", path.display()))?;
+    let mut app = App::new(study, None, Options::default());
+    app.open_results(results, dir);
+    run_app(app, mono)
+}
+
+fn run_app(mut app: App, mono: bool) -> anyhow::Result<()> {
     let theme = Theme::from_env(mono);
-    let mut app = App::new(study, path, Options::default());
     // In raw mode Ctrl-C is a key; a SIGINT sent from outside (kill -INT) still ends the
     // workbench through the same clean exit. Setting the handler fails only if one is set.
     let interrupted = Arc::new(AtomicBool::new(false));
     let flag = interrupted.clone();
     let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
+    // A lost SSH session (SIGHUP) or a `kill` (SIGTERM) ends the workbench the same clean way:
+    // the sweep stops and writes its results; finished scenes are in the journal already.
+    for signal in [signal_hook::consts::SIGHUP, signal_hook::consts::SIGTERM] {
+        let _ = signal_hook::flag::register(signal, interrupted.clone());
+    }
     let mut terminal = setup()?;
     let outcome = event_loop(&mut terminal, &mut app, theme, &interrupted);
     restore();

@@ -26,11 +26,16 @@ impl Help {
         let lines = vec![
             h("everywhere"),
             k("1 2 3 4", "Study / Run / Results / Scene (Tab cycles)"),
-            k("r", "run the study in the background"),
-            k("?", "this help (any key closes it)"),
-            k("q  Ctrl-C", "quit (asks if there are unsaved changes)"),
+            k("r  ?", "run or resume the study  /  this help"),
+            k(
+                "q  Ctrl-C",
+                "quit (asks during a sweep or with unsaved changes)",
+            ),
             h("Study"),
-            k("↑↓ PgUp/Dn", "move; g/G first/last row; / find a field"),
+            k(
+                "↑↓ PgUp/Dn",
+                "move; g/G first/last; / find, n/N next/previous",
+            ),
             k(
                 "Enter / e",
                 "edit the value (RON: 0.5, [1.0, 2.0], name(…))",
@@ -39,10 +44,13 @@ impl Help {
                 "a / d",
                 "add from a copy / delete list element; unset a field",
             ),
-            k("s S o n", "save, save as, open, new from default"),
+            k("s S o ^N", "save, save as, open study or results, new"),
             h("Run"),
-            k("c / Esc", "cancel (finished scenes are kept)"),
-            k("Enter", "results"),
+            k(
+                "c / Esc",
+                "stop (asks; finished scenes are kept, r resumes)",
+            ),
+            k("↑↓ d Enter", "scroll (PgUp/Dn g/G) / results dir / results"),
             h("Results"),
             k("s m c", "spectra / overturning maps / compare A and B"),
             k("←→ ↑↓", "cursor along the axis / variant or map cell"),
@@ -53,6 +61,15 @@ impl Help {
             h("Scene"),
             k("Esc", "back to results"),
         ];
-        popup(frame, theme, area, " help (any key closes) ", lines, 66, 22);
+        let height = lines.len() as u16;
+        popup(
+            frame,
+            theme,
+            area,
+            " help (any key closes) ",
+            lines,
+            66,
+            height,
+        );
     }
 }

@@ -38,6 +38,8 @@ pub struct Shared {
     pub check: Check,
     /// The results on screen: from the last sweep (finished or cancelled).
     pub results: Option<Results>,
+    /// The output directory the user chose (None: the default, see [`Shared::output_dir`]).
+    pub out_dir: Option<PathBuf>,
     /// Mean seconds per scene, from the last run or a calibration (None until known).
     pub seconds_per_scene: Option<f64>,
     /// Names of the ground-motion records available to `record(names: …)`.
@@ -45,6 +47,16 @@ pub struct Shared {
 }
 
 impl Shared {
+    /// Where a run of the open study writes: the chosen directory, or `out/<study name>/` as
+    /// `rocklab run` does.
+    pub fn output_dir(&self) -> PathBuf {
+        self.out_dir.clone().unwrap_or_else(|| {
+            self.options
+                .out_root
+                .join(crate::fsutil::single_component(&self.study.name))
+        })
+    }
+
     /// Estimated wall time of the whole study (seconds), when a per-scene time is known.
     pub fn estimated_seconds(&self) -> Option<f64> {
         let Check::Ok(points) = &self.check else {

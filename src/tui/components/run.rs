@@ -1,18 +1,25 @@
 //! The Run screen: a sweep of the study on a background job, its progress overall and per
-//! variant, and its failures. The finished (or cancelled) results go to the app.
+//! variant, and its failures. A run here is a `rocklab run`: it goes through the same output
+//! directory, journal, lock and atomic results files ([`sweep::open_output`],
+//! [`sweep::run_into`], [`report::write_tables`]), so a finished scene is on disk as soon as
+//! it finishes and `r` after a cancel or a quit resumes. The results go to the app.
 
 use super::super::app::Screen;
 use super::super::job::{AsyncSingleJob, JobEvent};
 use super::super::theme::Theme;
 use super::super::widgets::{Hint, fmt_coords, fmt_duration, gauge, pad, truncate};
+use super::prompt::{Prompt, StopSweep};
 use super::{Action, Check, Component, Shared};
+use crate::report;
 use crate::study::{ScenePoint, Study};
-use crate::sweep::{self, Progress, SweepOptions, SweepResults};
+use crate::sweep::{self, OpenOptions, Progress, SweepOptions, SweepResults};
+use crate::tui::edit::LineEdit;
 use crossterm::event::{KeyCode, KeyEvent};
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Wrap};
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -27,7 +34,13 @@ pub struct RunState {
     pub points: Arc<Vec<ScenePoint>>,
     pub total: usize,
     pub done: usize,
+    /// Of `done`, scenes reused from the output directory's journal (not computed now).
+    pub reused: usize,
     pub failed: Vec<usize>,
+    /// Where the results go (the output directory).
+    pub out_dir: PathBuf,
+    /// Notes of opening the output directory (resuming, set-aside files), then any error.
+    pub notes: Vec<String>,
     /// Failure messages, known once the sweep returns.
     pub failure_messages: Vec<(usize, String)>,
     pub groups: Vec<GroupProgress>,
@@ -44,14 +57,13 @@ impl RunState {
         self.finished.is_none()
     }
 
-    /// Scenes per second and seconds left, from the wall clock.
+    /// Computed scenes per second and seconds left, from the wall clock: reused scenes are
+    /// not counted (they cost nothing and would make the ETA a fraction of the truth).
     pub fn rate_and_eta(&self) -> Option<(f64, f64)> {
         let secs = self.elapsed.as_secs_f64();
-        if self.done == 0 || secs <= 0.0 {
-            return None;
-        }
-        let rate = self.done as f64 / secs;
-        Some((rate, (self.total - self.done) as f64 / rate))
+        let computed = self.done - self.reused;
+        let eta = sweep::eta_seconds(secs, computed, self.total.saturating_sub(self.done))?;
+        Some((computed as f64 / secs, eta))
     }
 }
 
@@ -64,13 +76,91 @@ pub struct RunNews {
     pub finished: Option<(Box<SweepResults>, bool)>,
     /// The sweep ended without results.
     pub lost: bool,
+    /// What went wrong with the output directory (finished scenes are journalled).
+    pub error: Option<String>,
+}
+
+/// What a sweep job returns: the results it has (None if the output directory could not be
+/// used), the notes of opening it, and what went wrong (the journal keeps finished scenes).
+pub struct SweepOutcome {
+    pub results: Option<SweepResults>,
+    pub notes: Vec<String>,
+    pub error: Option<String>,
+}
+
+/// Sweep `points` of `study` into `out_dir` exactly as `rocklab run` does: open (lock, resume
+/// from the journal), run with every finished scene journalled, write the results files.
+fn sweep_into(
+    study: &Study,
+    points: &[ScenePoint],
+    out_dir: &Path,
+    jobs: Option<usize>,
+    library: &crate::excitation::Library,
+    cancel: &std::sync::atomic::AtomicBool,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> SweepOutcome {
+    let mut outcome = SweepOutcome {
+        results: None,
+        notes: Vec::new(),
+        error: None,
+    };
+    let opened = sweep::open_output(out_dir, None, study, points.len(), OpenOptions::default());
+    let mut output = match opened {
+        Ok(output) => output,
+        Err(e) => {
+            outcome.error = Some(format!("{e:#}"));
+            return outcome;
+        }
+    };
+    outcome.notes = std::mem::take(&mut output.notes);
+    let opts = SweepOptions {
+        jobs,
+        shard: None,
+        cache: None,
+    };
+    // `rocklab run`'s default scene time limit: a stuck scene fails instead of hanging.
+    let limit = Some(Duration::from_secs(600));
+    let results = match sweep::run_into(
+        &mut output,
+        study,
+        points,
+        &opts,
+        library,
+        limit,
+        cancel,
+        progress,
+    ) {
+        Ok(results) => results,
+        Err(e) => {
+            outcome.error = Some(format!("{e:#}"));
+            return outcome;
+        }
+    };
+    let written = report::save_results(&output.results_path, &results)
+        .and_then(|()| report::write_tables(out_dir, study, &results));
+    if let Err(e) = written {
+        outcome.error = Some(format!(
+            "cannot write the results ({e:#}); the journal in {} keeps every finished scene",
+            out_dir.display()
+        ));
+    } else if !results.cancelled
+        && let Some(aside) = &output.set_aside
+    {
+        let _ = std::fs::remove_file(aside);
+    }
+    outcome.results = Some(results);
+    outcome
 }
 
 #[derive(Default)]
 pub struct RunScreen {
     /// The last sweep (None before the first).
     pub state: Option<RunState>,
-    sweep: AsyncSingleJob<Progress, SweepResults>,
+    sweep: AsyncSingleJob<Progress, SweepOutcome>,
+    /// First row of the scrolled part (groups, failures) shown.
+    pub scroll: usize,
+    /// Rows of the scrolled part the last frame had room for (for PgUp/PgDn and clamping).
+    page: std::cell::Cell<usize>,
 }
 
 impl RunScreen {
@@ -78,8 +168,14 @@ impl RunScreen {
         self.state.as_ref().is_some_and(|r| r.running())
     }
 
-    /// Start sweeping `points` of `study` in the background.
-    pub fn start(&mut self, study: &Study, points: Arc<Vec<ScenePoint>>, jobs: Option<usize>) {
+    /// Start sweeping `points` of `study` into `out_dir` in the background.
+    pub fn start(
+        &mut self,
+        study: &Study,
+        points: Arc<Vec<ScenePoint>>,
+        jobs: Option<usize>,
+        out_dir: PathBuf,
+    ) {
         let mut groups: Vec<GroupProgress> = Vec::new();
         let group_of = points
             .iter()
@@ -106,22 +202,27 @@ impl RunScreen {
         };
         let thread_points = points.clone();
         let study = study.clone();
-        let opts = SweepOptions {
-            jobs,
-            shard: None,
-            cache: None,
-        };
+        let dir = out_dir.clone();
         self.sweep.spawn(move |reporter, cancel| {
             let progress = |p| reporter.report(p);
-            // The study itself goes along so that spectra and maps know its quantities and axes.
-            sweep::run_study(&study, &opts, library, cancel, &progress)
-                .unwrap_or_else(|_| sweep::run(&thread_points, &opts, library, cancel, &progress))
+            sweep_into(
+                &study,
+                &thread_points,
+                &dir,
+                jobs,
+                library,
+                cancel,
+                &progress,
+            )
         });
         self.state = Some(RunState {
             total: points.len(),
             points,
             done: 0,
+            reused: 0,
             failed: Vec::new(),
+            out_dir,
+            notes: Vec::new(),
             failure_messages: Vec::new(),
             groups,
             group_of,
@@ -130,6 +231,21 @@ impl RunScreen {
             finished: None,
             cancel_requested: false,
         });
+    }
+
+    /// What stopping the running sweep would mean, for the question asked first (None if no
+    /// sweep runs).
+    pub fn stop_question(&self, quit: bool) -> Option<StopSweep> {
+        let run = self
+            .state
+            .as_ref()
+            .filter(|r| r.running() && !r.cancel_requested)?;
+        Some(StopSweep {
+            quit,
+            done: run.done,
+            total: run.total,
+            out_dir: run.out_dir.clone(),
+        })
     }
 
     /// Ask the running sweep to stop; the scenes it finished are kept.
@@ -161,8 +277,9 @@ impl RunScreen {
         for event in self.sweep.poll() {
             match event {
                 JobEvent::Progress(Progress::Started { total }) => run.total = total,
-                JobEvent::Progress(Progress::SceneDone { index, ok }) => {
+                JobEvent::Progress(Progress::SceneDone { index, ok, reused }) => {
                     run.done += 1;
+                    run.reused += usize::from(reused);
                     if let Some(&g) = run.group_of.get(index) {
                         run.groups[g].done += 1;
                         if !ok {
@@ -175,14 +292,20 @@ impl RunScreen {
                     news.changed = true;
                 }
                 JobEvent::Progress(Progress::Finished { .. }) => {}
-                JobEvent::Done(results) => {
-                    let cancelled = run.cancel_requested;
+                JobEvent::Done(outcome) => {
+                    run.notes = outcome.notes;
+                    news.error = outcome.error;
+                    news.changed = true;
+                    let Some(results) = outcome.results else {
+                        run.finished = Some(true);
+                        continue;
+                    };
+                    let cancelled = run.cancel_requested || results.cancelled;
                     run.finished = Some(cancelled);
                     run.failure_messages = results
                         .outcomes
                         .iter()
-                        .enumerate()
-                        .filter_map(|(i, o)| o.result.as_ref().err().map(|e| (i, e.clone())))
+                        .filter_map(|o| o.result.as_ref().err().map(|e| (o.point.index, e.clone())))
                         .collect();
                     news.finished = Some((Box::new(results), cancelled));
                     news.changed = true;
@@ -215,30 +338,90 @@ impl RunScreen {
     }
 }
 
+impl RunScreen {
+    /// Rows of the scrolled part: one per group, then the failures.
+    fn body_len(&self) -> usize {
+        self.state.as_ref().map_or(0, |run| {
+            let failed = run.failed.len();
+            run.groups.len() + if failed > 0 { 2 + failed } else { 0 }
+        })
+    }
+
+    fn scroll_by(&mut self, down: bool, by: usize) {
+        let max = self.body_len().saturating_sub(self.page.get().max(1));
+        self.scroll = if down {
+            (self.scroll + by).min(max)
+        } else {
+            self.scroll.min(max).saturating_sub(by)
+        };
+    }
+}
+
 impl Component for RunScreen {
     fn handle_key(&mut self, key: KeyEvent, shared: &Shared) -> Action {
+        let page = self.page.get().max(2) - 1;
+        match key.code {
+            KeyCode::Down | KeyCode::Char('j') => self.scroll_by(true, 1),
+            KeyCode::Up | KeyCode::Char('k') => self.scroll_by(false, 1),
+            KeyCode::PageDown | KeyCode::Char(' ') => self.scroll_by(true, page),
+            KeyCode::PageUp => self.scroll_by(false, page),
+            KeyCode::Home | KeyCode::Char('g') => self.scroll = 0,
+            KeyCode::End | KeyCode::Char('G') => self.scroll_by(true, usize::MAX / 2),
+            _ => return self.command_key(key, shared),
+        }
+        Action::None
+    }
+
+    fn hints(&self, shared: &Shared) -> Vec<Hint> {
+        self.own_hints(shared)
+    }
+
+    fn draw(&self, shared: &Shared, theme: Theme, frame: &mut Frame, area: Rect) {
+        self.draw_run(shared, theme, frame, area)
+    }
+}
+
+impl RunScreen {
+    fn command_key(&mut self, key: KeyEvent, shared: &Shared) -> Action {
         match key.code {
             KeyCode::Char('r') => Action::StartRun,
-            KeyCode::Char('c') | KeyCode::Esc => self.cancel(),
+            KeyCode::Char('d') if !self.is_running() => Action::Prompt(Prompt::OutDir(
+                LineEdit::new(shared.output_dir().display().to_string()),
+            )),
+            KeyCode::Char('c') | KeyCode::Esc => match self.stop_question(false) {
+                Some(stop) => Action::Prompt(Prompt::StopSweep(stop)),
+                None => Action::None,
+            },
             KeyCode::Enter if shared.results.is_some() => Action::Show(Screen::Results),
             _ => Action::None,
         }
     }
 
-    fn hints(&self, _: &Shared) -> Vec<Hint> {
+    fn own_hints(&self, _: &Shared) -> Vec<Hint> {
+        let scrolls = self.body_len() > self.page.get();
         if self.is_running() {
-            vec![("c", "cancel")]
+            let mut hints = vec![("c", "stop")];
+            if scrolls {
+                hints.push(("↑↓ PgUp/Dn g/G", "scroll"));
+            }
+            hints
         } else {
-            vec![("r", "run"), ("Enter", "results")]
+            let mut hints = vec![("r", "run"), ("Enter", "results"), ("d", "results dir")];
+            if scrolls {
+                hints.push(("↑↓ PgUp/Dn g/G", "scroll"));
+            }
+            hints
         }
     }
 
-    fn draw(&self, shared: &Shared, theme: Theme, frame: &mut Frame, area: Rect) {
+    fn draw_run(&self, shared: &Shared, theme: Theme, frame: &mut Frame, area: Rect) {
         let Some(run) = &self.state else {
             let text = match &shared.check {
                 Check::Ok(points) => format!(
-                    "No sweep yet. Press r to run the study ({} scenes).",
-                    points.len()
+                    "No sweep yet. Press r to run the study ({} scenes); results go to {}/ \
+                     (d changes it), and a run stopped early resumes there.",
+                    points.len(),
+                    shared.output_dir().display()
                 ),
                 Check::Invalid(msg) => format!("The study is invalid: {msg}"),
             };
@@ -252,10 +435,21 @@ impl Component for RunScreen {
             Some(true) => Span::styled("cancelled (finished scenes kept)", theme.warn()),
             Some(false) => Span::styled("finished", theme.ok()),
         };
-        let bar_width = (area.width as usize).saturating_sub(44).clamp(5, 40);
+        // Names as wide as the longest (up to 2/5 of the width: "landers · sequential
+        // sigma=0.5" must read whole at 80 columns), the bars take the rest.
+        let name_width = run
+            .groups
+            .iter()
+            .map(|g| g.name.chars().count())
+            .max()
+            .unwrap_or(0)
+            .clamp(14, (area.width as usize * 2 / 5).max(14));
+        let bar_width = (area.width as usize)
+            .saturating_sub(name_width + 30)
+            .clamp(5, 40);
         let failed = run.failed.len();
         lines.push(Line::from(vec![
-            Span::styled(pad("overall", 14), theme.field()),
+            Span::styled(pad("overall", name_width), theme.field()),
             Span::raw(" "),
             gauge(theme, run.done, run.total, bar_width),
             Span::raw(format!(" {:>5}/{:<5}", run.done, run.total)),
@@ -268,15 +462,26 @@ impl Component for RunScreen {
                 },
             ),
         ]));
+        let mut status = vec![state, Span::raw("  "), Span::raw(self.timing(shared, run))];
+        if run.reused > 0 {
+            status.push(Span::styled(
+                format!("  {} reused from cache", run.reused),
+                theme.dim(),
+            ));
+        }
+        lines.push(Line::from(status));
         lines.push(Line::from(vec![
-            state,
-            Span::raw("  "),
-            Span::raw(self.timing(shared, run)),
+            Span::styled("results in ", theme.dim()),
+            Span::raw(format!("{}/", run.out_dir.display())),
         ]));
-        lines.push(Line::raw(""));
+        let header = lines.len() + 1;
+        let mut body = Vec::new();
         for g in &run.groups {
-            lines.push(Line::from(vec![
-                Span::styled(pad(&truncate(&g.name, 14), 14), theme.field()),
+            body.push(Line::from(vec![
+                Span::styled(
+                    pad(&truncate(&g.name, name_width), name_width),
+                    theme.field(),
+                ),
                 Span::raw(" "),
                 gauge(theme, g.done, g.total, bar_width),
                 Span::raw(format!(" {:>5}/{:<5}", g.done, g.total)),
@@ -291,8 +496,8 @@ impl Component for RunScreen {
             ]));
         }
         if failed > 0 {
-            lines.push(Line::raw(""));
-            lines.push(Line::styled("failures:", theme.error()));
+            body.push(Line::raw(""));
+            body.push(Line::styled("failures:", theme.error()));
             for &i in run.failed.iter() {
                 let Some(p) = run.points.get(i) else { continue };
                 let message = run
@@ -300,13 +505,32 @@ impl Component for RunScreen {
                     .iter()
                     .find(|(j, _)| *j == i)
                     .map_or(String::new(), |(_, m)| format!(": {m}"));
-                lines.push(Line::raw(format!(
+                body.push(Line::raw(format!(
                     "  #{i} {} {}{message}",
                     p.group,
                     fmt_coords(&p.coords)
                 )));
             }
         }
-        frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
+        // The header stays; the groups and failures scroll under it, with where the view is.
+        let room = (area.height as usize).saturating_sub(header);
+        self.page.set(room);
+        let offset = self.scroll.min(body.len().saturating_sub(room));
+        if body.len() > room && room > 0 {
+            lines.push(Line::styled(
+                format!(
+                    "rows {}–{} of {} (↑↓ PgUp/PgDn g/G scroll)",
+                    offset + 1,
+                    (offset + room).min(body.len()),
+                    body.len()
+                ),
+                theme.dim(),
+            ));
+        } else {
+            lines.push(Line::raw(""));
+        }
+        lines.extend(body.into_iter().skip(offset).take(room));
+        // Rows are cut, not wrapped: a wrapped row would push the last ones out of view.
+        frame.render_widget(Paragraph::new(lines), area);
     }
 }

@@ -10,7 +10,7 @@ use super::prompt::{Pending, Prompt};
 use super::{Action, Check, Component, Shared};
 use crate::study::Study;
 use crate::study::fields::{self, optional_fields};
-use crossterm::event::{KeyCode, KeyEvent};
+use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::Modifier;
@@ -43,6 +43,8 @@ pub struct StudyScreen {
     pub inserting: bool,
     /// Where the cursor goes once the edited study is back (a new list element).
     cursor_to: Option<Vec<usize>>,
+    /// The last `/` search, for `n` / `N` (next / previous match, as in vim and less).
+    last_search: Option<String>,
 }
 
 impl StudyScreen {
@@ -55,6 +57,7 @@ impl StudyScreen {
             edit_error: None,
             inserting: false,
             cursor_to: None,
+            last_search: None,
         };
         screen.study_changed(study);
         screen
@@ -83,11 +86,33 @@ impl StudyScreen {
 
     /// Move to the next row (after the cursor, wrapping) whose label contains `text`.
     pub fn search(&mut self, text: &str) -> Action {
+        self.last_search = Some(text.to_string());
+        self.find(text, true)
+    }
+
+    /// `n` / `N`: the next / previous match of the last search.
+    fn search_again(&mut self, forward: bool) -> Action {
+        match self.last_search.clone() {
+            Some(text) => self.find(&text, forward),
+            None => Action::Complain("no search yet: / finds a field".into()),
+        }
+    }
+
+    fn find(&mut self, text: &str, forward: bool) -> Action {
         let needle = text.trim().to_lowercase();
         let rows = &self.rows;
         let n = rows.len();
+        let cursor = self.cursor;
         // An exact name first, then any name containing the text.
-        let order = || (1..=n).map(|k| (self.cursor + k) % n.max(1));
+        let order = || {
+            (1..=n).map(move |k| {
+                if forward {
+                    (cursor + k) % n.max(1)
+                } else {
+                    (cursor + n - k % n.max(1)) % n.max(1)
+                }
+            })
+        };
         let found = order()
             .find(|&i| rows[i].label.to_lowercase() == needle)
             .or_else(|| order().find(|&i| rows[i].label.to_lowercase().contains(&needle)));
@@ -283,7 +308,11 @@ impl Component for StudyScreen {
             }
             KeyCode::Char('o') => return Action::Prompt(Prompt::Open(LineEdit::new(""))),
             KeyCode::Char('/') => return Action::Prompt(Prompt::Search(LineEdit::new(""))),
-            KeyCode::Char('n') => return Action::Request(Pending::New),
+            KeyCode::Char('n') if key.modifiers.contains(KeyModifiers::CONTROL) => {
+                return Action::Request(Pending::New);
+            }
+            KeyCode::Char('n') => return self.search_again(true),
+            KeyCode::Char('N') => return self.search_again(false),
             KeyCode::Char('r') => return Action::StartRun,
             _ => {}
         }
@@ -302,14 +331,15 @@ impl Component for StudyScreen {
         vec![
             ("↑↓", "move"),
             ("Enter", "edit"),
-            ("/", "find"),
-            ("a", "add"),
-            ("d", "del/unset"),
             ("r", "run"),
             ("s", "save"),
-            ("S", "save as"),
+            ("/", "find"),
             ("o", "open"),
-            ("n", "new"),
+            ("a", "add"),
+            ("d", "del/unset"),
+            ("S", "save as"),
+            ("n/N", "next/prev"),
+            ("^N", "new"),
         ]
     }
 
@@ -318,19 +348,25 @@ impl Component for StudyScreen {
         let summary_height = (summary.len() as u16).min(area.height / 3).max(1);
         let edit_error = self.edit_error.as_ref();
         let row_help = self.row_help(shared);
+        // The field's help, wrapped (up to 3 lines), never cut mid-word.
+        let help_height = match &row_help {
+            Some(text) if area.height >= 16 => {
+                wrapped_line_count(text, area.width as usize).clamp(1, 3) as u16
+            }
+            _ => 0,
+        };
         let [head, list, help, foot] = Layout::vertical([
             Constraint::Length(summary_height),
             Constraint::Min(1),
-            Constraint::Length(if row_help.is_some() && area.height >= 16 {
-                1
-            } else {
-                0
-            }),
+            Constraint::Length(help_height),
             Constraint::Length(if edit_error.is_some() { 2 } else { 0 }),
         ])
         .areas(area);
         if let Some(text) = row_help {
-            frame.render_widget(Paragraph::new(Line::styled(text, theme.dim())), help);
+            frame.render_widget(
+                Paragraph::new(Line::styled(text, theme.dim())).wrap(Wrap { trim: true }),
+                help,
+            );
         }
         frame.render_widget(Paragraph::new(summary).wrap(Wrap { trim: false }), head);
         let block = Block::default().borders(Borders::TOP).title(" study ");
@@ -511,4 +547,23 @@ fn strip_position(msg: &str) -> String {
             .to_string(),
         None => msg.to_string(),
     }
+}
+
+/// Lines `text` takes when word-wrapped to `width` columns (as ratatui's `Wrap` does; its own
+/// count is behind an unstable feature).
+fn wrapped_line_count(text: &str, width: usize) -> usize {
+    let width = width.max(1);
+    let mut lines = 1;
+    let mut used = 0;
+    for word in text.split_whitespace() {
+        let w = word.chars().count();
+        let need = if used == 0 { w } else { used + 1 + w };
+        if need <= width {
+            used = need;
+        } else {
+            lines += 1 + w.saturating_sub(1) / width;
+            used = (w - 1) % width + 1;
+        }
+    }
+    lines
 }

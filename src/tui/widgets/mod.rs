@@ -18,9 +18,22 @@ pub type Hint = (&'static str, &'static str);
 
 /// `key what  key what …`, keys highlighted.
 pub fn hint_spans(theme: Theme, keys: &[Hint]) -> Vec<Span<'static>> {
+    hint_spans_fit(theme, keys, usize::MAX)
+}
+
+/// The hints that fit in `width` columns, whole, most important (first) kept: a narrow
+/// terminal loses the last hints, never half a word.
+pub fn hint_spans_fit(theme: Theme, keys: &[Hint], width: usize) -> Vec<Span<'static>> {
     let mut spans = Vec::new();
-    for (i, (key, what)) in keys.iter().enumerate() {
-        if i > 0 {
+    let mut used = 0;
+    for (key, what) in keys {
+        let sep = if spans.is_empty() { 0 } else { 2 };
+        let need = sep + key.chars().count() + 1 + what.chars().count();
+        if used + need > width {
+            continue;
+        }
+        used += need;
+        if sep > 0 {
             spans.push(Span::raw("  "));
         }
         spans.push(Span::styled(key.to_string(), theme.key()));

@@ -33,6 +33,28 @@ impl Strip {
     }
 }
 
+/// What a point stands for: honest partial results tell a point that overturned from one
+/// that failed from one that never ran (a stopped sweep).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mark {
+    Value,
+    Overturned,
+    Failed,
+    NotRun,
+}
+
+impl Mark {
+    /// The readout of a point without a value.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Mark::Value => "–",
+            Mark::Overturned => "overturned",
+            Mark::Failed => "failed",
+            Mark::NotRun => "not run",
+        }
+    }
+}
+
 /// Where and how tall spectrum bars are drawn.
 #[derive(Clone, Copy)]
 pub struct Bars<'a> {
@@ -44,9 +66,15 @@ pub struct Bars<'a> {
 
 /// One spectrum as `height` rows of styled cells (top row first). One row uses the bars of
 /// `report::sparkline`; taller blocks use eighth-blocks over the rows, scaled from 0 to the
-/// spectrum's maximum. `×` marks a missing value (overturned or failed); the cursor column is
+/// spectrum's maximum. A point without a value shows what it stands for (`marks`; missing
+/// ones read as overturned): `×` overturned, `?` failed, blank not run. The cursor column is
 /// reversed.
-pub fn bar_rows(values: &[Option<f64>], style: Style, layout: &Bars) -> Vec<Vec<Span<'static>>> {
+pub fn bar_rows(
+    values: &[Option<f64>],
+    marks: &[Mark],
+    style: Style,
+    layout: &Bars,
+) -> Vec<Vec<Span<'static>>> {
     let Bars {
         strip: st,
         cursor,
@@ -70,16 +98,22 @@ pub fn bar_rows(values: &[Option<f64>], style: Style, layout: &Bars) -> Vec<Vec<
         for (r, row) in rows.iter_mut().enumerate() {
             // r = 0 is the top row.
             let level = height - 1 - r;
+            let mark = marks.get(i).copied().unwrap_or(Mark::Overturned);
             let glyph = match value {
-                None if level == 0 => '×',
-                None => ' ',
+                None if level > 0 => ' ',
+                None => match mark {
+                    Mark::Failed => '?',
+                    Mark::NotRun => ' ',
+                    _ => '×',
+                },
                 Some(_) if height == 1 => glyphs.get(i).copied().unwrap_or(' '),
                 Some(_) => EIGHTHS[eighths.saturating_sub(8 * level).min(8)],
             };
-            let mut s = if value.is_none() {
-                theme.overturned()
-            } else {
-                style
+            let mut s = match (value, mark) {
+                (Some(_), _) => style,
+                (None, Mark::Failed) => theme.failed(),
+                (None, Mark::NotRun) => theme.base(),
+                (None, _) => theme.overturned(),
             };
             if i == cursor {
                 s = s.add_modifier(Modifier::REVERSED);
@@ -95,12 +129,13 @@ pub fn series_lines(
     label: Span<'static>,
     label_width: usize,
     values: &[Option<f64>],
+    marks: &[Mark],
     style: Style,
     layout: &Bars,
 ) -> Vec<Line<'static>> {
     let max = values.iter().flatten().copied().reduce(f64::max);
     let theme = layout.theme;
-    bar_rows(values, style, layout)
+    bar_rows(values, marks, style, layout)
         .into_iter()
         .enumerate()
         .map(|(r, bars)| {

@@ -4,7 +4,7 @@
 use super::super::super::theme::Theme;
 use super::super::super::widgets::strip::{Bars, Strip, axis_line, series_lines};
 use super::super::super::widgets::{fmt_num, pad, truncate};
-use super::{Results, ResultsScreen, label_width};
+use super::{Mark, Results, ResultsScreen, label_width};
 use crate::report::{self, Spectrum};
 use crossterm::event::{KeyCode, KeyEvent};
 use ratatui::Frame;
@@ -79,26 +79,52 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
         height,
         theme,
     };
-    let block = |name: String, values: &[Option<f64>], style: Style| {
+    let block = |name: String, values: &[Option<f64>], marks: &[Mark], style: Style| {
         let label = Span::styled(
             pad(&truncate(&name, label_width), label_width),
             theme.field(),
         );
-        series_lines(label, label_width, values, style, &layout)
+        series_lines(label, label_width, values, marks, style, &layout)
     };
-    lines.extend(block(format!("A {}", a.label), &a.ys, theme.series(0)));
-    lines.extend(block(format!("B {}", b.label), &b.ys, theme.series(1)));
-    lines.extend(block("B/A".into(), &ratio, theme.warn()));
+    let (a_marks, b_marks) = (data.marks_of(a), data.marks_of(b));
+    // The ratio is missing where either is: it shows the first missing mark of the two.
+    let ratio_marks: Vec<Mark> = (0..ratio.len())
+        .map(|i| {
+            [a_marks.get(i).copied(), b_marks.get(i).copied()]
+                .into_iter()
+                .flatten()
+                .find(|m| *m != Mark::Value)
+                .unwrap_or(Mark::Overturned)
+        })
+        .collect();
+    lines.extend(block(
+        format!("A {}", a.label),
+        &a.ys,
+        a_marks,
+        theme.series(0),
+    ));
+    lines.extend(block(
+        format!("B {}", b.label),
+        &b.ys,
+        b_marks,
+        theme.series(1),
+    ));
+    lines.extend(block("B/A".into(), &ratio, &ratio_marks, theme.warn()));
     lines.push(axis_line(&a.xs, &st, label_width + 1, &a.axis));
     lines.push(Line::raw(""));
-    let at = |v: &[Option<f64>]| v.get(x).copied().flatten().map_or("–".into(), fmt_num);
+    let at = |v: &[Option<f64>], marks: &[Mark]| {
+        v.get(x).copied().flatten().map_or_else(
+            || marks.get(x).map_or("–", |m| m.describe()).to_string(),
+            fmt_num,
+        )
+    };
     lines.push(Line::raw(format!(
         "{} = {}   A {}   B {}   B/A {}",
         a.axis,
         a.xs.get(x).map_or("–".into(), |x| fmt_num(*x)),
-        at(&a.ys),
-        at(&b.ys),
-        at(&ratio)
+        at(&a.ys, a_marks),
+        at(&b.ys, b_marks),
+        at(&ratio, &ratio_marks)
     )));
     let finite: Vec<f64> = ratio.iter().flatten().copied().collect();
     if !finite.is_empty() {

@@ -4,7 +4,7 @@
 use super::super::super::theme::{self, Theme};
 use super::super::super::widgets::fmt_num;
 use super::super::super::widgets::strip::{Strip, axis_line};
-use super::Results;
+use super::{Mark, Results};
 use crate::report::OverturningMap;
 use crossterm::event::{KeyCode, KeyEvent};
 use ratatui::Frame;
@@ -42,6 +42,7 @@ impl MapsView {
     }
 
     pub fn draw(&self, data: &Results, theme: Theme, frame: &mut Frame, area: Rect) {
+        let marks = data.map_marks.get(self.map).map_or(&[][..], Vec::as_slice);
         let Some(map) = data.maps.get(self.map) else {
             frame.render_widget(Paragraph::new("no overturning maps in these results"), area);
             return;
@@ -79,7 +80,7 @@ impl MapsView {
             };
             let mut spans = vec![Span::styled(label, theme.dim())];
             for ix in first_x..first_x + count_x {
-                let (glyph, style) = map_cell(map, ix, iy, theme);
+                let (glyph, style) = map_cell(map, marks, ix, iy, theme);
                 let style = if (ix, iy) == (cx, cy) {
                     style.add_modifier(Modifier::REVERSED)
                 } else {
@@ -101,12 +102,12 @@ impl MapsView {
             Span::styled(theme::CELL_SAFE, theme.safe()),
             Span::raw(" safe  "),
             Span::styled(theme::CELL_FAILED, theme.failed()),
-            Span::raw(" failed"),
+            Span::raw(" failed  blank not run"),
         ]));
         let state = match map.cells.get(cy).and_then(|r| r.get(cx)) {
             Some(Some(true)) => "overturned",
             Some(Some(false)) => "safe",
-            Some(None) => "failed",
+            Some(None) => mark_at(marks, (cx, cy)).describe(),
             None => "–",
         };
         lines.push(Line::raw(format!(
@@ -120,10 +121,28 @@ impl MapsView {
     }
 }
 
-fn map_cell(map: &OverturningMap, ix: usize, iy: usize, theme: Theme) -> (&'static str, Style) {
+/// What the cell without a verdict at (ix, iy) stands for (failed if unknown).
+fn mark_at(marks: &[Vec<Mark>], (ix, iy): (usize, usize)) -> Mark {
+    marks
+        .get(iy)
+        .and_then(|r| r.get(ix))
+        .copied()
+        .unwrap_or(Mark::Failed)
+}
+
+fn map_cell(
+    map: &OverturningMap,
+    marks: &[Vec<Mark>],
+    ix: usize,
+    iy: usize,
+    theme: Theme,
+) -> (&'static str, Style) {
     match map.cells.get(iy).and_then(|r| r.get(ix)) {
         Some(Some(true)) => (theme::CELL_OVERTURNED, theme.overturned()),
         Some(Some(false)) => (theme::CELL_SAFE, theme.safe()),
+        Some(None) if mark_at(marks, (ix, iy)) == Mark::NotRun => {
+            (theme::CELL_MISSING, theme.base())
+        }
         Some(None) => (theme::CELL_FAILED, theme.failed()),
         None => (theme::CELL_MISSING, theme.base()),
     }

@@ -24,9 +24,23 @@ use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Wrap};
 
+pub use super::super::widgets::strip::Mark;
+
+/// The reason carried by the placeholder outcomes of points a stopped sweep never ran (they
+/// give the spectra and maps the study's full axes; never saved).
+const NOT_RUN: &str = "\u{0}not run";
+
 /// Results and what is aggregated from them once, when they arrive.
 pub struct Results {
+    /// The results as computed (what `w` writes).
     pub results: SweepResults,
+    /// The results plus a placeholder for every point of the study not run: what the spectra
+    /// and maps are aggregated from (their outcome indices point here).
+    padded: SweepResults,
+    /// Per spectrum (as in `spectra`), what each of its points stands for.
+    pub spectrum_marks: Vec<Vec<Mark>>,
+    /// Per map (as in `maps`), [iy][ix] what each cell stands for.
+    pub map_marks: Vec<Vec<Vec<Mark>>>,
     pub spectra: Vec<Spectrum>,
     pub maps: Vec<OverturningMap>,
     /// The quantities that have spectra, in order of first appearance.
@@ -37,8 +51,63 @@ pub struct Results {
 
 impl Results {
     pub fn new(results: SweepResults, cancelled: bool) -> Self {
-        let spectra = report::spectra(&results);
-        let maps = report::maps(&results);
+        // Aggregate over the study's every point, the unrun ones as placeholders, so the axes
+        // keep the study's full range while a partial run is shown.
+        let ran: std::collections::HashSet<usize> =
+            results.outcomes.iter().map(|o| o.point.index).collect();
+        let mut padded = results.clone();
+        padded.outcomes.extend(
+            results
+                .study
+                .as_ref()
+                .and_then(|s| s.expand().ok())
+                .unwrap_or_default()
+                .into_iter()
+                .filter(|p| {
+                    !ran.contains(&p.index) && crate::sweep::in_shard(p.index, results.shard)
+                })
+                .map(|point| crate::sweep::SceneOutcome {
+                    point,
+                    result: Err(NOT_RUN.into()),
+                }),
+        );
+        padded.outcomes.sort_by_key(|o| o.point.index);
+        let spectra = report::spectra(&padded);
+        let maps = report::maps(&padded);
+        let mark = |outcome: Option<usize>, has_value: bool| match outcome
+            .and_then(|i| padded.outcomes.get(i))
+            .map(|o| &o.result)
+        {
+            _ if has_value => Mark::Value,
+            Some(Err(e)) if e == NOT_RUN => Mark::NotRun,
+            Some(Err(_)) => Mark::Failed,
+            Some(Ok(_)) => Mark::Overturned,
+            None => Mark::NotRun,
+        };
+        let spectrum_marks = spectra
+            .iter()
+            .map(|s| {
+                (s.outcomes.iter().zip(&s.ys))
+                    .map(|(i, y)| mark(Some(*i), y.is_some()))
+                    .collect()
+            })
+            .collect();
+        let map_marks = maps
+            .iter()
+            .map(|m| {
+                (m.outcomes.iter().zip(&m.cells))
+                    .map(|(row, cells)| {
+                        (row.iter().zip(cells))
+                            .map(|(i, cell)| match cell {
+                                Some(true) => Mark::Overturned,
+                                Some(false) => Mark::Value,
+                                None => mark(*i, false),
+                            })
+                            .collect()
+                    })
+                    .collect()
+            })
+            .collect();
         let mut quantities: Vec<Quantity> = Vec::new();
         for s in &spectra {
             if !quantities.contains(&s.quantity) {
@@ -47,11 +116,23 @@ impl Results {
         }
         Results {
             results,
+            padded,
+            spectrum_marks,
+            map_marks,
             spectra,
             maps,
             quantities,
             cancelled,
         }
+    }
+
+    /// The marks of one of `spectra` (none if it is not one of them).
+    pub fn marks_of(&self, spectrum: &Spectrum) -> &[Mark] {
+        self.spectra
+            .iter()
+            .position(|s| std::ptr::eq(s, spectrum))
+            .and_then(|i| self.spectrum_marks.get(i))
+            .map_or(&[], Vec::as_slice)
     }
 }
 
@@ -113,7 +194,7 @@ impl ResultsScreen {
                 (*m.outcomes.get(self.maps.cell.1)?.get(self.maps.cell.0)?)?
             }
         };
-        data.results.outcomes.get(outcome).map(|o| &o.point)
+        data.padded.outcomes.get(outcome).map(|o| &o.point)
     }
 
     /// `[ ] quantity (i/n)`: the header of the spectra and the comparison.

@@ -4,7 +4,7 @@
 use super::super::super::theme::Theme;
 use super::super::super::widgets::strip::{Bars, Strip, axis_line, series_lines};
 use super::super::super::widgets::{fmt_num, pad, scroll_offset, truncate};
-use super::{Results, ResultsScreen, label_width};
+use super::{Mark, Results, ResultsScreen, label_width};
 use crate::report::Spectrum;
 use crossterm::event::{KeyCode, KeyEvent};
 use ratatui::Frame;
@@ -87,7 +87,15 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
             height,
             theme,
         };
-        lines.extend(series_lines(label, label_width, &s.ys, style, &layout));
+        let marks = data.marks_of(s);
+        lines.extend(series_lines(
+            label,
+            label_width,
+            &s.ys,
+            marks,
+            style,
+            &layout,
+        ));
     }
     let axis = rows[0].axis.clone();
     lines.push(axis_line(&rows[0].xs, &st, label_width + 1, &axis));
@@ -95,6 +103,13 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
     let sel = rows[view.row.min(rows.len() - 1)];
     let at = sel.xs.get(view.x).copied();
     let value = sel.ys.get(view.x).copied().flatten();
+    let missing = |s: &Spectrum, x: usize| {
+        data.marks_of(s)
+            .get(x)
+            .copied()
+            .unwrap_or(Mark::Overturned)
+            .describe()
+    };
     lines.push(Line::from(vec![
         Span::styled("cursor ", theme.dim()),
         Span::raw(format!(
@@ -102,7 +117,7 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
             sel.axis,
             at.map_or("–".into(), fmt_num),
             sel.label,
-            value.map_or("overturned/failed".into(), fmt_num)
+            value.map_or_else(|| missing(sel, view.x).into(), fmt_num)
         )),
         Span::styled("  Enter: open scene", theme.dim()),
     ]));
@@ -110,7 +125,11 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
         .iter()
         .map(|s| {
             let v = s.ys.get(view.x).copied().flatten();
-            format!("{} {}", s.label, v.map_or("×".into(), fmt_num))
+            format!(
+                "{} {}",
+                s.label,
+                v.map_or_else(|| missing(s, view.x).into(), fmt_num)
+            )
         })
         .collect();
     // Every variant's value at the cursor, when that fits in two lines.
