@@ -8,6 +8,9 @@
 //! device acts on), its accelerations, the uplift and overturning tests, the impact jump and
 //! its own energy. [`super::rigid`] and [`super::flexible`] are the two bodies.
 
+// Over 800 lines on purpose: the shell is one state machine (events, phase, pivot, peaks,
+// energy ledger) whose parts read and write the same state; split it only along a new seam.
+
 use super::device::{ClutchEvent, DeviceModel, resync_sequential, toggle_sequential};
 use super::{
     Action, ClosedFormEnd, Counters, EndReason, Energy, Ledger, Peaks, SimModel, refined_max,

@@ -3,6 +3,9 @@
 //! paper's Figs. 8/9/14 with the energy partition as a stacked area (Fig. 15). Looks (size,
 //! font, styles, ticks, legend) live in `figure.rs`.
 
+// Over 800 lines: spectra, maps and histories share the curve, selection and panel code here
+// (looks live in figure.rs); the selector shim is the next candidate to move (report/select.rs).
+
 use super::aggregate::{OverturningMap, PointState, Spectrum};
 use super::export::parameter;
 use super::figure::{

@@ -2,6 +2,9 @@
 //! grid, one device variant at a time; the last parameter (the excitation's frequency or the
 //! record scale) varies fastest.
 
+// Over 800 lines: validation, expansion and group identity/labels walk the same study grids;
+// the group labelling (bottom half) is the next candidate for its own file.
+
 use super::{
     AmplitudeAxis, Axis, DeviceVariant, ExcitationFamily, FrequencyAxis, MapAxes, RecordScaling,
     ScenePoint, StructureFamily, Study, StudyError, VERSION, Values, scene_key,
