@@ -309,11 +309,17 @@ for f in "$work"/b/*shard-1-of-2*; do
   [ -f "$f" ] && say "   kept by the stopped task: $(basename "$f") ($(wc -c <"$f") bytes, $(wc -l <"$f") lines)"
 done
 "$bin" status "$work/b" 2>&1 | sed 's/^/    /'
-# Slurm holds a requeued job back (BeginTime) for about two minutes; the test does not wait.
-say "\$ scontrol update JobId=$victim StartTime=now   (resubmit the requeued task now)"
-timeout 20 scontrol update JobId="$victim" StartTime=now || fail "scontrol update failed"
-wait_for 900 "merge job $merge_id" job_ended "$merge_id"
+# Slurm holds a requeued job back (BeginTime) for about two minutes before it runs it again.
+# The test waits for that hold: moving the start forward (`scontrol update StartTime=now`) while
+# the stopped run is still completing made Slurm start the task on a revoked credential and
+# fail it ("Killing non-startable batch job"), which leaves the merge job unsatisfiable.
+say "waiting for Slurm to restart the requeued task $victim after its requeue hold (~2 min)"
+# Done when the merge job ends, or at once if the resumed task failed (the merge would wait
+# for ever on an unsatisfiable dependency).
+merge_or_victim_ended() { job_ended "$merge_id" || [ "$(job_state "$victim")" = FAILED ]; }
+wait_for 900 "merge job $merge_id" merge_or_victim_ended
 show_jobs
+[ "$(job_state "$victim")" = COMPLETED ] || fail "the resumed task $victim ended $(job_state "$victim")"
 [ "$(job_state "$merge_id")" = COMPLETED ] || fail "merge job $merge_id ended $(job_state "$merge_id")"
 for t in 0 1; do
   s=$(job_state "${array_id}_$t")

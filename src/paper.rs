@@ -385,8 +385,8 @@ pub fn fig5_wide_dirac_removes_spikes() -> anyhow::Result<Claim> {
 // ---------------------------------------------------------------------------------------------
 // §5
 
-/// Fig. 8/11: peak rotation bare > single inerter > sequential ≳ mechanistic.
-pub fn fig8_peak_ordering() -> anyhow::Result<Claim> {
+/// The Fig. 8 scene with no device, a single inerter, the sequential and the mechanistic clutch.
+fn fig8_all_devices() -> anyhow::Result<Vec<SceneResult>> {
     let devices = [
         Device::None,
         presets::inerter(),
@@ -394,7 +394,12 @@ pub fn fig8_peak_ordering() -> anyhow::Result<Claim> {
         mechanistic(),
     ];
     let scenes: Vec<Scene> = devices.iter().cloned().map(rigid_fig8).collect();
-    let r = simulate_all(&scenes)?;
+    simulate_all(&scenes)
+}
+
+/// Fig. 8/11: peak rotation bare > single inerter > sequential ≳ mechanistic.
+pub fn fig8_peak_ordering() -> anyhow::Result<Claim> {
+    let r = fig8_all_devices()?;
     let th: Vec<f64> = r.iter().map(|r| r.peak_rotation_ratio).collect();
     let protected = &th[1..];
     let spread = protected.iter().cloned().fold(f64::MIN, f64::max)
@@ -421,14 +426,7 @@ pub fn fig8_peak_ordering() -> anyhow::Result<Claim> {
 /// than the bare one, acceleration measured as the paper measures a rigid block's: the angular
 /// acceleration between impacts (the Housner jump instants excluded), |θ̈|max/p².
 pub fn s9_protected_blocks_accelerate_less() -> anyhow::Result<Claim> {
-    let devices = [
-        Device::None,
-        presets::inerter(),
-        sequential(),
-        mechanistic(),
-    ];
-    let scenes: Vec<Scene> = devices.iter().cloned().map(rigid_fig8).collect();
-    let r = simulate_all(&scenes)?;
+    let r = fig8_all_devices()?;
     let acc: Vec<f64> = r
         .iter()
         .map(|r| r.peaks.angular_acceleration_p2.unwrap_or(f64::NAN))
