@@ -220,10 +220,7 @@ fn pairs_text(q: Quantity, pairs: &[SpectrumPair], details: bool) -> String {
             ratio(st.mean_ratio),
             pct(st.mean_ratio),
             ratio(st.median_ratio),
-            match (st.min_ratio, st.max_ratio) {
-                (Some(lo), Some(hi)) => format!("{lo:.3}–{hi:.3}"),
-                _ => "—".into(),
-            },
+            min_max(st),
             ratio(st.peak_ratio),
             pct(st.peak_ratio),
             st.a_overturns_b_survives,
@@ -294,10 +291,7 @@ CV A {} B {}; ↯ A {} B {}",
             ratio(st.mean_ratio),
             pct(st.mean_ratio),
             ratio(st.median_ratio),
-            match (st.min_ratio, st.max_ratio) {
-                (Some(lo), Some(hi)) => format!("{lo:.3}–{hi:.3}"),
-                _ => "—".into(),
-            },
+            min_max(st),
             ratio(st.peak_ratio),
             st.ratio_points,
             ratio(p.mean_cv_a),
@@ -307,4 +301,12 @@ CV A {} B {}; ↯ A {} B {}",
         );
     }
     s
+}
+
+/// The min–max range of the pointwise B/A, or a dash when no point has a ratio.
+fn min_max(st: &PairStats) -> String {
+    match (st.min_ratio, st.max_ratio) {
+        (Some(lo), Some(hi)) => format!("{lo:.3}–{hi:.3}"),
+        _ => "—".into(),
+    }
 }
