@@ -248,3 +248,26 @@ fn many_spectra_fill_the_screen() {
         assert!(blank <= 1, "blank lines while rows are hidden:\n{shown}");
     }
 }
+
+/// An angle typed in degrees in the editor is taken in radians.
+#[test]
+fn the_editor_takes_degrees() {
+    let mut app = new_app_in(scratch_dir());
+    set_field(&mut app, "alpha", "deg(5)");
+    assert!(
+        app.editor.edit_error.is_none(),
+        "{:?}",
+        app.editor.edit_error
+    );
+    let rigid = format!("{:?}", app.shared.study.structure);
+    assert!(
+        rigid.contains(&format!("{:?}", 5f64.to_radians())),
+        "{rigid}"
+    );
+    set_field(&mut app, "alpha", "deg(five)");
+    let error = app.editor.edit_error.clone().unwrap_or_default();
+    assert!(
+        error.contains("alpha") && error.contains("not a number"),
+        "{error}"
+    );
+}

@@ -8,8 +8,9 @@
 //! - the opened file's comments are kept: the header block verbatim, the others above (or
 //!   after, on the same line) the field they were written at; a comment whose field is gone
 //!   is reported as lost, so that the caller can ask before dropping it;
-//! - a group stays on one line when it fits in [`WIDTH`] columns and holds at most one nested
-//!   group; a long list of numbers fills its lines.
+//! - a group from the file keeps its line breaks; a new or edited one stays on one line when
+//!   it fits in [`WIDTH`] columns and holds at most one nested group; a long list of numbers
+//!   fills its lines.
 //!
 //! Every choice above is checked by reading the text back: the result always parses to the
 //! same study ([`Study::parse_ron`]), whatever the opened file held.
@@ -38,7 +39,7 @@ enum Tok {
 
 /// Tokens of RON text: comments kept, whitespace dropped. None if the text holds something
 /// this writer does not read (a raw string, an unclosed comment or string).
-fn lex(text: &str) -> Option<Vec<Tok>> {
+fn lex(text: &str) -> Option<Vec<(Tok, bool)>> {
     let chars: Vec<char> = text.chars().collect();
     let mut out = Vec::new();
     let mut i = 0;
@@ -60,7 +61,10 @@ fn lex(text: &str) -> Option<Vec<Tok>> {
                 i += 1;
             }
             let comment: String = chars[start..i].iter().collect();
-            out.push(Tok::Comment(comment.trim_end().to_string(), line_start));
+            out.push((
+                Tok::Comment(comment.trim_end().to_string(), line_start),
+                line_start,
+            ));
         } else if c == '/' && chars.get(i + 1) == Some(&'*') {
             let mut depth = 0;
             loop {
@@ -81,7 +85,7 @@ fn lex(text: &str) -> Option<Vec<Tok>> {
                 }
             }
             let comment: String = chars[start..i].iter().collect();
-            out.push(Tok::Comment(comment, line_start));
+            out.push((Tok::Comment(comment, line_start), line_start));
         } else if c == '"' {
             i += 1;
             while i < chars.len() && chars[i] != '"' {
@@ -91,16 +95,18 @@ fn lex(text: &str) -> Option<Vec<Tok>> {
                 return None;
             }
             i += 1;
-            out.push(Tok::Atom(chars[start..i].iter().collect()));
+            out.push((Tok::Atom(chars[start..i].iter().collect()), line_start));
         } else if "()[]{},:".contains(c) {
             i += 1;
-            out.push(Tok::Punct(c));
+            out.push((Tok::Punct(c), line_start));
         } else {
-            while i < chars.len()
-                && !chars[i].is_whitespace()
-                && !"()[]{},:\"".contains(chars[i])
-                && !(chars[i] == '/' && matches!(chars.get(i + 1), Some('/' | '*')))
-            {
+            let ends_atom = |i: usize| {
+                let c = chars[i];
+                c.is_whitespace()
+                    || "()[]{},:\"".contains(c)
+                    || (c == '/' && matches!(chars.get(i + 1), Some('/' | '*')))
+            };
+            while i < chars.len() && !ends_atom(i) {
                 i += 1;
             }
             let atom: String = chars[start..i].iter().collect();
@@ -108,7 +114,7 @@ fn lex(text: &str) -> Option<Vec<Tok>> {
             if atom.starts_with("r#") || (atom == "r" && chars.get(i) == Some(&'"')) {
                 return None;
             }
-            out.push(Tok::Atom(atom));
+            out.push((Tok::Atom(atom), line_start));
         }
         line_start = false;
     }
@@ -125,6 +131,8 @@ enum Value {
         items: Vec<Item>,
         /// Comments after the last item, before the closing bracket.
         tail: Vec<String>,
+        /// Whether the file had the group over several lines (None: not from a file).
+        broken: Option<bool>,
     },
 }
 
@@ -140,6 +148,10 @@ struct Item {
 
 struct Parser {
     toks: Vec<Tok>,
+    /// Whether each token starts its line.
+    starts_line: Vec<bool>,
+    /// Record how groups were broken over lines (for a file, not for generated text).
+    keep_layout: bool,
     at: usize,
 }
 
@@ -194,6 +206,8 @@ impl Parser {
             _ => '}',
         };
         let mut items = Vec::new();
+        // Whether an item or the closing bracket starts a line.
+        let mut broken = false;
         loop {
             // Comments before an item (or after the bracket, on its line) go above it.
             let mut before = Vec::new();
@@ -201,13 +215,16 @@ impl Parser {
                 before.push(text.clone());
                 self.at += 1;
             }
+            broken |= self.starts_line.get(self.at) == Some(&true);
             if self.peek() == Some(&Tok::Punct(close)) {
+                let broken = self.keep_layout.then_some(broken);
                 self.at += 1;
                 return Some(Value::Group {
                     name,
                     open,
                     items,
                     tail: before,
+                    broken,
                 });
             }
             let key = match (self.peek(), self.peek_at(1)) {
@@ -246,12 +263,17 @@ struct Document {
     footer: Vec<String>,
 }
 
-fn parse(text: &str) -> Option<Document> {
-    let toks = lex(text)?;
+fn parse(text: &str, keep_layout: bool) -> Option<Document> {
+    let (toks, starts_line): (Vec<Tok>, Vec<bool>) = lex(text)?.into_iter().unzip();
     let first = toks.iter().position(|t| !matches!(t, Tok::Comment(..)))?;
     // The header is kept as written: everything up to the root's first character.
     let root_start = root_offset(text)?;
-    let mut parser = Parser { toks, at: first };
+    let mut parser = Parser {
+        toks,
+        starts_line,
+        keep_layout,
+        at: first,
+    };
     let root = parser.value()?;
     let footer = parser.comments(true);
     if parser.at != parser.toks.len() {
@@ -355,8 +377,13 @@ fn bare(value: &Value) -> Value {
     match value {
         Value::Atom(a) => Value::Atom(a.clone()),
         Value::Group {
-            name, open, items, ..
+            name,
+            open,
+            items,
+            broken,
+            ..
         } => Value::Group {
+            broken: *broken,
             name: name.clone(),
             open: *open,
             items: items
@@ -416,15 +443,16 @@ fn has_comments(value: &Value) -> bool {
 /// Lay `value` out starting at column `column` (after a key), its lines indented by
 /// `indent`, with `suffix` (a comma) after it.
 fn layout(value: &Value, indent: usize, column: usize, suffix: &str, out: &mut String) {
-    let one_line = flat(value);
+    let flat_text = flat(value);
     let Value::Group {
         name,
         open,
         items,
         tail,
+        broken,
     } = value
     else {
-        out.push_str(&one_line);
+        out.push_str(&flat_text);
         out.push_str(suffix);
         return;
     };
@@ -432,9 +460,15 @@ fn layout(value: &Value, indent: usize, column: usize, suffix: &str, out: &mut S
         .iter()
         .filter(|i| matches!(i.value, Value::Group { .. }))
         .count();
-    let fits = column + one_line.chars().count() + suffix.len() <= WIDTH;
-    if indent > 0 && fits && nested <= 1 && !has_comments(value) {
-        out.push_str(&one_line);
+    let fits = column + flat_text.chars().count() + suffix.len() <= WIDTH;
+    // As the file had it, if it comes from the file; else on one line when it fits and holds
+    // at most one nested group.
+    let one_line = match broken {
+        Some(broken) => !broken,
+        None => fits && nested <= 1,
+    };
+    if indent > 0 && one_line && !has_comments(value) {
+        out.push_str(&flat_text);
         out.push_str(suffix);
         return;
     }
@@ -533,14 +567,14 @@ pub fn write(study: &Study, original: Option<&str>) -> Written {
         .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
         .to_string(study)
         .expect("studies serialise");
-    let Some(fresh) = parse(&compact) else {
+    let Some(fresh) = parse(&compact, false) else {
         // Not reached (the compact writer's output is plain RON); never fail a save for it.
         return Written {
             text: study.to_ron_string(),
             lost: original.map(comment_lines).unwrap_or_default(),
         };
     };
-    let Some(old) = original.and_then(parse) else {
+    let Some(old) = original.and_then(|t| parse(t, true)) else {
         return Written {
             text: render("", &fresh.root, &[]),
             lost: original.map(comment_lines).unwrap_or_default(),
