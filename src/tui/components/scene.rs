@@ -26,7 +26,7 @@ pub struct SceneView {
     pub state: SceneState,
 }
 
-type SceneOutput = Result<(SceneResult, Option<History>), String>;
+type SceneOutput = Result<(SceneResult, History), String>;
 
 #[derive(Default)]
 pub struct SceneScreen {
@@ -41,7 +41,9 @@ impl SceneScreen {
         let scene = point.scene.clone();
         self.job.spawn(move |_, _| {
             let library = crate::excitation::library::global().map_err(|e| e.to_string())?;
-            sim::run_with_history(&scene, library, true).map_err(|e| e.to_string())
+            // The whole duration (a sweep's scene may stop once settled), on a uniform grid.
+            sim::run_history(&sim::history_scene(&scene), library, &sim::Sampling::Auto)
+                .map_err(|e| e.to_string())
         });
         self.view = Some(SceneView {
             point,
@@ -70,7 +72,7 @@ impl SceneScreen {
             let state = match event {
                 JobEvent::Progress(()) => continue,
                 JobEvent::Done(Ok((result, history))) => {
-                    SceneState::Done(Box::new(result), history.unwrap_or_default())
+                    SceneState::Done(Box::new(result), history)
                 }
                 JobEvent::Done(Err(e)) => SceneState::Failed(e),
                 JobEvent::Lost => SceneState::Failed("the scene run stopped".into()),
