@@ -19,6 +19,7 @@ mod records_cli;
 mod records_sim;
 mod rigid;
 mod robustness;
+mod scene_history;
 mod slurm;
 mod studies;
 mod study;
