@@ -428,7 +428,7 @@ fn drive<const N: usize, M: SimModel<N>>(
             }
         };
     };
-    if let Some(h) = history.as_deref_mut() {
+    if let Some(h) = history {
         h.end(model, t, &y, end_reason, duration);
     }
     let energy = model.energy(&y);
