@@ -20,6 +20,7 @@ mod records_sim;
 mod rigid;
 mod robustness;
 mod saving;
+mod scene_history;
 mod slurm;
 mod studies;
 mod study;

@@ -286,8 +286,9 @@ fn scene_screen_draws_a_fixed_scene() {
             "flywheel_b_vel",
             "clutch_force_a",
             "clutch_force_b",
-            "e_kinetic",
-            "e_dissipated",
+            "e_input",
+            "e_structure",
+            "e_device_damping",
         ],
         rows: (0..=800)
             .map(|i| {
@@ -301,6 +302,7 @@ fn scene_screen_draws_a_fixed_scene() {
                     rate.min(0.0) * 1.5,
                     2.0 * rate.max(0.0),
                     -2.0 * rate.min(0.0),
+                    0.3 * (1.0 - decay(t)) + 0.5 * rate * rate,
                     0.5 * rate * rate,
                     0.3 * (1.0 - decay(t)),
                 ]
@@ -317,6 +319,52 @@ fn scene_screen_draws_a_fixed_scene() {
     assert_eq!(app.screen, Screen::Scene);
     assert!(app.wait_idle(Duration::from_secs(1)), "nothing runs");
     snap_text(&app, "scene");
+}
+
+/// The Fig. 8 scene (bare block, ωg/p = 4, from the Fig. 12 study, whose sweep stops it once
+/// settled at 1.2 s) rerun for the Scene screen: the whole 15 s with all its impacts, θ and the
+/// energy balance only (no device panels for a bare block), units on every axis.
+#[test]
+fn scene_screen_shows_the_whole_fig8_history() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/studies/fig12_rigid_spectra.ron"
+    );
+    let study = Study::load(std::path::Path::new(path)).unwrap();
+    let point = study
+        .expand()
+        .unwrap()
+        .into_iter()
+        .find(|p| p.scene.device == rocklab::scene::Device::None && p.coord("ωg/p") == Some(4.0))
+        .expect("the Fig. 12 study holds the Fig. 8 scene");
+    let mut app = App::new(
+        study,
+        None,
+        Options {
+            deterministic: true,
+            jobs: Some(2),
+            out_root: scratch_dir(),
+        },
+    );
+    app.scene.open(point);
+    key(&mut app, KeyCode::Char('4'));
+    assert_eq!(app.screen, Screen::Scene);
+    assert!(app.wait_idle(Duration::from_secs(60)), "the scene reruns");
+    let Some(SceneState::Done(result, history)) = app.scene.view.as_ref().map(|v| &v.state) else {
+        panic!("the scene finished");
+    };
+    assert!(result.counters.impacts >= 20, "{}", result.counters.impacts);
+    assert_eq!(history.column("t").unwrap().last(), Some(&15.0));
+    let screen = text(&render(&app, Theme::COLOR, SMALL));
+    assert!(screen.contains(&format!("0–15 s: impacts {}", result.counters.impacts)));
+    for unit in ["rad", "J", "t (s)"] {
+        assert!(screen.contains(unit), "{unit}\n{screen}");
+    }
+    for device in ["flywheel", "clutch", "device"] {
+        assert!(!screen.contains(device), "{device}\n{screen}");
+    }
+    assert!(screen.lines().all(|l| l.chars().count() <= 80));
+    snap("scene_fig8_full_80x24", screen);
 }
 
 #[test]
