@@ -29,6 +29,9 @@ pub struct BenchArgs {
     /// Skip the sweep-throughput table (Fig. 12 and Fig. 24 studies on 1 and 2 threads).
     #[arg(long)]
     pub no_sweeps: bool,
+    /// Print only what each optional quantity (drift, accelerations, energy ledger) costs.
+    #[arg(long)]
+    pub quantity_costs: bool,
 }
 
 /// The studies whose sweep throughput the bench reports, embedded so the bench runs anywhere.
@@ -321,6 +324,9 @@ fn print_exact_contact_table(args: &BenchArgs) -> anyhow::Result<()> {
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    if args.quantity_costs {
+        return super::bench_quantities::print(args);
+    }
     println!(
         "rocklab bench: relative peak errors against rtol = {:e}; time = median of {} runs",
         args.reference, args.repeats

@@ -175,6 +175,13 @@ impl Column {
         }
     }
 
+    /// [`Column::accelerations_kin`] computing the kinematics (for tests).
+    #[cfg(test)]
+    fn accelerations(&self, m: &Mode, ag: f64, y: &[f64], fd: f64, mc: f64) -> (f64, f64) {
+        let kin = self.kinematics(m, y[U], y[THETA]);
+        self.accelerations_kin(m, &kin, ag, y, fd, mc)
+    }
+
     /// (ü, θ̈) for device force `fd` (not counting a coupled mass) and coupled mass `mc`.
     ///
     /// Rocking phase (MODEL.md), with a = Fd − m a_g:
@@ -187,14 +194,7 @@ impl Column {
     /// loses mc κ Jᵀ. Full contact (θ ≡ 0): (m + mc) ü + c u̇ + k u = Fd − m a_g (Eq. 41).
     /// The 2×2 system is solved by Cramer's rule (a linear-algebra crate would round
     /// differently and buys nothing at this size).
-    #[inline]
-    #[cfg(test)]
-    fn accelerations(&self, m: &Mode, ag: f64, y: &[f64], fd: f64, mc: f64) -> (f64, f64) {
-        let kin = self.kinematics(m, y[U], y[THETA]);
-        self.accelerations_kin(m, &kin, ag, y, fd, mc)
-    }
-
-    /// [`Column::accelerations`] with the configuration's kinematics already computed.
+    /// `kin` are the configuration's kinematics.
     #[inline]
     fn accelerations_kin(
         &self,

@@ -338,12 +338,24 @@ pub fn refined_max_of_samples(f: impl Fn(f64) -> f64, samples: &[(f64, f64)], fl
     best.max(golden_max(f, lo, hi))
 }
 
-/// Golden-section search for the maximum of a unimodal f on [lo, hi] (50 iterations).
+/// Golden-section search for the maximum of a unimodal f on [lo, hi] (50 iterations, one
+/// new evaluation each: the surviving interior point is kept).
 fn golden_max(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
     let r = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (hi - r * (hi - lo), lo + r * (hi - lo));
+    let (mut fc, mut fd) = (f(c), f(d));
     for _ in 0..50 {
-        let (c, d) = (hi - r * (hi - lo), lo + r * (hi - lo));
-        if f(c) > f(d) { hi = d } else { lo = c }
+        if fc > fd {
+            hi = d;
+            (d, fd) = (c, fc);
+            c = hi - r * (hi - lo);
+            fc = f(c);
+        } else {
+            lo = c;
+            (c, fc) = (d, fd);
+            d = lo + r * (hi - lo);
+            fd = f(d);
+        }
     }
     f(0.5 * (lo + hi))
 }

@@ -838,7 +838,11 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
             .measures
             .abs_acceleration
             .then_some(self.peaks.abs_acceleration_g);
-        if dense.t0 >= self.mode.motion.end() && (angular_floor.is_some() || abs_floor.is_some()) {
+        // The ground at rest over the whole step (a record's last sample may be non-zero).
+        let quiet = || {
+            dense.t0 >= self.mode.motion.end() && self.mode.motion.peak_abs(dense.t0, t_end) == 0.0
+        };
+        if (angular_floor.is_some() || abs_floor.is_some()) && quiet() {
             let (abs_bound, angular_bound) = self.body.quiet_acceleration_bounds(
                 &self.mode,
                 |i| dense.bound(i),
