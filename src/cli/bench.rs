@@ -64,7 +64,8 @@ pub fn sweep_throughput(
     let mut best = f64::INFINITY;
     for _ in 0..repeats.max(1) {
         let start = Instant::now();
-        let results = crate::sweep::run(&points, &opts, library, &cancel, &|_| {});
+        // As `rocklab run` does it: the scenes compute only the study's quantities.
+        let results = crate::sweep::run_study(study, &opts, library, &cancel, &|_| {})?;
         best = best.min(start.elapsed().as_secs_f64());
         if let Some(failed) = results.outcomes.iter().find(|o| o.result.is_err()) {
             anyhow::bail!("a scene failed in the bench sweep: {:?}", failed.result);
