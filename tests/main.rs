@@ -15,6 +15,7 @@ mod fuzz;
 mod hard_cases;
 mod lost_events;
 mod paper;
+mod quantities;
 mod records_cli;
 mod records_sim;
 mod rigid;

@@ -2,6 +2,7 @@
 //! locate event, apply jump, restart), track peaks and the energy balance.
 
 use crate::excitation::{Library, Motion, Pulse, RecordMotion};
+pub use crate::model::Measures;
 use crate::model::device::DeviceModel;
 use crate::model::flexible::FlexibleModel;
 use crate::model::rigid::RigidModel;
@@ -55,6 +56,9 @@ pub struct SceneResult {
     /// Equations integrated for a rigid block (`auto` resolved); None for other structures.
     #[serde(default)]
     pub form_used: Option<crate::scene::Form>,
+    /// What was computed ([`Bounds::measures`]); peaks and energies not measured read 0.
+    #[serde(default)]
+    pub measured: Measures,
 }
 
 /// A time history: column names and one row per sample time of its [`Sampling`], plus two
@@ -130,6 +134,8 @@ pub fn run(scene: &Scene, library: &Library) -> Result<SceneResult, SimError> {
 pub struct Bounds<'a> {
     pub cancel: Option<&'a AtomicBool>,
     pub time_limit: Option<Duration>,
+    /// The optional quantities to compute (default: all).
+    pub measures: Measures,
 }
 
 /// The bounds of a scene that started at `started`, checked every few steps.
@@ -260,6 +266,7 @@ pub fn run_sampled(
             form_used = Some(block.form);
             let mut model =
                 RigidModel::new(block, device, scene.impact, &motion, scene.initial_rotation);
+            model.set_measures(bounds.measures);
             let h = history.as_mut();
             match model.state_len() {
                 6 => drive::<6, _>(&mut model, &motion, scene, h, watch),
@@ -279,6 +286,7 @@ pub fn run_sampled(
             let device = DeviceModel::new(&scene.device, flex.mass, p);
             let mut model = FlexibleModel::new(flex, device, &motion, scene.initial_rotation)
                 .with_closed_form_contact(scene.closed_form_contact);
+            model.set_measures(bounds.measures);
             let h = history.as_mut();
             match model.state_len() {
                 8 => drive::<8, _>(&mut model, &motion, scene, h, watch),
@@ -290,6 +298,7 @@ pub fn run_sampled(
     result.peak_rotation_ratio = result.peaks.rotation / scene.structure.alpha();
     result.wall_seconds = started.elapsed().as_secs_f64();
     result.form_used = form_used;
+    result.measured = bounds.measures;
     Ok((result, history.map(Recorder::finish)))
 }
 
@@ -323,6 +332,9 @@ fn drive<const N: usize, M: SimModel<N>>(
     let mut y = [0.0; N];
     let mut t = 0.0;
     let mut action = model.start(&mut y);
+    // The ledger's per-step evaluation only when asked; the accumulators stay integrated (and
+    // error controlled), so the steps, and every other result, are the same either way.
+    let ledger = watch.bounds.measures.energy;
     let e0 = model.energy(&y);
     let initial_stored = e0.structure + e0.inerter;
     let mut energy_scale = initial_stored.abs();
@@ -364,6 +376,7 @@ fn drive<const N: usize, M: SimModel<N>>(
                     scene,
                     history: history.as_deref_mut(),
                     energy_scale: &mut energy_scale,
+                    ledger,
                 };
                 let integrated = integ.stats.steps + integ.stats.rejected;
                 if let Some(next) = run.advance_closed_form(
@@ -404,8 +417,10 @@ fn drive<const N: usize, M: SimModel<N>>(
                 let at_event = matches!(outcome, StepOutcome::Event(_));
                 h.step(model, dense.as_ref(), t, &y, at_event);
             }
-            let e = model.energy(&y);
-            energy_scale = energy_scale.max(e.input.abs()).max(e.structure + e.inerter);
+            if ledger {
+                let e = model.energy(&y);
+                energy_scale = energy_scale.max(e.input.abs()).max(e.structure + e.inerter);
+            }
             match outcome {
                 StepOutcome::Event(index) => {
                     break Run {
@@ -414,6 +429,7 @@ fn drive<const N: usize, M: SimModel<N>>(
                         scene,
                         history: history.as_deref_mut(),
                         energy_scale: &mut energy_scale,
+                        ledger,
                     }
                     .event(index, t, &mut y);
                 }
@@ -431,11 +447,16 @@ fn drive<const N: usize, M: SimModel<N>>(
     if let Some(h) = history {
         h.end(model, t, &y, end_reason, duration);
     }
-    let energy = model.energy(&y);
-    let imbalance = energy.imbalance() + initial_stored;
-    let scale = energy_scale
-        .max(energy.dissipated().abs())
-        .max(f64::MIN_POSITIVE);
+    let (energy, energy_residual) = if ledger {
+        let energy = model.energy(&y);
+        let imbalance = energy.imbalance() + initial_stored;
+        let scale = energy_scale
+            .max(energy.dissipated().abs())
+            .max(f64::MIN_POSITIVE);
+        (energy, imbalance.abs() / scale)
+    } else {
+        (Energy::default(), 0.0)
+    };
     Ok(SceneResult {
         overturned: end_reason == EndReason::Overturned,
         end_reason,
@@ -444,13 +465,14 @@ fn drive<const N: usize, M: SimModel<N>>(
         peak_rotation_ratio: 0.0,
         counters: model.counters(),
         energy,
-        energy_residual: imbalance.abs() / scale,
+        energy_residual,
         stats: Stats {
             closed_form_steps,
             ..integ.stats
         },
         wall_seconds: 0.0,
         form_used: None,
+        measured: Measures::ALL,
     })
 }
 
@@ -461,6 +483,8 @@ struct Run<'r, const N: usize, M: SimModel<N>> {
     scene: &'r Scene,
     history: Option<&'r mut Recorder>,
     energy_scale: &'r mut f64,
+    /// Whether the energy ledger is asked for.
+    ledger: bool,
 }
 
 impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
@@ -511,11 +535,13 @@ impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
             *t = t1;
             *steps += 1;
             watch.check(*steps + integrated, *t)?;
-            let e = self.model.energy(y);
-            *self.energy_scale = self
-                .energy_scale
-                .max(e.input.abs())
-                .max(e.structure + e.inerter);
+            if self.ledger {
+                let e = self.model.energy(y);
+                *self.energy_scale = self
+                    .energy_scale
+                    .max(e.input.abs())
+                    .max(e.structure + e.inerter);
+            }
             if let ClosedFormEnd::Event(index) = how {
                 return Ok(Some(self.event(index, *t, y)));
             }
