@@ -241,6 +241,7 @@ proptest! {
             let bounds = rocklab::sim::Bounds {
                 cancel: None,
                 time_limit: Some(Duration::from_millis(200)),
+                time_stages: false,
             };
             let run = rocklab::sweep::guarded(|| {
                 let records = rocklab::excitation::library::global().unwrap();

@@ -7,7 +7,10 @@ use crate::model::flexible::FlexibleModel;
 use crate::model::rigid::RigidModel;
 use crate::model::{Action, ClosedFormEnd, Counters, EndReason, Energy, Peaks, SimModel};
 use crate::scene::{Excitation, Impact, RigidBlock, Scene, Structure};
-use crate::solver::{Integrator, Options, SolverError, Stats, StepOutcome};
+use crate::solver::{Integrator, Method, Options, SolverError, Stats, StepOutcome};
+
+/// The integrator's work counters, as reported with a scene's result.
+pub type SceneStats = Stats;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -125,6 +128,8 @@ pub fn run(scene: &Scene, library: &Library) -> Result<SceneResult, SimError> {
 pub struct Bounds<'a> {
     pub cancel: Option<&'a AtomicBool>,
     pub time_limit: Option<Duration>,
+    /// Measure the time in the integrator's stages (`Stats::stage_nanos`; the bench).
+    pub time_stages: bool,
 }
 
 /// The bounds of a scene that started at `started`, checked every few steps.
@@ -265,11 +270,14 @@ fn drive<const N: usize, M: SimModel<N>>(
         }
     });
     let mut integ = Integrator::new(Options {
-        rtol: scene.rtol,
-        atol,
-        h_max: f64::INFINITY,
         controlled,
         max_steps: STEP_BUDGET,
+        time_stages: watch.bounds.time_stages,
+        method: match scene.method.resolve(scene.rtol) {
+            crate::scene::Method::Dop853 => Method::Dop853,
+            _ => Method::Dp54,
+        },
+        ..Options::new(scene.rtol, atol)
     });
     let mut y = [0.0; N];
     let mut t = 0.0;
@@ -279,6 +287,13 @@ fn drive<const N: usize, M: SimModel<N>>(
     let mut energy_scale = initial_stored.abs();
     let mut closed_form_steps = 0;
     let mut stalls = 0;
+    // Restarts after events take their first step from the new dynamics
+    // ([`Integrator::restart_switched`]) with a mechanistic clutch: its contacts, resets and the
+    // impacts it stiffens change the time scale at once. Measured on the Fig. 8 mechanistic
+    // scene (rtol 1e-4): 57 rejected steps instead of 270 (219 with the estimate after clutch
+    // events only); on the bare block the old step fits better (`rocklab bench`).
+    let estimate_restarts = matches!(scene.device, crate::scene::Device::Mechanistic(_));
+    let mut switched = false;
     model.observe_point(t, &y);
     if let Some(h) = history.as_deref_mut() {
         h.columns = model.history_columns();
@@ -325,7 +340,11 @@ fn drive<const N: usize, M: SimModel<N>>(
                     action = next;
                     continue;
                 }
-                integ.restart(model, t, y)
+                if switched {
+                    integ.restart_switched(model, t, y)
+                } else {
+                    integ.restart(model, t, y)
+                }
             }
         }
         action = loop {
@@ -352,6 +371,7 @@ fn drive<const N: usize, M: SimModel<N>>(
             energy_scale = energy_scale.max(e.input.abs()).max(e.structure + e.inerter);
             match outcome {
                 StepOutcome::Event(index) => {
+                    switched = estimate_restarts;
                     break Run {
                         model: &mut *model,
                         motion,

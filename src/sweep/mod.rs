@@ -166,6 +166,7 @@ pub fn run_checkpointed(
     let bounds = sim::Bounds {
         cancel: Some(cancel),
         time_limit: scene_time_limit,
+        time_stages: false,
     };
     let selected: Vec<&ScenePoint> = points
         .iter()
