@@ -111,7 +111,8 @@ pub enum Form {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "snake_case")]
 pub enum Method {
-    /// Dormand–Prince 5(4) above [`DOP853_BELOW_RTOL`], DOP853 at and below it.
+    /// DOP853 at and below [`DOP853_BELOW_RTOL`] unless a mechanistic clutch makes the scene
+    /// event-dense; Dormand–Prince 5(4) otherwise.
     #[default]
     Auto,
     /// Dormand–Prince 5(4): 6 RHS calls per step.
@@ -121,18 +122,23 @@ pub enum Method {
 }
 
 /// The tolerance at and below which `auto` integrates with DOP853, from `rocklab bench`'s
-/// work-precision tables of the Fig. 8 bare and mechanistic scenes (BENCHMARKS.md).
-pub const DOP853_BELOW_RTOL: f64 = 1e-7;
+/// work-precision tables (BENCHMARKS.md): on the Fig. 8 bare block DOP853 needs fewer RHS
+/// calls at equal peak error from rtol 1e-4 down (769 against 3115 for errors ~1e-8), on the
+/// mechanistic block (a restart every ~2 steps) more at every tolerance (restarts and
+/// rejected steps cost it 15 and 12 calls). The threshold is conservative: studies at the
+/// default rtol keep Dormand–Prince.
+pub const DOP853_BELOW_RTOL: f64 = 1e-6;
 
 impl Method {
     pub fn is_auto(&self) -> bool {
         *self == Method::Auto
     }
 
-    /// The pair to integrate with at `rtol` (`Auto` resolved).
-    pub fn resolve(self, rtol: f64) -> Method {
+    /// The pair to integrate `scene` with (`Auto` resolved).
+    pub fn resolve(self, scene: &Scene) -> Method {
+        let event_dense = matches!(scene.device, Device::Mechanistic(_));
         match self {
-            Method::Auto if rtol <= DOP853_BELOW_RTOL => Method::Dop853,
+            Method::Auto if scene.rtol <= DOP853_BELOW_RTOL && !event_dense => Method::Dop853,
             Method::Auto => Method::Dp54,
             m => m,
         }

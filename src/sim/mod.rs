@@ -273,7 +273,7 @@ fn drive<const N: usize, M: SimModel<N>>(
         controlled,
         max_steps: STEP_BUDGET,
         time_stages: watch.bounds.time_stages,
-        method: match scene.method.resolve(scene.rtol) {
+        method: match scene.method.resolve(scene) {
             crate::scene::Method::Dop853 => Method::Dop853,
             _ => Method::Dp54,
         },
