@@ -206,7 +206,11 @@ fn print_method_tables(args: &BenchArgs) -> anyhow::Result<()> {
         ("Fig. 8 rigid mechanistic", rigid_fig8(mechanistic())),
     ];
     for (name, scene) in scenes {
-        if args.only.as_ref().is_some_and(|o| !name.contains(o.as_str())) {
+        if args
+            .only
+            .as_ref()
+            .is_some_and(|o| !name.contains(o.as_str()))
+        {
             continue;
         }
         let mut reference = scene.clone();

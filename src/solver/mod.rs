@@ -164,7 +164,15 @@ pub struct Stats {
 
 impl PartialEq for Stats {
     fn eq(&self, other: &Self) -> bool {
-        let persisted = |s: &Stats| (s.steps, s.rejected, s.rhs_evals, s.events, s.closed_form_steps);
+        let persisted = |s: &Stats| {
+            (
+                s.steps,
+                s.rejected,
+                s.rhs_evals,
+                s.events,
+                s.closed_form_steps,
+            )
+        };
         persisted(self) == persisted(other)
     }
 }
@@ -549,10 +557,8 @@ impl<const N: usize> Integrator<N> {
             if err <= 1.0 {
                 let fac = match self.opts.method {
                     // PI controller (β = 0.04), as in DOPRI5.
-                    Method::Dp54 => {
-                        (err.powf(expo - 0.75 * 0.04) * self.err_old.powf(-0.04) / 0.9)
-                            .clamp(0.1, 5.0)
-                    }
+                    Method::Dp54 => (err.powf(expo - 0.75 * 0.04) * self.err_old.powf(-0.04) / 0.9)
+                        .clamp(0.1, 5.0),
                     // As in DOP853 (β = 0, step ratio within [1/3, 6]).
                     Method::Dop853 => (err.powf(expo) / 0.9).clamp(1.0 / 6.0, 3.0),
                 };
@@ -848,14 +854,8 @@ impl<const N: usize> Integrator<N> {
         let mut g1 = [0.0; MAX_EVENTS];
         let mut rates1 = [0.0; MAX_EVENTS];
         self.event_rates(sys, t1, y1, f1, -eps, &mut g1, &mut rates1, false);
-        let clear = (0..m).all(|i| {
-            no_root_inside(
-                self.g_val[i],
-                h * self.g_rate[i],
-                g1[i],
-                h * rates1[i],
-            )
-        });
+        let clear =
+            (0..m).all(|i| no_root_inside(self.g_val[i], h * self.g_rate[i], g1[i], h * rates1[i]));
         if clear {
             self.screen_fails = 0;
         } else {
@@ -1219,7 +1219,10 @@ mod tests {
         let (y2, dy2) = dense_error(Method::Dop853, 0.4);
         let slope = (y1 / y2).log2();
         let dslope = (dy1 / dy2).log2();
-        assert!((slope - 8.0).abs() < 0.7, "state slope {slope:.2} ({y1:e}, {y2:e})");
+        assert!(
+            (slope - 8.0).abs() < 0.7,
+            "state slope {slope:.2} ({y1:e}, {y2:e})"
+        );
         assert!((dslope - 7.0).abs() < 0.7, "rate slope {dslope:.2}");
         assert!(y2 < 1e-9, "{y2:e}");
         // Dormand–Prince's 4th-order extension: slope 5.
@@ -1279,8 +1282,7 @@ mod tests {
                 // crossings 2.8e-3 apart around 2π, inside one step) and beyond it.
                 for c in [0.5, 0.05, 1e-3, 1e-6, -1e-6] {
                     let o = with_method(rtol, method);
-                    let (screened, calls_screened) =
-                        event_log(&Level(c), o, 13.0);
+                    let (screened, calls_screened) = event_log(&Level(c), o, 13.0);
                     let (scanned, calls_scanned) = event_log(
                         &Level(c),
                         Options {
