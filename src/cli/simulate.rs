@@ -696,24 +696,7 @@ pub fn summary(scene: &Scene, r: &SceneResult) -> String {
     )
 }
 
-/// An angle in radians: a bare number or `…rad`, or degrees as `…deg` / `…°`.
-pub fn parse_angle(text: &str) -> Result<f64, String> {
-    let t = text.trim();
-    let (number, to_rad) = if let Some(n) = t.strip_suffix("deg").or_else(|| t.strip_suffix('°')) {
-        (n, std::f64::consts::PI / 180.0)
-    } else {
-        (t.strip_suffix("rad").unwrap_or(t), 1.0)
-    };
-    number
-        .trim()
-        .parse::<f64>()
-        .ok()
-        .filter(|v| v.is_finite())
-        .map(|v| v * to_rad)
-        .ok_or_else(|| {
-            format!("`{text}` is not an angle: give radians (0.1745) or degrees (10deg)")
-        })
-}
+pub use crate::study::parse_angle;
 
 #[cfg(test)]
 mod angle_tests {
