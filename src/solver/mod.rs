@@ -716,9 +716,9 @@ impl<const N: usize> Integrator<N> {
                     continue;
                 }
                 let (mut e5, mut e3) = (0.0, 0.0);
-                for j in 0..dop853::STAGES {
-                    e5 += dop853::E5[j] * k[j][i];
-                    e3 += dop853::E3[j] * k[j][i];
+                for (j, kj) in k.iter().take(dop853::STAGES).enumerate() {
+                    e5 += dop853::E5[j] * kj[i];
+                    e3 += dop853::E3[j] * kj[i];
                 }
                 let sc = self.error_scale(i, y[i], y1[i]);
                 e5sum += (e5 / sc) * (e5 / sc);
@@ -940,7 +940,7 @@ impl<const N: usize> Integrator<N> {
 /// polynomial: all positive implies the polynomial is positive on [0, 1] (convex hull).
 fn no_root_inside(a: f64, da: f64, b: f64, db: f64) -> bool {
     // A strict common sign at the ends (exact zeros and NaN fail here).
-    if !(a * b > 0.0) {
+    if a * b <= 0.0 || a.is_nan() || b.is_nan() {
         return false;
     }
     let s = a.signum();
@@ -1159,7 +1159,8 @@ mod tests {
             (Method::Dop853, 8.0, dop853_steps),
             (Method::Dp54, 5.0, dp54_steps),
         ] {
-            let cases: [(&dyn Fn(f64) -> f64, [f64; 2]); 2] = [
+            type Exact<'a> = &'a dyn Fn(f64) -> f64;
+            let cases: [(Exact, [f64; 2]); 2] = [
                 (&|t: f64| t.cos(), [1.0, 0.0]),
                 (&|t: f64| (-t).exp(), [1.0, 1.0]),
             ];
