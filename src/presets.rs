@@ -68,6 +68,7 @@ pub fn scene(structure: Structure, device: Device, excitation: Excitation, durat
         initial_rotation: 0.0,
         stop_when_settled: false,
         closed_form_contact: default_closed_form_contact(),
+        method: Default::default(),
     }
 }
 

@@ -31,6 +31,9 @@ pub struct Scene {
     /// intervals). Serialized as `exact_contact` (study and scene files keep their names).
     #[serde(default = "default_closed_form_contact", rename = "exact_contact")]
     pub closed_form_contact: bool,
+    /// Runge–Kutta pair of the integrator; `auto` chooses by `rtol` ([`Method::resolve`]).
+    #[serde(default, skip_serializing_if = "Method::is_auto")]
+    pub method: Method,
 }
 
 pub fn default_closed_form_contact() -> bool {
@@ -101,6 +104,45 @@ pub enum Form {
     Exact,
     Slender,
     Auto,
+}
+
+/// The integrator's Runge–Kutta pair. Both locate events and restart identically; they differ
+/// in cost per accuracy.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// DOP853 at and below [`DOP853_BELOW_RTOL`] unless a mechanistic clutch makes the scene
+    /// event-dense; Dormand–Prince 5(4) otherwise.
+    #[default]
+    Auto,
+    /// Dormand–Prince 5(4): 6 RHS calls per step.
+    Dp54,
+    /// DOP853 (8th order, 7th-order dense output): 15 RHS calls per step.
+    Dop853,
+}
+
+/// The tolerance at and below which `auto` integrates with DOP853, from `rocklab bench`'s
+/// work-precision tables (BENCHMARKS.md): on the Fig. 8 bare block DOP853 needs fewer RHS
+/// calls at equal peak error from rtol 1e-4 down (769 against 3115 for errors ~1e-8), on the
+/// mechanistic block (a restart every ~2 steps) more at every tolerance (restarts and
+/// rejected steps cost it 15 and 12 calls). The threshold is conservative: studies at the
+/// default rtol keep Dormand–Prince.
+pub const DOP853_BELOW_RTOL: f64 = 1e-6;
+
+impl Method {
+    pub fn is_auto(&self) -> bool {
+        *self == Method::Auto
+    }
+
+    /// The pair to integrate `scene` with (`Auto` resolved).
+    pub fn resolve(self, scene: &Scene) -> Method {
+        let event_dense = matches!(scene.device, Device::Mechanistic(_));
+        match self {
+            Method::Auto if scene.rtol <= DOP853_BELOW_RTOL && !event_dense => Method::Dop853,
+            Method::Auto => Method::Dp54,
+            m => m,
+        }
+    }
 }
 
 /// Relative peak-rotation error of the slender form against the exact one, per α²: measured

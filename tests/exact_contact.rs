@@ -29,6 +29,7 @@ fn flexible(alpha: f64, device: Device, record: &str, duration: f64) -> Scene {
         initial_rotation: 0.0,
         stop_when_settled: false,
         closed_form_contact: true,
+        method: Default::default(),
     }
 }
 

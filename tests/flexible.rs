@@ -39,6 +39,7 @@ fn scene(structure: Structure, device: Device, excitation: Excitation, duration:
         initial_rotation: 0.0,
         stop_when_settled: false,
         closed_form_contact: true,
+        method: Default::default(),
     }
 }
 

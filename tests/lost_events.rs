@@ -112,6 +112,7 @@ fn superstition(device: Device, kinks: KinkPolicy, rtol: f64) -> Scene {
         initial_rotation: 0.0,
         stop_when_settled: false,
         closed_form_contact: default_closed_form_contact(),
+        method: Default::default(),
     }
 }
 

@@ -23,6 +23,7 @@ fn scene(excitation: Excitation, device: Device, rtol: f64) -> Scene {
         initial_rotation: 0.0,
         stop_when_settled: false,
         closed_form_contact: true,
+        method: Default::default(),
     }
 }
 

@@ -110,6 +110,7 @@ fn slender_free_rocking_matches_closed_form() {
         initial_rotation: theta0,
         stop_when_settled: false,
         closed_form_contact: true,
+        method: Default::default(),
     };
     let (result, history) = sim::run_with_history(
         &scene,

@@ -32,6 +32,9 @@ pub struct BenchArgs {
     /// Print only what each optional quantity (drift, accelerations, energy ledger) costs.
     #[arg(long)]
     pub quantity_costs: bool,
+    /// Only the method comparison (DP54 against DOP853 on the Fig. 8 scenes).
+    #[arg(long)]
+    pub methods_only: bool,
 }
 
 /// The studies whose sweep throughput the bench reports, embedded so the bench runs anywhere.
@@ -165,6 +168,98 @@ fn relative_error(a: f64, reference: f64) -> f64 {
     } else {
         (a - reference).abs() / reference.abs()
     }
+}
+
+/// Stats of one run of `scene` with the time in the integrator's stages measured
+/// (`Stats::stage_nanos`); a separate run, so the all-in times carry no clock reads.
+pub fn stage_timed(scene: &Scene) -> Result<SceneResult, sim::SimError> {
+    let library =
+        crate::excitation::library::global().map_err(|e| sim::SimError::Invalid(e.to_string()))?;
+    sim::run_bounded(
+        scene,
+        library,
+        sim::Bounds {
+            time_stages: true,
+            ..Default::default()
+        },
+    )
+}
+
+/// RHS calls made inside the stages (trial steps, and DOP853's dense-output stages): the
+/// calls the stage time covers (restarts and step estimates make the rest).
+fn stage_calls(method: Method, st: &crate::sim::SceneStats) -> f64 {
+    let trials = (st.steps + st.rejected) as f64;
+    match method {
+        Method::Dop853 => 12.0 * trials + 3.0 * st.steps as f64,
+        _ => 6.0 * trials,
+    }
+    .max(1.0)
+}
+
+/// The largest relative error over the four peaks.
+fn worst(errors: &[f64; 4]) -> f64 {
+    errors.iter().copied().fold(0.0, f64::max)
+}
+
+/// Work-precision of both methods on the Fig. 8 bare and mechanistic scenes: peak error
+/// against a DOP853 reference, RHS calls, accepted and rejected steps, RHS calls per accepted
+/// step, time per RHS call all-in and in the stages alone, event-function calls per step.
+fn print_method_tables(args: &BenchArgs) -> anyhow::Result<()> {
+    let scenes = [
+        ("Fig. 8 rigid bare", rigid_fig8(Device::None)),
+        ("Fig. 8 rigid mechanistic", rigid_fig8(mechanistic())),
+    ];
+    for (name, scene) in scenes {
+        if args
+            .only
+            .as_ref()
+            .is_some_and(|o| !name.contains(o.as_str()))
+        {
+            continue;
+        }
+        let mut reference = scene.clone();
+        reference.method = Method::Dop853;
+        let (reference, _) = timed(&reference, args.reference, 1)?;
+        let want = peaks(&reference);
+        println!(
+            "\n## Methods: {name} (errors against DOP853 at rtol {:e}; auto = DOP853 at rtol ≤ {:e})\n",
+            args.reference, DOP853_BELOW_RTOL
+        );
+        println!(
+            "| method | rtol | worst peak err | RHS calls | accepted | rejected | RHS/accepted | time (ms) | ns/RHS all-in | ns/RHS stages | event calls/step |"
+        );
+        println!("|---|---|---|---|---|---|---|---|---|---|---|");
+        for method in [Method::Dp54, Method::Dop853] {
+            for &rtol in &args.rtol {
+                let mut s = scene.clone();
+                s.method = method;
+                s.rtol = rtol;
+                let (result, seconds) = timed(&s, rtol, args.repeats)?;
+                let staged = stage_timed(&s)?;
+                let got = peaks(&result);
+                let errors = std::array::from_fn(|i| relative_error(got[i], want[i]));
+                let st = result.stats;
+                println!(
+                    "| {} | {:.0e} | {:.1e} | {} | {} | {} | {:.2} | {:.3} | {:.0} | {:.0} | {:.2} |",
+                    match method {
+                        Method::Dop853 => "dop853",
+                        _ => "dp54",
+                    },
+                    rtol,
+                    worst(&errors),
+                    st.rhs_evals,
+                    st.steps,
+                    st.rejected,
+                    st.rhs_evals as f64 / st.steps.max(1) as f64,
+                    seconds * 1e3,
+                    seconds * 1e9 / st.rhs_evals.max(1) as f64,
+                    staged.stats.stage_nanos as f64 / stage_calls(method, &staged.stats),
+                    staged.stats.event_calls as f64 / staged.stats.steps.max(1) as f64,
+                );
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Run `scene` at `rtol` `repeats` times; the result of the last run and the median time.
@@ -328,6 +423,9 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     if args.quantity_costs {
         return super::bench_quantities::print(args);
     }
+    if args.methods_only {
+        return print_method_tables(args);
+    }
     println!(
         "rocklab bench: relative peak errors against rtol = {:e}; time = median of {} runs",
         args.reference, args.repeats
@@ -416,5 +514,6 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         );
     }
     print_exact_contact_table(args)?;
+    print_method_tables(args)?;
     Ok(())
 }

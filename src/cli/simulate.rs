@@ -191,6 +191,9 @@ pub struct SimulateArgs {
     /// Relative tolerance of the integrator.
     #[arg(long, default_value_t = crate::scene::default_rtol())]
     pub rtol: f64,
+    /// Integrator: dop853 at tight tolerance, dp54 otherwise (auto), or either.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub method: crate::scene::Method,
     /// Initial rotation θ0 (rad) for free rocking.
     #[arg(long, default_value_t = 0.0)]
     pub theta0: f64,
@@ -366,6 +369,7 @@ impl SimulateArgs {
             initial_rotation: self.theta0,
             stop_when_settled: self.stop_when_settled,
             closed_form_contact: !self.integrate_contact,
+            method: self.method,
         };
         scene.validate().map_err(UsageError::from_invalid)?;
         Ok(scene)

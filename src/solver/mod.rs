@@ -9,10 +9,34 @@
 //! derivative, and (4) a step budget and per-call statistics. That is ~300 lines here, tested
 //! against closed forms in this module's unit tests.
 //!
-//! Method: Dormand–Prince 5(4) (Hairer, Nørsett & Wanner, Solving ODEs I, §II.5) with its
-//! 4th-order continuous extension and a PI step-size controller.
+//! Methods ([`Method`]): Dormand–Prince 5(4) (Hairer, Nørsett & Wanner, Solving ODEs I, §II.5)
+//! with its 4th-order continuous extension and a PI step-size controller, and DOP853 (§II.10),
+//! the 8(5,3) pair with its 7th-order continuous extension, for tight tolerances. Both share
+//! everything else: the event scan and root refinement, restarts, FSAL, stops, budget, stats.
+
+mod dop853;
 
 use thiserror::Error;
+
+/// The Runge–Kutta pair that advances the solution.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Method {
+    /// Dormand–Prince 5(4), 6 RHS calls per step.
+    #[default]
+    Dp54,
+    /// DOP853, 12 RHS calls per step plus 3 for its dense output.
+    Dop853,
+}
+
+impl Method {
+    /// Order used in the step-size formulas (the error estimate behaves as h^(q+1)).
+    fn order(self) -> f64 {
+        match self {
+            Method::Dp54 => 5.0,
+            Method::Dop853 => 8.0,
+        }
+    }
+}
 
 /// At most this many event functions per system.
 pub const MAX_EVENTS: usize = 12;
@@ -60,6 +84,20 @@ pub trait OdeSystem<const N: usize> {
     fn max_step(&self) -> f64 {
         f64::INFINITY
     }
+    /// Event values `g` and their time derivatives `rates` along the solution at (t, y), where
+    /// dy/dt = `dydt`, computed together (they share trigonometry and kinematics). Return
+    /// false if not provided: the integrator then differences [`OdeSystem::events`] along the
+    /// tangent, one more call of `events`.
+    fn events_with_rates(
+        &self,
+        _t: f64,
+        _y: &[f64; N],
+        _dydt: &[f64; N],
+        _g: &mut [f64],
+        _rates: &mut [f64],
+    ) -> bool {
+        false
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -74,9 +112,38 @@ pub struct Options<const N: usize> {
     pub controlled: usize,
     /// Accepted plus rejected steps allowed over the integrator's lifetime.
     pub max_steps: u64,
+    pub method: Method,
+    /// Skip the event scan's sub-samples on steps where the end values and rates prove no
+    /// sign change inside ([`no_root_inside`]); `false` samples every step (the reference).
+    pub event_screen: bool,
+    /// First step after a switch of the dynamics from the local dynamics
+    /// ([`Integrator::restart_switched`]) instead of the last step size.
+    pub restart_estimate: bool,
+    /// Measure the time spent in the stages (`Stats::stage_nanos`); costs two clock reads
+    /// per step.
+    pub time_stages: bool,
 }
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+impl<const N: usize> Options<N> {
+    /// Defaults for everything but the tolerances.
+    pub fn new(rtol: f64, atol: [f64; N]) -> Self {
+        Options {
+            rtol,
+            atol,
+            h_max: f64::INFINITY,
+            controlled: N,
+            max_steps: u64::MAX,
+            method: Method::Dp54,
+            event_screen: true,
+            restart_estimate: true,
+            time_stages: false,
+        }
+    }
+}
+
+/// Work counters of a run. Equality compares the persisted counters only (the diagnostic ones
+/// are not stored, so a run read back equals the run that wrote it).
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Stats {
     pub steps: u64,
     pub rejected: u64,
@@ -86,7 +153,31 @@ pub struct Stats {
     /// counted in `steps`). Set by the simulation driver.
     #[serde(default, rename = "exact_steps")]
     pub closed_form_steps: u64,
+    /// Wall time in the Runge–Kutta stages and dense-output construction (ns), measured only
+    /// with `Options::time_stages` (for the bench; not persisted).
+    #[serde(skip)]
+    pub stage_nanos: u64,
+    /// Calls of the system's event functions (all paths; not persisted).
+    #[serde(skip)]
+    pub event_calls: u64,
 }
+
+impl PartialEq for Stats {
+    fn eq(&self, other: &Self) -> bool {
+        let persisted = |s: &Stats| {
+            (
+                s.steps,
+                s.rejected,
+                s.rhs_evals,
+                s.events,
+                s.closed_form_steps,
+            )
+        };
+        persisted(self) == persisted(other)
+    }
+}
+
+impl Eq for Stats {}
 
 #[derive(Clone, Debug, Error, PartialEq)]
 pub enum SolverError {
@@ -155,12 +246,19 @@ const D7: f64 = 69997945.0 / 29380423.0;
 /// twice inside one step is still seen.
 const EVENT_SAMPLES: usize = 4;
 
-/// Dense output of the last accepted step: y(t0 + τh), τ ∈ [0, 1].
+/// Steps without the event screen after it failed on three steps in a row.
+const SCREEN_PAUSE: u32 = 16;
+
+/// Dense output of the last accepted step: y(t0 + τh), τ ∈ [0, 1]. Both methods' continuous
+/// extensions have Hairer's nested form
+/// y = r0 + τ(r1 + (1−τ)(r2 + τ(r3 + (1−τ)(r4 + τ(r5 + (1−τ)(r6 + τ r7)))))),
+/// Dormand–Prince 5(4) with r5 = r6 = r7 = 0 (`top` = 4), DOP853 with all eight (`top` = 7).
 #[derive(Clone, Copy, Debug)]
 pub struct Dense<const N: usize> {
     pub t0: f64,
     pub h: f64,
-    r: [[f64; N]; 5],
+    r: [[f64; N]; 8],
+    top: usize,
 }
 
 impl<const N: usize> Dense<N> {
@@ -181,9 +279,16 @@ impl<const N: usize> Dense<N> {
         let th = self.tau(t);
         let th1 = 1.0 - th;
         let r = &self.r;
-        std::array::from_fn(|i| {
-            r[0][i] + th * (r[1][i] + th1 * (r[2][i] + th * (r[3][i] + th1 * r[4][i])))
-        })
+        if self.top == 4 {
+            std::array::from_fn(|i| {
+                r[0][i] + th * (r[1][i] + th1 * (r[2][i] + th * (r[3][i] + th1 * r[4][i])))
+            })
+        } else {
+            std::array::from_fn(|i| {
+                let inner = r[4][i] + th * (r[5][i] + th1 * (r[6][i] + th * r[7][i]));
+                r[0][i] + th * (r[1][i] + th1 * (r[2][i] + th * (r[3][i] + th1 * inner)))
+            })
+        }
     }
 
     /// No |y_i(t)| of the interpolant on the step exceeds this. In the nested form
@@ -214,13 +319,16 @@ impl<const N: usize> Dense<N> {
     pub fn derivative(&self, t: f64) -> [f64; N] {
         let th = self.tau(t);
         let th1 = 1.0 - th;
-        let r = &self.r;
         std::array::from_fn(|i| {
-            let a = r[2][i] + th * (r[3][i] + th1 * r[4][i]);
-            let da = r[3][i] + (1.0 - 2.0 * th) * r[4][i];
-            let b = r[1][i] + th1 * a;
-            let db = -a + th1 * da;
-            (b + th * db) / self.h
+            // Inside out: v_k = r_k + m_k v_(k+1), m_k = τ for even k, 1 − τ for odd k.
+            let mut v = self.r[self.top][i];
+            let mut dv = 0.0;
+            for k in (0..self.top).rev() {
+                let (m, dm) = if k % 2 == 0 { (th, 1.0) } else { (th1, -1.0) };
+                dv = dm * v + m * dv;
+                v = self.r[k][i] + m * v;
+            }
+            dv / self.h
         })
     }
 }
@@ -234,11 +342,32 @@ pub struct Integrator<const N: usize> {
     f: [f64; N],
     h: f64,
     err_old: f64,
+    /// Tracked event signs (a zero value is an undetermined sign, see `reset_event_signs`).
     g: [f64; MAX_EVENTS],
+    /// Event values at the current point, as computed (no sign substitution).
+    g_val: [f64; MAX_EVENTS],
+    /// Their time derivatives, valid when `rates_valid`.
+    g_rate: [f64; MAX_EVENTS],
+    rates_valid: bool,
+    /// The next step scans with sub-samples whatever the screen says (after a jump of the
+    /// right-hand side the stored values belong to the other side of the jump).
+    force_scan: bool,
+    /// Consecutive steps the screen failed on, and steps left of a pause of the screen.
+    screen_fails: u32,
+    screen_pause: u32,
+    /// Stage derivatives of the last trial step.
+    k: [[f64; N]; 16],
     dense: Option<Dense<N>>,
     needs_restart: bool,
     /// The system's [`OdeSystem::max_step`] at the last restart.
     h_cap: f64,
+}
+
+/// The step's error estimate and its end point.
+struct Trial<const N: usize> {
+    y1: [f64; N],
+    f1: [f64; N],
+    err: f64,
 }
 
 impl<const N: usize> Integrator<N> {
@@ -252,6 +381,13 @@ impl<const N: usize> Integrator<N> {
             h: 0.0,
             err_old: 1e-4,
             g: [0.0; MAX_EVENTS],
+            g_val: [0.0; MAX_EVENTS],
+            g_rate: [0.0; MAX_EVENTS],
+            rates_valid: false,
+            force_scan: false,
+            screen_fails: 0,
+            screen_pause: 0,
+            k: [[0.0; N]; 16],
             dense: None,
             needs_restart: true,
             h_cap: f64::INFINITY,
@@ -277,8 +413,25 @@ impl<const N: usize> Integrator<N> {
     }
 
     /// (Re)start at (t, y): after an event's jump, or when the right-hand side changes form.
-    /// The last step size is kept as the first guess.
+    /// The last step size is kept as the first guess (Hairer's estimate on the first start).
     pub fn restart<S: OdeSystem<N>>(&mut self, sys: &S, t: f64, y: [f64; N]) {
+        self.start_at(sys, t, y, false);
+    }
+
+    /// [`Self::restart`] where the dynamics just switched (a clutch engaged or released, an
+    /// impact of a clutched structure): the
+    /// last step size was fitted to the dynamics *before* the switch, and after a clutch
+    /// engages (a stiff spring in series) it is often far too long — each such restart cost
+    /// a rejected step, a full set of stages. With `opts.restart_estimate` Hairer's starting
+    /// estimate (Solving ODEs I, §II.4: from the derivative and its change along the tangent
+    /// at the new point, one RHS call) caps it: h = min(h_old, h_est). For the caller to
+    /// choose: where the old step fits (the bare block's impacts, measured on Fig. 8) the
+    /// estimate, built for an unknown start, is conservative and cost 10–35 % more RHS calls.
+    pub fn restart_switched<S: OdeSystem<N>>(&mut self, sys: &S, t: f64, y: [f64; N]) {
+        self.start_at(sys, t, y, self.opts.restart_estimate);
+    }
+
+    fn start_at<S: OdeSystem<N>>(&mut self, sys: &S, t: f64, y: [f64; N], estimate: bool) {
         self.t = t;
         self.y = y;
         self.h_cap = sys.max_step();
@@ -286,6 +439,8 @@ impl<const N: usize> Integrator<N> {
         self.stats.rhs_evals += 1;
         if self.h == 0.0 {
             self.h = self.initial_step(sys);
+        } else if estimate {
+            self.h = self.h.min(self.initial_step(sys));
         }
         self.err_old = 1e-4;
         self.dense = None;
@@ -298,6 +453,8 @@ impl<const N: usize> Integrator<N> {
     pub fn refresh<S: OdeSystem<N>>(&mut self, sys: &S) {
         sys.rhs(self.t, &self.y, &mut self.f);
         self.stats.rhs_evals += 1;
+        self.rates_valid = false;
+        self.force_scan = true;
     }
 
     /// Event signs at the start. A function that is exactly zero (a jump put the state on its
@@ -309,6 +466,10 @@ impl<const N: usize> Integrator<N> {
     fn reset_event_signs<S: OdeSystem<N>>(&mut self, sys: &S) {
         let m = sys.event_count();
         sys.events(self.t, &self.y, &mut self.g[..m]);
+        self.stats.event_calls += 1;
+        self.g_val = self.g;
+        self.rates_valid = false;
+        self.force_scan = false;
         for i in 0..m {
             if self.g[i] == 0.0 {
                 self.g[i] = sys.sign_after_zero(i, self.t, &self.y);
@@ -320,9 +481,15 @@ impl<const N: usize> Integrator<N> {
         self.opts.atol[i] + self.opts.rtol * a.abs().max(b.abs())
     }
 
-    /// Error norm: the larger of the RMS norms over the two groups of components (the leading
-    /// `opts.controlled` state components, and the trailing quadratures), so adding well-behaved
-    /// quadratures never dilutes the state's error.
+    /// The two groups of components of the error norm: the leading `opts.controlled` state
+    /// components, and the trailing quadratures. Each is normed on its own and the larger
+    /// counts, so adding well-behaved quadratures never dilutes the state's error.
+    fn groups(&self) -> [std::ops::Range<usize>; 2] {
+        let split = self.opts.controlled.min(N);
+        [0..split, split..N]
+    }
+
+    /// Error norm: the larger of the RMS norms over the two groups.
     fn norm(&self, v: &[f64; N], y0: &[f64; N], y1: &[f64; N]) -> f64 {
         let rms = |range: std::ops::Range<usize>| {
             let mut sum = 0.0;
@@ -336,11 +503,11 @@ impl<const N: usize> Integrator<N> {
             }
             if n == 0 { 0.0 } else { (sum / n as f64).sqrt() }
         };
-        let split = self.opts.controlled.min(N);
-        rms(0..split).max(rms(split..N))
+        let [a, b] = self.groups();
+        rms(a).max(rms(b))
     }
 
-    /// Hairer's starting step guess (Solving ODEs I, §II.4).
+    /// Hairer's starting step guess (Solving ODEs I, §II.4), for the current method's order.
     fn initial_step<S: OdeSystem<N>>(&mut self, sys: &S) -> f64 {
         let d0 = self.norm(&self.y, &self.y, &self.y);
         let d1 = self.norm(&self.f, &self.y, &self.y);
@@ -359,7 +526,7 @@ impl<const N: usize> Integrator<N> {
         let h1 = if d1.max(d2) <= 1e-15 {
             (h0 * 1e-3).max(1e-6)
         } else {
-            (0.01 / d1.max(d2)).powf(0.2)
+            (0.01 / d1.max(d2)).powf(1.0 / self.opts.method.order())
         };
         (100.0 * h0).min(h1).min(self.opts.h_max)
     }
@@ -395,7 +562,11 @@ impl<const N: usize> Integrator<N> {
                 }
                 return Err(SolverError::StepTooSmall { t: self.t, h });
             }
-            let (y1, f1, err, k) = self.trial(sys, h);
+            let clock = self.opts.time_stages.then(std::time::Instant::now);
+            let Trial { y1, f1, err } = match self.opts.method {
+                Method::Dp54 => self.trial_dp54(sys, h),
+                Method::Dop853 => self.trial_dop853(sys, h),
+            };
             if !err.is_finite() || y1.iter().any(|v| !v.is_finite()) {
                 // Treat as a failed step; shrink hard. A genuinely non-finite solution ends
                 // in StepTooSmall, reported by the caller with its time.
@@ -406,14 +577,26 @@ impl<const N: usize> Integrator<N> {
                 }
                 continue;
             }
+            let expo = 1.0 / self.opts.method.order();
             if err <= 1.0 {
-                // PI controller (β = 0.04), as in DOPRI5.
-                let fac = (err.powf(0.17) * self.err_old.powf(-0.04) / 0.9).clamp(0.1, 5.0);
+                let fac = match self.opts.method {
+                    // PI controller (β = 0.04), as in DOPRI5.
+                    Method::Dp54 => (err.powf(expo - 0.75 * 0.04) * self.err_old.powf(-0.04) / 0.9)
+                        .clamp(0.1, 5.0),
+                    // As in DOP853 (β = 0, step ratio within [1/3, 6]).
+                    Method::Dop853 => (err.powf(expo) / 0.9).clamp(1.0 / 6.0, 3.0),
+                };
                 self.err_old = err.max(1e-4);
                 let h_new = h / fac;
                 self.stats.steps += 1;
-                let dense = self.build_dense(h, &y1, &k);
-                let event = self.locate_event(sys, &dense);
+                let dense = match self.opts.method {
+                    Method::Dp54 => self.dense_dp54(h, &y1),
+                    Method::Dop853 => self.dense_dop853(sys, h, &y1),
+                };
+                if let Some(clock) = clock {
+                    self.stats.stage_nanos += clock.elapsed().as_nanos() as u64;
+                }
+                let event = self.locate_event(sys, &dense, &y1, &f1, hits_stop);
                 self.dense = Some(dense);
                 self.h = if hits_stop { self.h.max(h_new) } else { h_new };
                 if let Some((index, t_event)) = event {
@@ -432,19 +615,22 @@ impl<const N: usize> Integrator<N> {
                     StepOutcome::Stepped
                 });
             }
+            if let Some(clock) = clock {
+                self.stats.stage_nanos += clock.elapsed().as_nanos() as u64;
+            }
             self.stats.rejected += 1;
-            self.h = h / (err.powf(0.2) / 0.9).min(10.0);
+            let shrink = match self.opts.method {
+                Method::Dp54 => 10.0,
+                Method::Dop853 => 3.0,
+            };
+            self.h = h / (err.powf(expo) / 0.9).min(shrink);
         }
     }
 
-    #[allow(clippy::type_complexity)]
-    fn trial<S: OdeSystem<N>>(
-        &mut self,
-        sys: &S,
-        h: f64,
-    ) -> ([f64; N], [f64; N], f64, [[f64; N]; 7]) {
+    /// One Dormand–Prince 5(4) step of size h from the current point; stages in `self.k[..7]`.
+    fn trial_dp54<S: OdeSystem<N>>(&mut self, sys: &S, h: f64) -> Trial<N> {
         let t = self.t;
-        let y = &self.y;
+        let y = self.y;
         let k1 = self.f;
         let mut k2 = [0.0; N];
         let mut k3 = [0.0; N];
@@ -475,13 +661,15 @@ impl<const N: usize> Integrator<N> {
         let e: [f64; N] = std::array::from_fn(|i| {
             h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i])
         });
-        let err = self.norm(&e, y, &y1);
-        (y1, k7, err, [k1, k2, k3, k4, k5, k6, k7])
+        let err = self.norm(&e, &y, &y1);
+        self.k[..7].copy_from_slice(&[k1, k2, k3, k4, k5, k6, k7]);
+        Trial { y1, f1: k7, err }
     }
 
-    fn build_dense(&self, h: f64, y1: &[f64; N], k: &[[f64; N]; 7]) -> Dense<N> {
+    fn dense_dp54(&self, h: f64, y1: &[f64; N]) -> Dense<N> {
         let y0 = &self.y;
-        let mut r = [[0.0; N]; 5];
+        let k = &self.k;
+        let mut r = [[0.0; N]; 8];
         for i in 0..N {
             let ydiff = y1[i] - y0[i];
             let bspl = h * k[0][i] - ydiff;
@@ -497,16 +685,235 @@ impl<const N: usize> Integrator<N> {
                     + D6 * k[5][i]
                     + D7 * k[6][i]);
         }
-        Dense { t0: self.t, h, r }
+        Dense {
+            t0: self.t,
+            h,
+            r,
+            top: 4,
+        }
     }
 
-    /// Scan the step for triggering sign changes; return the earliest located event, and
-    /// update the tracked signs to the end of the step otherwise.
-    fn locate_event<S: OdeSystem<N>>(&mut self, sys: &S, dense: &Dense<N>) -> Option<(usize, f64)> {
+    /// Stage `s` of the extended DOP853 tableau into `self.k[s]`.
+    fn dop853_stage<S: OdeSystem<N>>(&mut self, sys: &S, h: f64, s: usize) {
+        let a = &dop853::A[s];
+        let k = &self.k;
+        let y = &self.y;
+        let ys: [f64; N] = std::array::from_fn(|i| {
+            let mut acc = 0.0;
+            for j in 0..s {
+                acc += a[j] * k[j][i];
+            }
+            y[i] + h * acc
+        });
+        let mut ks = [0.0; N];
+        sys.rhs(self.t + dop853::C[s] * h, &ys, &mut ks);
+        self.k[s] = ks;
+    }
+
+    /// One DOP853 step of size h; stages in `self.k[..13]` (k[12] = f(t + h, y1)). The error
+    /// is Hairer's: the 5th-order estimate, damped where the 3rd-order one is much smaller,
+    /// err = |h|·‖e5‖² / √(‖e5‖² + 0.01‖e3‖²), per norm group.
+    fn trial_dop853<S: OdeSystem<N>>(&mut self, sys: &S, h: f64) -> Trial<N> {
+        self.k[0] = self.f;
+        for s in 1..dop853::STAGES {
+            self.dop853_stage(sys, h, s);
+        }
+        let k = &self.k;
+        let y = self.y;
+        let y1: [f64; N] = std::array::from_fn(|i| {
+            let mut acc = 0.0;
+            for (j, b) in dop853::B.iter().enumerate() {
+                acc += b * k[j][i];
+            }
+            y[i] + h * acc
+        });
+        let mut f1 = [0.0; N];
+        sys.rhs(self.t + h, &y1, &mut f1);
+        self.k[12] = f1;
+        self.stats.rhs_evals += 12;
+        let k = &self.k;
+        let mut err: f64 = 0.0;
+        for range in self.groups() {
+            let (mut e5sum, mut e3sum, mut n) = (0.0, 0.0, 0);
+            for i in range {
+                if !self.opts.atol[i].is_finite() {
+                    continue;
+                }
+                let (mut e5, mut e3) = (0.0, 0.0);
+                for (j, kj) in k.iter().take(dop853::STAGES).enumerate() {
+                    e5 += dop853::E5[j] * kj[i];
+                    e3 += dop853::E3[j] * kj[i];
+                }
+                let sc = self.error_scale(i, y[i], y1[i]);
+                e5sum += (e5 / sc) * (e5 / sc);
+                e3sum += (e3 / sc) * (e3 / sc);
+                n += 1;
+            }
+            if n > 0 && (e5sum > 0.0 || e3sum > 0.0) {
+                let denominator = (e5sum + 0.01 * e3sum) * n as f64;
+                err = err.max(h.abs() * e5sum / denominator.sqrt());
+            }
+        }
+        Trial { y1, f1, err }
+    }
+
+    /// DOP853's 7th-order dense output: three more stages, then the coefficients.
+    fn dense_dop853<S: OdeSystem<N>>(&mut self, sys: &S, h: f64, y1: &[f64; N]) -> Dense<N> {
+        for s in dop853::STAGES + 1..dop853::STAGES_EXTENDED {
+            self.dop853_stage(sys, h, s);
+        }
+        self.stats.rhs_evals += 3;
+        let y0 = &self.y;
+        let k = &self.k;
+        let mut r = [[0.0; N]; 8];
+        for i in 0..N {
+            let dy = y1[i] - y0[i];
+            r[0][i] = y0[i];
+            r[1][i] = dy;
+            r[2][i] = h * k[0][i] - dy;
+            r[3][i] = 2.0 * dy - h * (k[12][i] + k[0][i]);
+            for (row, d) in dop853::D.iter().enumerate() {
+                let mut acc = 0.0;
+                for (j, dj) in d.iter().enumerate() {
+                    acc += dj * k[j][i];
+                }
+                r[4 + row][i] = h * acc;
+            }
+        }
+        Dense {
+            t0: self.t,
+            h,
+            r,
+            top: 7,
+        }
+    }
+
+    /// Event values and rates at (t, y) with dy/dt = `f`: from the system if it provides
+    /// them, else by differencing along the tangent over `eps` (negative: backward, staying
+    /// inside the step just taken; positive: forward, inside the step to come — the rate
+    /// jumps at forcing kinks, and each step needs its own side's).
+    #[allow(clippy::too_many_arguments)]
+    fn event_rates<S: OdeSystem<N>>(
+        &mut self,
+        sys: &S,
+        t: f64,
+        y: &[f64; N],
+        f: &[f64; N],
+        eps: f64,
+        g: &mut [f64; MAX_EVENTS],
+        rates: &mut [f64; MAX_EVENTS],
+        values_known: bool,
+    ) {
+        let m = sys.event_count();
+        self.stats.event_calls += 1;
+        if sys.events_with_rates(t, y, f, &mut g[..m], &mut rates[..m]) {
+            return;
+        }
+        if !values_known {
+            sys.events(t, y, &mut g[..m]);
+            self.stats.event_calls += 1;
+        }
+        let y_eps: [f64; N] = std::array::from_fn(|i| y[i] + eps * f[i]);
+        let mut g_eps = [0.0; MAX_EVENTS];
+        sys.events(t + eps, &y_eps, &mut g_eps[..m]);
+        for i in 0..m {
+            rates[i] = (g_eps[i] - g[i]) / eps;
+        }
+    }
+
+    /// Look for a triggering sign change in the step just accepted; return the earliest
+    /// located event, or update the tracked signs to the end of the step.
+    ///
+    /// Screen (`opts.event_screen`): with the values g and rates g' of every event function
+    /// at both ends, the cubic Hermite interpolant H of g over the step is known, and where H
+    /// provably stays away from zero the sub-samples of [`Self::scan`] are skipped.
+    /// Why no root can be missed: g − H = g⁗(ξ) h⁴ τ²(1−τ)²/24 (the Hermite remainder), so a
+    /// root inside needs |g − H| ≥ |H| somewhere. [`no_root_inside`] demands
+    /// |H(τ)| > (V/2)·τ²(1−τ)² on the whole step, V = |Δg| + h|g'₀| + h|g'₁| the step's
+    /// first-order variation of g: it assumes h⁴|g⁗|/24 ≤ V/2, i.e. the fourth Taylor term of
+    /// g over an accepted step is below half its first — g resolved on the step's scale, the
+    /// same assumption under which the scan's samples h/4 apart cannot miss a pair of
+    /// crossings. Grazing and double roots (g and g' both near zero inside) put H within the
+    /// margin, so those steps are scanned exactly as without the screen; so are steps after a
+    /// jump of the right-hand side, steps whose start value is exactly zero (undetermined
+    /// sign), and steps where any function changes sign. Event functions whose form depends
+    /// on the state (a clutch's reset guard) switch form only where another event function
+    /// crosses zero, and that function's own screen sends the step to the scan.
+    ///
+    /// The screen costs two calls of the event functions per step (values and a tangent
+    /// difference) against the scan's four, five when it fails; where it keeps failing (event-
+    /// dense stretches: a chattering clutch) it pauses for [`SCREEN_PAUSE`] steps.
+    fn locate_event<S: OdeSystem<N>>(
+        &mut self,
+        sys: &S,
+        dense: &Dense<N>,
+        y1: &[f64; N],
+        f1: &[f64; N],
+        ends_at_stop: bool,
+    ) -> Option<(usize, f64)> {
         let m = sys.event_count();
         if m == 0 {
             return None;
         }
+        let paused = self.screen_pause > 0;
+        self.screen_pause = self.screen_pause.saturating_sub(1);
+        if !self.opts.event_screen || self.force_scan || paused {
+            self.force_scan = false;
+            self.rates_valid = false;
+            let t1 = dense.t1();
+            sys.events(t1, y1, &mut self.g_val[..m]);
+            self.stats.event_calls += 1;
+            return self.scan(sys, dense, Some(&self.g_val.clone()));
+        }
+        let h = dense.h;
+        let eps = 1e-7 * h;
+        if !self.rates_valid {
+            let (t0, y0, f0) = (self.t, self.y, self.f);
+            let mut g0 = self.g_val;
+            let mut rates0 = [0.0; MAX_EVENTS];
+            self.event_rates(sys, t0, &y0, &f0, eps, &mut g0, &mut rates0, true);
+            self.g_rate = rates0;
+        }
+        let t1 = dense.t1();
+        let mut g1 = [0.0; MAX_EVENTS];
+        let mut rates1 = [0.0; MAX_EVENTS];
+        self.event_rates(sys, t1, y1, f1, -eps, &mut g1, &mut rates1, false);
+        let clear =
+            (0..m).all(|i| no_root_inside(self.g_val[i], h * self.g_rate[i], g1[i], h * rates1[i]));
+        if clear {
+            self.screen_fails = 0;
+        } else {
+            self.screen_fails += 1;
+            if self.screen_fails >= 3 {
+                self.screen_fails = 0;
+                self.screen_pause = SCREEN_PAUSE;
+            }
+        }
+        let found = if clear {
+            self.g[..m].copy_from_slice(&g1[..m]);
+            None
+        } else {
+            self.scan(sys, dense, Some(&g1))
+        };
+        if found.is_none() {
+            self.g_val = g1;
+            self.g_rate = rates1;
+            // At a forcing breakpoint the rates change side.
+            self.rates_valid = !ends_at_stop;
+        }
+        found
+    }
+
+    /// Sample every event function at [`EVENT_SAMPLES`] points of the step (the last one is
+    /// the end point, whose values `at_end` may already hold); refine the earliest
+    /// triggering sign change.
+    fn scan<S: OdeSystem<N>>(
+        &mut self,
+        sys: &S,
+        dense: &Dense<N>,
+        at_end: Option<&[f64; MAX_EVENTS]>,
+    ) -> Option<(usize, f64)> {
+        let m = sys.event_count();
         let mut g_prev = self.g;
         let mut t_prev = dense.t0;
         for sample in 1..=EVENT_SAMPLES {
@@ -515,9 +922,14 @@ impl<const N: usize> Integrator<N> {
             } else {
                 dense.t0 + dense.h * sample as f64 / EVENT_SAMPLES as f64
             };
-            let y_s = dense.state(t_s);
             let mut g_s = [0.0; MAX_EVENTS];
-            sys.events(t_s, &y_s, &mut g_s[..m]);
+            match at_end {
+                Some(g_end) if sample == EVENT_SAMPLES => g_s = *g_end,
+                _ => {
+                    sys.events(t_s, &dense.state(t_s), &mut g_s[..m]);
+                    self.stats.event_calls += 1;
+                }
+            }
             let mut best: Option<(usize, f64)> = None;
             for i in 0..m {
                 if g_prev[i] == 0.0 {
@@ -543,6 +955,27 @@ impl<const N: usize> Integrator<N> {
         self.g = g_prev;
         None
     }
+}
+
+/// Whether g has provably no root on a step, from its values a, b and rates times h, da, db,
+/// at the ends: the cubic Hermite interpolant H keeps the sign of a on [0, 1] with the margin
+/// (V/2)·τ²(1−τ)², V = |b − a| + |da| + |db| — see [`Integrator::locate_event`] for why. The
+/// test is on the Bernstein coefficients of s·H(τ) − margin(τ) (s the sign of a), a degree-4
+/// polynomial: all positive implies the polynomial is positive on [0, 1] (convex hull).
+fn no_root_inside(a: f64, da: f64, b: f64, db: f64) -> bool {
+    // A strict common sign at the ends (exact zeros and NaN fail here).
+    if a * b <= 0.0 || a.is_nan() || b.is_nan() {
+        return false;
+    }
+    let s = a.signum();
+    let v = (b - a).abs() + da.abs() + db.abs();
+    // Cubic Bernstein coefficients of H, then elevated to degree 4.
+    let (b0, b1, b2, b3) = (s * a, s * (a + da / 3.0), s * (b - db / 3.0), s * b);
+    let c1 = (b0 + 3.0 * b1) / 4.0;
+    let c2 = (b1 + b2) / 2.0;
+    let c3 = (3.0 * b2 + b3) / 4.0;
+    // τ²(1−τ)² = B₂,₄(τ)/6.
+    c1 > 0.0 && c2 - v / 12.0 > 0.0 && c3 > 0.0
 }
 
 /// Illinois (modified regula falsi) on the dense interpolant. Returns the right end of the final
@@ -617,11 +1050,8 @@ mod tests {
 
     fn opts(rtol: f64) -> Options<2> {
         Options {
-            rtol,
-            atol: [rtol; 2],
-            h_max: f64::INFINITY,
-            controlled: 2,
             max_steps: 1_000_000,
+            ..Options::new(rtol, [rtol; 2])
         }
     }
 
@@ -706,5 +1136,239 @@ mod tests {
             }
         };
         assert!(matches!(err, SolverError::StepBudget { budget: 5, .. }));
+    }
+
+    fn with_method(rtol: f64, method: Method) -> Options<2> {
+        Options {
+            method,
+            ..opts(rtol)
+        }
+    }
+
+    /// Global error at t = 5 of fixed steps h (all accepted: loose tolerance, h_max = h).
+    fn fixed_step_error<S: OdeSystem<2>>(
+        sys: &S,
+        method: Method,
+        h: f64,
+        y0: [f64; 2],
+        exact: impl Fn(f64) -> f64,
+    ) -> f64 {
+        let mut it = Integrator::new(Options {
+            h_max: h,
+            ..with_method(1.0, method)
+        });
+        it.opts.atol = [1.0; 2];
+        it.restart(sys, 0.0, y0);
+        it.h = h;
+        while it.step(sys, 5.0).unwrap() != StepOutcome::Reached {}
+        assert_eq!(it.stats.rejected, 0);
+        (it.y()[0] - exact(5.0)).abs()
+    }
+
+    struct Decay;
+    impl OdeSystem<2> for Decay {
+        fn rhs(&self, _t: f64, y: &[f64; 2], d: &mut [f64; 2]) {
+            d[0] = -y[0];
+            d[1] = -2.0 * y[1];
+        }
+    }
+
+    #[test]
+    fn dop853_converges_at_eighth_order_and_dp54_at_fifth() {
+        // Steps in the asymptotic range of each method (DP54's leading error term cancels
+        // in part on these linear problems at h = 0.5).
+        let dop853_steps = [0.5, 0.25, 0.125];
+        let dp54_steps = [0.1, 0.05, 0.025];
+        for (method, order, steps) in [
+            (Method::Dop853, 8.0, dop853_steps),
+            (Method::Dp54, 5.0, dp54_steps),
+        ] {
+            type Exact<'a> = &'a dyn Fn(f64) -> f64;
+            let cases: [(Exact, [f64; 2]); 2] = [
+                (&|t: f64| t.cos(), [1.0, 0.0]),
+                (&|t: f64| (-t).exp(), [1.0, 1.0]),
+            ];
+            for (k, (exact, y0)) in cases.into_iter().enumerate() {
+                if method == Method::Dp54 && k == 0 {
+                    continue; // on the oscillator DP54's error terms partly cancel (slope 4.2–4.7)
+                }
+                let errors: Vec<f64> = steps
+                    .iter()
+                    .map(|&h| {
+                        if k == 0 {
+                            fixed_step_error(&NoEvents, method, h, y0, exact)
+                        } else {
+                            fixed_step_error(&Decay, method, h, y0, exact)
+                        }
+                    })
+                    .collect();
+                for w in errors.windows(2) {
+                    let slope = (w[0] / w[1]).log2();
+                    assert!(
+                        (slope - order).abs() < 0.6,
+                        "{method:?} case {k}: slope {slope:.2} from errors {errors:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// Largest error of the dense output (state and derivative) over one step of size h of
+    /// the harmonic oscillator from t = 0.3.
+    fn dense_error(method: Method, h: f64) -> (f64, f64) {
+        let mut it = Integrator::new(Options {
+            h_max: h,
+            ..with_method(1.0, method)
+        });
+        it.opts.atol = [1.0; 2];
+        let t0: f64 = 0.3;
+        it.restart(&Harmonic, t0, [t0.cos(), -t0.sin()]);
+        it.h = h;
+        it.step(&Harmonic, 10.0).unwrap();
+        let d = *it.dense().unwrap();
+        assert_eq!(d.h, h);
+        let (mut ey, mut edy) = (0.0f64, 0.0f64);
+        for k in 1..10 {
+            let t = d.t0 + d.h * k as f64 / 10.0;
+            ey = ey.max((d.state(t)[0] - t.cos()).abs());
+            edy = edy.max((d.derivative(t)[0] + t.sin()).abs());
+        }
+        (ey, edy)
+    }
+
+    #[test]
+    fn dop853_dense_output_is_seventh_order() {
+        // A p-th order interpolant has local error O(h^(p+1)): halving h divides it by 2^8,
+        // and its derivative's by 2^7.
+        let (y1, dy1) = dense_error(Method::Dop853, 0.8);
+        let (y2, dy2) = dense_error(Method::Dop853, 0.4);
+        let slope = (y1 / y2).log2();
+        let dslope = (dy1 / dy2).log2();
+        assert!(
+            (slope - 8.0).abs() < 0.7,
+            "state slope {slope:.2} ({y1:e}, {y2:e})"
+        );
+        assert!((dslope - 7.0).abs() < 0.7, "rate slope {dslope:.2}");
+        assert!(y2 < 1e-9, "{y2:e}");
+        // Dormand–Prince's 4th-order extension: slope 5.
+        let (p1, _) = dense_error(Method::Dp54, 0.1);
+        let (p2, _) = dense_error(Method::Dp54, 0.05);
+        let slope = (p1 / p2).log2();
+        assert!((slope - 5.0).abs() < 0.7, "dp54 dense slope {slope:.2}");
+    }
+
+    /// cos t touching the level 1 − c from above near t = 2π (a grazing double root for
+    /// c → 0): events of g = y0 − (1 − c), either direction.
+    struct Level(f64);
+    impl OdeSystem<2> for Level {
+        fn rhs(&self, t: f64, y: &[f64; 2], d: &mut [f64; 2]) {
+            Harmonic.rhs(t, y, d)
+        }
+        fn event_count(&self) -> usize {
+            2
+        }
+        fn events(&self, _t: f64, y: &[f64; 2], g: &mut [f64]) {
+            g[0] = y[0] - (1.0 - self.0);
+            g[1] = y[1]; // −sin t: falling zeros at 2π, 4π
+        }
+        fn event_direction(&self, i: usize) -> Direction {
+            if i == 0 {
+                Direction::Either
+            } else {
+                Direction::Falling
+            }
+        }
+    }
+
+    /// Every event of `sys` on [0, t_end] as (index, time), and the event-function calls.
+    fn event_log<S: OdeSystem<2>>(sys: &S, o: Options<2>, t_end: f64) -> (Vec<(usize, f64)>, u64) {
+        let mut it = Integrator::new(o);
+        it.restart(sys, 0.0, [1.0, 0.0]);
+        let mut log = vec![];
+        loop {
+            match it.step(sys, t_end).unwrap() {
+                StepOutcome::Event(i) => {
+                    log.push((i, it.t()));
+                    let (t, y) = (it.t(), *it.y());
+                    it.restart(sys, t, y);
+                }
+                StepOutcome::Reached => break,
+                StepOutcome::Stepped => {}
+            }
+        }
+        (log, it.stats.event_calls)
+    }
+
+    #[test]
+    fn events_are_found_alike_by_both_methods_with_and_without_the_screen() {
+        for method in [Method::Dp54, Method::Dop853] {
+            for rtol in [1e-5, 1e-9] {
+                // From a wide crossing to a near-graze (the level 1e-6 below the maximum: two
+                // crossings 2.8e-3 apart around 2π, inside one step) and beyond it.
+                for c in [0.5, 0.05, 1e-3, 1e-6, -1e-6] {
+                    let o = with_method(rtol, method);
+                    let (screened, calls_screened) = event_log(&Level(c), o, 13.0);
+                    let (scanned, calls_scanned) = event_log(
+                        &Level(c),
+                        Options {
+                            event_screen: false,
+                            ..o
+                        },
+                        13.0,
+                    );
+                    assert_eq!(
+                        screened.len(),
+                        scanned.len(),
+                        "{method:?} rtol {rtol:e} c {c}: {screened:?} vs {scanned:?}"
+                    );
+                    for (a, b) in screened.iter().zip(&scanned) {
+                        assert_eq!(a.0, b.0);
+                        assert!(
+                            (a.1 - b.1).abs() < 1e-9,
+                            "{method:?} rtol {rtol:e} c {c}: {screened:?} vs {scanned:?}"
+                        );
+                    }
+                    if c == 0.5 {
+                        // Crossings at ±acos(0.5) + 2πk and the falling zeros of −sin t at
+                        // 2π, 4π: four level crossings and two velocity events before t = 13.
+                        let expected: Vec<f64> = {
+                            let a = 0.5f64.acos();
+                            let tau = std::f64::consts::TAU;
+                            let mut v = vec![a, tau - a, tau + a, 2.0 * tau - a];
+                            v.extend([tau, 2.0 * tau]);
+                            v.sort_by(f64::total_cmp);
+                            v
+                        };
+                        let times: Vec<f64> = screened.iter().map(|e| e.1).collect();
+                        assert_eq!(times.len(), expected.len(), "{screened:?}");
+                        for (t, e) in times.iter().zip(&expected) {
+                            assert!((t - e).abs() < 10.0 * rtol, "{method:?}: {t} vs {e}");
+                        }
+                        assert!(
+                            rtol > 1e-6 || calls_screened < calls_scanned,
+                            "{calls_screened} vs {calls_scanned}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn hermite_screen_rejects_dips_and_double_roots() {
+        // g = (2τ − 1)²: a double root at τ = ½, ends 1 with slopes ∓4.
+        assert!(!no_root_inside(1.0, -4.0, 1.0, 4.0));
+        // Dips below zero between positive ends.
+        assert!(!no_root_inside(1.0, -6.0, 1.0, 6.0));
+        // Falling steeply into a near-zero end value.
+        assert!(!no_root_inside(1.0, -3.0, 1e-3, -0.1));
+        // Opposite signs, an exact zero.
+        assert!(!no_root_inside(1.0, 0.0, -1.0, 0.0));
+        assert!(!no_root_inside(0.0, 1.0, 1.0, 1.0));
+        // Monotone and far from zero; a shallow dip well above it; growth from near zero.
+        assert!(no_root_inside(2.0, -0.5, 1.5, -0.5));
+        assert!(no_root_inside(-2.0, 0.5, -1.5, 0.5));
+        assert!(no_root_inside(1.0, -0.4, 1.0, 0.4));
+        assert!(no_root_inside(1e-9, 1e-6, 1e-6, 1e-6));
     }
 }

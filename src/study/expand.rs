@@ -375,6 +375,7 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
                 initial_rotation: 0.0,
                 stop_when_settled: study.stop_when_settled,
                 closed_form_contact: study.closed_form_contact,
+                method: study.method,
             };
             scene
                 .validate()

@@ -139,6 +139,7 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ("width", "width n of the Gaussian impact moment (rad)"),
     ("duration", "simulated time per scene (s)"),
     ("rtol", "integrator relative tolerance"),
+    ("method", "integrator: auto (by rtol), dp54 or dop853"),
     (
         "stop_when_settled",
         "end a scene once the structure has settled after the motion",

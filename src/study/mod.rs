@@ -69,6 +69,9 @@ pub struct Study {
         rename = "exact_contact"
     )]
     pub closed_form_contact: bool,
+    /// Integrator method: `auto` (by rtol), `dp54` or `dop853`.
+    #[serde(default, skip_serializing_if = "crate::scene::Method::is_auto")]
+    pub method: crate::scene::Method,
 }
 
 fn yes() -> bool {

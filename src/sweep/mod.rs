@@ -183,6 +183,7 @@ pub fn run_checkpointed(
         cancel: Some(cancel),
         time_limit: scene_time_limit,
         measures,
+        time_stages: false,
     };
     let selected: Vec<&ScenePoint> = points
         .iter()
