@@ -295,5 +295,6 @@ pub fn results_from_journal(path: &Path) -> anyhow::Result<SweepResults> {
         outcomes,
         shard: header.shard,
         build: header.build,
+        inferred: Vec::new(),
     })
 }

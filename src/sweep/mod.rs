@@ -5,6 +5,7 @@
 use crate::excitation::Library;
 use crate::sim::{self, SceneResult};
 use crate::study::{ScenePoint, Study, StudyError};
+pub mod adaptive;
 pub mod journal;
 pub mod output;
 mod store;
@@ -73,6 +74,19 @@ pub struct SweepResults {
     /// by the same build, so a rebuilt rocklab never serves results of older physics.
     #[serde(default)]
     pub build: String,
+    /// Map cells an adaptive map did not run: their verdict follows from the refinement rule
+    /// (every known point around them agrees). Never scenes: spectra and results.csv hold
+    /// only `outcomes`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub inferred: Vec<InferredCell>,
+}
+
+/// A map cell filled by an adaptive map's refinement rule instead of a run.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct InferredCell {
+    /// The scene's expansion index (it was not run).
+    pub index: usize,
+    pub overturned: bool,
 }
 
 /// A hash of the running executable, computed once per process ("unknown" if unreadable).
@@ -107,6 +121,23 @@ pub fn run_study(
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<SweepResults, StudyError> {
     let points = study.expand()?;
+    if let Some(levels) = study.map.and_then(|m| m.refine_levels()) {
+        let reuse = opts
+            .cache
+            .as_ref()
+            .and_then(|path| load_results(path).ok())
+            .filter(reusable)
+            .map(cache_by_key)
+            .unwrap_or_default();
+        let checkpoint = Checkpoint {
+            reuse,
+            ..Default::default()
+        };
+        return adaptive::run_refined(
+            study, &points, levels, opts, library, checkpoint, cancel, progress,
+        )
+        .map_err(|e| StudyError::field("map.refine", e.to_string(), "run it without --shard"));
+    }
     let mut results = run(&points, opts, library, cancel, progress);
     results.study_hash = study.hash();
     results.study = Some(study.clone());
@@ -238,6 +269,7 @@ pub fn run_checkpointed(
         cancelled,
         shard: opts.shard,
         build: build_id().to_string(),
+        inferred: Vec::new(),
     }
 }
 
@@ -262,7 +294,12 @@ pub fn run_into(
         reuse: std::mem::take(&mut output.reuse),
         scene_time_limit,
     };
-    let mut results = run_checkpointed(points, opts, library, checkpoint, cancel, progress);
+    let mut results = match study.map.and_then(|m| m.refine_levels()) {
+        Some(levels) => adaptive::run_refined(
+            study, points, levels, opts, library, checkpoint, cancel, progress,
+        )?,
+        None => run_checkpointed(points, opts, library, checkpoint, cancel, progress),
+    };
     results.study_hash = study.hash();
     results.study = Some(study.clone());
     let journal = output.journal.path().display().to_string();
@@ -411,5 +448,6 @@ pub fn merge(parts: Vec<SweepResults>, force: bool) -> anyhow::Result<SweepResul
         outcomes: by_index.into_values().collect(),
         shard: None,
         build,
+        inferred: Vec::new(),
     })
 }
