@@ -115,8 +115,18 @@ pub struct OverturningMap {
 impl OverturningMap {
     /// Whether cell (ix, iy) holds a verdict that an adaptive map inferred without running it.
     pub fn inferred(&self, ix: usize, iy: usize) -> bool {
-        let cell = self.cells.get(iy).and_then(|r| r.get(ix)).copied().flatten();
-        let ran = self.outcomes.get(iy).and_then(|r| r.get(ix)).copied().flatten();
+        let cell = self
+            .cells
+            .get(iy)
+            .and_then(|r| r.get(ix))
+            .copied()
+            .flatten();
+        let ran = self
+            .outcomes
+            .get(iy)
+            .and_then(|r| r.get(ix))
+            .copied()
+            .flatten();
         cell.is_some() && ran.is_none()
     }
 

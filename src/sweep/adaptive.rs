@@ -99,7 +99,11 @@ pub fn map_grids(study: &Study) -> Result<Vec<MapGrid>, StudyError> {
             });
             grids[g].nodes[iy * nx + ix] = index;
         }
-        debug_assert!(grids[first_grid..].iter().all(|g| !g.nodes.contains(&usize::MAX)));
+        debug_assert!(
+            grids[first_grid..]
+                .iter()
+                .all(|g| !g.nodes.contains(&usize::MAX))
+        );
     }
     Ok(grids)
 }
@@ -435,6 +439,23 @@ pub fn run_refined(
         } else {
             refinement.inferred()
         },
+    })
+}
+
+/// The inferred cells of an adaptive study's finished scenes (from a journal or merged
+/// results), by replaying the refinement on them; None if a point it needs is missing (the
+/// run was stopped) or the study is no adaptive map.
+pub fn replay(study: &Study, outcomes: &[SceneOutcome]) -> Option<Vec<InferredCell>> {
+    let levels = study.map?.refine_levels()?;
+    let verdicts: HashMap<usize, Verdict> = outcomes
+        .iter()
+        .map(|o| (o.point.index, Verdict::of(o)))
+        .collect();
+    refine(map_grids(study).ok()?, levels, |points| {
+        points
+            .iter()
+            .map(|i| (*i, verdicts.get(i).copied()))
+            .collect()
     })
 }
 

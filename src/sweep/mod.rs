@@ -441,13 +441,20 @@ pub fn merge(parts: Vec<SweepResults>, force: bool) -> anyhow::Result<SweepResul
         Some(s) => s.expand().map(|p| p.len()).unwrap_or(by_index.len()),
         None => by_index.len(),
     };
+    let outcomes: Vec<SceneOutcome> = by_index.into_values().collect();
+    // An adaptive map is complete when its refinement is, not when every cell ran.
+    let inferred = study.as_ref().and_then(|s| adaptive::replay(s, &outcomes));
+    let complete = match (&study, &inferred) {
+        (Some(s), _) if s.map.is_some_and(|m| m.refine.is_some()) => inferred.is_some(),
+        _ => outcomes.len() >= total,
+    };
     Ok(SweepResults {
         study_hash: hash,
         study,
-        cancelled: cancelled || by_index.len() < total,
-        outcomes: by_index.into_values().collect(),
+        cancelled: cancelled || !complete,
+        outcomes,
         shard: None,
         build,
-        inferred: Vec::new(),
+        inferred: inferred.unwrap_or_default(),
     })
 }
