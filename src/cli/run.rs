@@ -181,6 +181,17 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         for (g, n) in groups {
             text.push_str(&format!("  {n:>7}  {g}\n"));
         }
+        if let Some(levels) = study.map.and_then(|m| m.refine_levels()) {
+            let grids =
+                sweep::adaptive::map_grids(&study).map_err(|e| UsageError::new(e.to_string()))?;
+            let coarse = sweep::adaptive::Refinement::new(grids, levels)
+                .first_points()
+                .len();
+            text.push_str(&format!(
+                "adaptive map (levels {levels}): {coarse} scenes in the coarse lattice, then only \
+                 cells along the boundary (not shardable)\n"
+            ));
+        }
         return print_out(&text);
     }
     // The study's name is one path component: "../x" or "/etc" stays inside out/.
