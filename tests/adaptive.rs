@@ -94,7 +94,6 @@ fn oracle(
         ny,
         nodes: (0..nx * ny).collect(),
     };
-    let mut map = vec![None; nx * ny];
     let inferred = refine(vec![grid], levels, |points| {
         runs += points.len();
         points
@@ -110,16 +109,13 @@ fn oracle(
             .collect()
     })
     .expect("the oracle answers every point");
-    for i in 0..nx * ny {
-        map[i] = Some(overturns(i % nx, i / nx));
-    }
     let mut out: Vec<Option<bool>> = vec![None; nx * ny];
     for c in &inferred {
         out[c.index] = Some(c.overturned);
     }
     // Run points carry their true verdict; only the inferred ones can be wrong.
     let result = (0..nx * ny)
-        .map(|i| out[i].unwrap_or(map[i].unwrap()))
+        .map(|i| out[i].unwrap_or_else(|| overturns(i % nx, i / nx)))
         .collect();
     (result, runs)
 }

@@ -56,6 +56,8 @@ pub struct MapGrid {
 
 /// The grids of a study's maps: one per group (device variant and every parameter off the
 /// map's axes), in expansion order. Empty if the study has no map.
+// StudyError is large by design (file, position, field, hint; built once): see study/mod.rs.
+#[allow(clippy::result_large_err)]
 pub fn map_grids(study: &Study) -> Result<Vec<MapGrid>, StudyError> {
     let Some(axes) = study.map else {
         return Ok(vec![]);
@@ -352,7 +354,6 @@ pub fn refine(
 pub fn run_refined(
     study: &Study,
     points: &[ScenePoint],
-    levels: u32,
     opts: &SweepOptions,
     library: &Library,
     checkpoint: Checkpoint,
@@ -367,6 +368,9 @@ pub fn run_refined(
             study.name
         );
     }
+    let Some(levels) = study.map.and_then(|m| m.refine_levels()) else {
+        anyhow::bail!("study {}: its map is not adaptive", study.name);
+    };
     let by_index: HashMap<usize, &ScenePoint> = points.iter().map(|p| (p.index, p)).collect();
     let Checkpoint {
         journal,

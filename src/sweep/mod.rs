@@ -121,7 +121,7 @@ pub fn run_study(
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<SweepResults, StudyError> {
     let points = study.expand()?;
-    if let Some(levels) = study.map.and_then(|m| m.refine_levels()) {
+    if study.map.is_some_and(|m| m.refine.is_some()) {
         let reuse = opts
             .cache
             .as_ref()
@@ -133,10 +133,8 @@ pub fn run_study(
             reuse,
             ..Default::default()
         };
-        return adaptive::run_refined(
-            study, &points, levels, opts, library, checkpoint, cancel, progress,
-        )
-        .map_err(|e| StudyError::field("map.refine", e.to_string(), "run it without --shard"));
+        return adaptive::run_refined(study, &points, opts, library, checkpoint, cancel, progress)
+            .map_err(|e| StudyError::field("map.refine", e.to_string(), "run it without --shard"));
     }
     let mut results = run(&points, opts, library, cancel, progress);
     results.study_hash = study.hash();
@@ -294,11 +292,10 @@ pub fn run_into(
         reuse: std::mem::take(&mut output.reuse),
         scene_time_limit,
     };
-    let mut results = match study.map.and_then(|m| m.refine_levels()) {
-        Some(levels) => adaptive::run_refined(
-            study, points, levels, opts, library, checkpoint, cancel, progress,
-        )?,
-        None => run_checkpointed(points, opts, library, checkpoint, cancel, progress),
+    let mut results = if study.map.is_some_and(|m| m.refine.is_some()) {
+        adaptive::run_refined(study, points, opts, library, checkpoint, cancel, progress)?
+    } else {
+        run_checkpointed(points, opts, library, checkpoint, cancel, progress)
     };
     results.study_hash = study.hash();
     results.study = Some(study.clone());
