@@ -58,6 +58,16 @@ fn the_adaptive_shipped_map_equals_the_full_map_cell_for_cell() {
         // The boundary is not trivial: both verdicts on the map.
         assert!(!f.boundary().is_empty());
     }
+    // The workbench shows the inferred cells as verdicts (not as unrun gaps), flagged.
+    let shown = rocklab::tui::components::results::Results::new(refined.clone(), false);
+    for m in &shown.maps {
+        assert!(m.cells.iter().flatten().all(Option::is_some), "{}", m.label);
+        let flagged = (0..m.ys.len())
+            .flat_map(|iy| (0..m.xs.len()).map(move |ix| (ix, iy)))
+            .filter(|(ix, iy)| m.inferred(*ix, *iy))
+            .count();
+        assert!(flagged > m.xs.len() * m.ys.len() / 2, "{flagged} inferred");
+    }
     // Every grid point is run or inferred, never both; run scenes are the full run's.
     let ran: HashSet<usize> = refined.outcomes.iter().map(|o| o.point.index).collect();
     let inferred: HashSet<usize> = refined.inferred.iter().map(|c| c.index).collect();
