@@ -3,6 +3,7 @@
 
 mod util;
 
+mod adaptive;
 mod angular_acceleration;
 mod checkpoint;
 mod cli_simulate;

@@ -125,6 +125,21 @@ pub fn load_study(arg: &str) -> anyhow::Result<Study> {
 
 pub use sweep::results_name;
 
+/// An adaptive map cannot be split into shards (each refinement round needs every verdict of
+/// the round before): refused before anything runs.
+pub fn refuse_adaptive_shards(study: &Study, what: &str) -> anyhow::Result<()> {
+    if study.map.is_some_and(|m| m.refine.is_some()) {
+        return Err(UsageError::new(format!(
+            "study {}: its map is adaptive (map: (…, refine: …)) and cannot run as {what}: each \
+             refinement round needs every verdict of the round before. Run it unsharded (it runs \
+             only the boundary: `rocklab run`), or remove `refine` to shard the full grid",
+            study.name
+        ))
+        .into());
+    }
+    Ok(())
+}
+
 /// Worker threads: at least 1; more than a few per core only adds memory and contention.
 fn checked_jobs(jobs: Option<usize>) -> anyhow::Result<Option<usize>> {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -145,6 +160,9 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let study = load_study(&args.study)?;
     let jobs = checked_jobs(args.jobs)?;
     let points = study.expand().map_err(|e| UsageError::new(e.to_string()))?;
+    if let Some((i, n)) = args.shard {
+        refuse_adaptive_shards(&study, &format!("shard {i}/{n}"))?;
+    }
     if args.dry_run {
         let mut groups: Vec<(String, usize)> = Vec::new();
         for p in &points {
@@ -162,6 +180,17 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         );
         for (g, n) in groups {
             text.push_str(&format!("  {n:>7}  {g}\n"));
+        }
+        if let Some(levels) = study.map.and_then(|m| m.refine_levels()) {
+            let grids =
+                sweep::adaptive::map_grids(&study).map_err(|e| UsageError::new(e.to_string()))?;
+            let coarse = sweep::adaptive::Refinement::new(grids, levels)
+                .first_points()
+                .len();
+            text.push_str(&format!(
+                "adaptive map (levels {levels}): {coarse} scenes in the coarse lattice, then only \
+                 cells along the boundary (not shardable)\n"
+            ));
         }
         return print_out(&text);
     }

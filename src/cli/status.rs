@@ -92,6 +92,16 @@ fn set_status(set: &ResultSet) -> SetStatus {
         status.failed = counts.failed;
         status.total = Some(header.total);
         status.study_hash = Some(header.study_hash);
+        // An adaptive map runs only part of its grid: it is complete when its refinement is
+        // (replayed from the journal), and what is missing is unknown until then.
+        if header
+            .study
+            .is_some_and(|s| s.map.is_some_and(|m| m.refine.is_some()))
+        {
+            let complete =
+                sweep::journal::results_from_journal(&journal).is_ok_and(|r| !r.cancelled);
+            status.total = complete.then_some(status.ok + status.failed);
+        }
     } else if let Ok(results) = sweep::load_results(&set.results_path) {
         status.failed = results
             .outcomes
@@ -108,6 +118,13 @@ fn set_status(set: &ResultSet) -> SetStatus {
                     .filter(|p| sweep::in_shard(p.index, set.shard))
                     .count()
             });
+        if results
+            .study
+            .as_ref()
+            .is_some_and(|s| s.map.is_some_and(|m| m.refine.is_some()))
+        {
+            status.total = (!results.cancelled).then_some(status.ok + status.failed);
+        }
         status.study_hash = Some(results.study_hash);
     }
     status

@@ -107,8 +107,52 @@ pub struct OverturningMap {
     pub ys: Vec<f64>,
     /// [iy][ix]: Some(true) overturned, Some(false) survived, None failed or not run.
     pub cells: Vec<Vec<Option<bool>>>,
-    /// [iy][ix]: index in `SweepResults::outcomes` of the cell's scene, if it ran.
+    /// [iy][ix]: index in `SweepResults::outcomes` of the cell's scene, if it ran. A cell
+    /// with a verdict and no outcome was inferred by an adaptive map ([`Self::inferred`]).
     pub outcomes: Vec<Vec<Option<usize>>>,
+}
+
+impl OverturningMap {
+    /// Whether cell (ix, iy) holds a verdict that an adaptive map inferred without running it.
+    pub fn inferred(&self, ix: usize, iy: usize) -> bool {
+        let cell = self
+            .cells
+            .get(iy)
+            .and_then(|r| r.get(ix))
+            .copied()
+            .flatten();
+        let ran = self
+            .outcomes
+            .get(iy)
+            .and_then(|r| r.get(ix))
+            .copied()
+            .flatten();
+        cell.is_some() && ran.is_none()
+    }
+
+    /// The overturning boundary: between every two neighbouring cells (along a row or a
+    /// column) where one overturned and the other survived, the midpoint of their grid
+    /// values, as (x, y, along) with `along` the axis the pair lies on ('x' or 'y').
+    pub fn boundary(&self) -> Vec<(f64, f64, char)> {
+        let mut out = Vec::new();
+        for (iy, row) in self.cells.iter().enumerate() {
+            for ix in 0..row.len() {
+                let here = row[ix];
+                if let (Some(a), Some(Some(b))) = (here, row.get(ix + 1))
+                    && a != *b
+                {
+                    out.push(((self.xs[ix] + self.xs[ix + 1]) / 2.0, self.ys[iy], 'x'));
+                }
+                let above = self.cells.get(iy + 1).and_then(|r| r.get(ix)).copied();
+                if let (Some(a), Some(Some(b))) = (here, above)
+                    && a != b
+                {
+                    out.push((self.xs[ix], (self.ys[iy] + self.ys[iy + 1]) / 2.0, 'y'));
+                }
+            }
+        }
+        out
+    }
 }
 
 /// The study's quantities (or the peak rotation ratio for ad-hoc point lists).
@@ -153,17 +197,22 @@ impl Grouping {
     }
 
     fn key(&self, outcome: &SceneOutcome, free: &[Axis]) -> GroupKey {
-        match (self.locate(outcome), &self.layout) {
-            (Some((v, mut at)), Some((layout, ..))) => {
-                for (p, i) in layout.variants[v].params.iter().zip(at.iter_mut()) {
-                    if p.axis.is_some_and(|a| free.contains(&a)) {
-                        *i = usize::MAX;
-                    }
-                }
-                GroupKey::Grid(v, at)
-            }
-            _ => GroupKey::Label(outcome.point.group.clone()),
+        match self.locate(outcome) {
+            Some((v, at)) => self.grid_key(v, at, free),
+            None => GroupKey::Label(outcome.point.group.clone()),
         }
+    }
+
+    /// The group of variant `v` at value positions `at`, with the free axes blanked.
+    fn grid_key(&self, v: usize, mut at: Vec<usize>, free: &[Axis]) -> GroupKey {
+        if let Some((layout, ..)) = &self.layout {
+            for (p, i) in layout.variants[v].params.iter().zip(at.iter_mut()) {
+                if p.axis.is_some_and(|a| free.contains(&a)) {
+                    *i = usize::MAX;
+                }
+            }
+        }
+        GroupKey::Grid(v, at)
     }
 
     /// Label and structured group of a key.
@@ -296,6 +345,14 @@ pub fn maps(results: &SweepResults) -> Vec<OverturningMap> {
             }
         }
     }
+    // Cells an adaptive map inferred, by group: (value positions, overturned).
+    let mut inferred: HashMap<GroupKey, Vec<(Vec<usize>, bool)>> = HashMap::new();
+    for c in &results.inferred {
+        if let Some((v, at)) = layout.locate(c.index) {
+            let key = grouping.grid_key(v, at.clone(), &free);
+            inferred.entry(key).or_default().push((at, c.overturned));
+        }
+    }
     keys.into_iter()
         .zip(members)
         .filter_map(|((key, first), members)| {
@@ -323,6 +380,16 @@ pub fn maps(results: &SweepResults) -> Vec<OverturningMap> {
                 if let (Some(ix), Some(iy)) = (ix, iy) {
                     cells[iy][ix] = o.result.as_ref().ok().map(|r| r.overturned);
                     outcomes[iy][ix] = Some(i);
+                }
+            }
+            for (at, overturned) in inferred.get(&key).into_iter().flatten() {
+                let (x, y) = (params[ixp].values[at[ixp]], params[iyp].values[at[iyp]]);
+                let ix = xs.iter().position(|v| *v == x);
+                let iy = ys.iter().position(|v| *v == y);
+                if let (Some(ix), Some(iy)) = (ix, iy)
+                    && outcomes[iy][ix].is_none()
+                {
+                    cells[iy][ix] = Some(*overturned);
                 }
             }
             let (label, group) = grouping.describe(&key, &results.outcomes[first], &free);

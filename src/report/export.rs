@@ -40,7 +40,34 @@ pub fn write_tables(
         &results_columns_csv(results)?,
     )?;
     super::write_atomic(&out.join("summary.txt"), summary(results).as_bytes())?;
+    if study.map.is_some() {
+        super::write_atomic(&out.join("boundary.csv"), &boundary_csv(results)?)?;
+    }
     study.save(&out.join("study.ron"))
+}
+
+/// The overturning boundary of every map: one row per pair of neighbouring grid cells where
+/// one overturned and the other survived, at the midpoint of the pair (`between` says along
+/// which axis the pair lies). Inferred cells of an adaptive map count like run ones.
+pub fn boundary_csv(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
+    let maps = maps(results);
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let names = |m: &OverturningMap| (parameter(&m.x_axis).name, parameter(&m.y_axis).name);
+    match maps.first().map(names) {
+        Some((x, y)) => w.write_record(["map", x.as_str(), y.as_str(), "between"])?,
+        None => w.write_record(["map", "x", "y", "between"])?,
+    }
+    for m in &maps {
+        for (x, y, along) in m.boundary() {
+            w.write_record([
+                m.label.clone(),
+                format!("{x}"),
+                format!("{y}"),
+                along.to_string(),
+            ])?;
+        }
+    }
+    Ok(w.into_inner()?)
 }
 
 /// A coordinate of the study in files other tools read: an ASCII identifier (valid in MATLAB,
@@ -406,6 +433,15 @@ pub fn summary(results: &SweepResults) -> String {
             s,
             "\n{} overturning maps; the first {MAPS_SHOWN} follow (`rocklab plot` draws up to 12 in one figure; pick with --select)",
             maps.len()
+        );
+    }
+    if !results.inferred.is_empty() {
+        let _ = writeln!(
+            s,
+            "\nadaptive maps: {} scenes run, {} cells inferred by refinement (results.json \
+             `inferred`; boundary.csv has the boundary)",
+            results.outcomes.len(),
+            results.inferred.len()
         );
     }
     for m in maps.into_iter().take(MAPS_SHOWN) {

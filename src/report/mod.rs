@@ -16,8 +16,8 @@ pub use aggregate::{
     spectra,
 };
 pub use export::{
-    CsvLayout, Parameter, parameter, results_columns_csv, results_csv, results_csv_layout,
-    results_json, save_results, summary, write_tables,
+    CsvLayout, Parameter, boundary_csv, parameter, results_columns_csv, results_csv,
+    results_csv_layout, results_json, save_results, summary, write_tables,
 };
 pub use figure::{FigureOptions, FigureSize, ImageFormat};
 pub use plot::{MAX_SERIES, PlotChoice, plot_history, plot_maps, plot_spectra, scene_title};

@@ -922,6 +922,30 @@ fn draw_map<DB: DrawingBackend>(
         })
     });
     chart.draw_series(cells).map_err(err)?;
+    // The overturning boundary: the cell edges between an overturned and a survived cell.
+    let verdict =
+        |ix: usize, iy: usize| map.cells.get(iy).and_then(|r| r.get(ix)).copied().flatten();
+    let mut edges = Vec::new();
+    for iy in 0..map.ys.len() {
+        for ix in 0..map.xs.len() {
+            let Some(here) = verdict(ix, iy) else {
+                continue;
+            };
+            if verdict(ix + 1, iy).is_some_and(|v| v != here) {
+                edges.push(vec![(ex[ix + 1], ey[iy]), (ex[ix + 1], ey[iy + 1])]);
+            }
+            if verdict(ix, iy + 1).is_some_and(|v| v != here) {
+                edges.push(vec![(ex[ix], ey[iy + 1]), (ex[ix + 1], ey[iy + 1])]);
+            }
+        }
+    }
+    chart
+        .draw_series(
+            edges
+                .into_iter()
+                .map(|e| PathElement::new(e, BLACK.stroke_width(2))),
+        )
+        .map_err(err)?;
     Ok(())
 }
 

@@ -469,6 +469,15 @@ fn check_top_level(study: &Study) -> Result<(), StudyError> {
             "e.g. map: (x: frequency, y: amplitude)",
         ));
     }
+    if let Some(levels) = study.map.and_then(|m| m.refine_levels())
+        && !(1..=8).contains(&levels)
+    {
+        return Err(StudyError::field(
+            "map.refine.levels",
+            format!("{levels} refinement levels are out of range"),
+            "1 to 8: the coarse lattice steps 2^levels grid values, e.g. refine: (levels: 2)",
+        ));
+    }
     match &study.structure {
         StructureFamily::Rigid { size, p, .. } if size.is_some() == p.is_some() => {
             return Err(StudyError::field(

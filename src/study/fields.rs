@@ -126,6 +126,15 @@ const FIELD_HELP: &[(&str, &str)] = &[
         "impact",
         "housner(restitution: None or r) or dirac(width: n)",
     ),
+    (
+        "refine",
+        "adaptive map: (levels: n) runs a coarse lattice every 2^n values, then refines only \
+         where verdicts disagree; islands narrower than 2^n steps can be missed",
+    ),
+    (
+        "levels",
+        "refinement levels of an adaptive map (1–8): coarse lattice every 2^levels values",
+    ),
     ("x", "the map's x axis"),
     ("y", "the map's y axis"),
     ("from", "first value of a range"),

@@ -276,6 +276,29 @@ pub enum Axis {
 pub struct MapAxes {
     pub x: Axis,
     pub y: Axis,
+    /// Compute the map by boundary refinement instead of running every cell (sweep/adaptive.rs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refine: Option<Refine>,
+}
+
+/// Adaptive overturning map: run a coarse lattice of the map's grid (every 2^levels-th value
+/// of both axes, the last values always included), then split only the cells whose known
+/// points disagree (overturned vs survived, or a failed scene), down to the study's grid.
+/// Cells whose known points all agree are filled with that verdict and marked inferred. A
+/// survival island or overturning tongue narrower than a coarse cell (2^levels grid steps)
+/// can be missed; anything that touches a coarse lattice point is found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Refine {
+    /// Refinement levels: the coarse lattice steps 2^levels grid values (1 ≤ levels ≤ 8).
+    pub levels: u32,
+}
+
+impl MapAxes {
+    /// The refinement levels of an adaptive map (None: every cell runs).
+    pub fn refine_levels(&self) -> Option<u32> {
+        self.refine.map(|r| r.levels)
+    }
 }
 
 /// One scene of an expanded study.

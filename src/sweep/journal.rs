@@ -288,12 +288,20 @@ pub fn results_from_journal(path: &Path) -> anyhow::Result<SweepResults> {
             });
         }
     }
+    // An adaptive map runs only part of its grid: it is complete when its refinement is.
+    let adaptive = study.map.is_some_and(|m| m.refine.is_some());
+    let inferred = super::adaptive::replay(&study, &outcomes);
     Ok(SweepResults {
         study_hash: header.study_hash,
+        cancelled: if adaptive {
+            inferred.is_none()
+        } else {
+            outcomes.len() < total
+        },
         study: Some(study),
-        cancelled: outcomes.len() < total,
         outcomes,
         shard: header.shard,
         build: header.build,
+        inferred: inferred.unwrap_or_default(),
     })
 }

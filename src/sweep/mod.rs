@@ -5,6 +5,7 @@
 use crate::excitation::Library;
 use crate::sim::{self, SceneResult};
 use crate::study::{ScenePoint, Study, StudyError};
+pub mod adaptive;
 pub mod journal;
 pub mod output;
 mod store;
@@ -73,6 +74,19 @@ pub struct SweepResults {
     /// by the same build, so a rebuilt rocklab never serves results of older physics.
     #[serde(default)]
     pub build: String,
+    /// Map cells an adaptive map did not run: their verdict follows from the refinement rule
+    /// (every known point around them agrees). Never scenes: spectra and results.csv hold
+    /// only `outcomes`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub inferred: Vec<InferredCell>,
+}
+
+/// A map cell filled by an adaptive map's refinement rule instead of a run.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct InferredCell {
+    /// The scene's expansion index (it was not run).
+    pub index: usize,
+    pub overturned: bool,
 }
 
 /// A hash of the running executable, computed once per process ("unknown" if unreadable).
@@ -112,6 +126,10 @@ pub fn run_study(
         measures: crate::study::Quantity::measures(&study.quantities),
         ..Default::default()
     };
+    if study.map.is_some_and(|m| m.refine.is_some()) {
+        return adaptive::run_refined(study, &points, opts, library, checkpoint, cancel, progress)
+            .map_err(|e| StudyError::field("map.refine", e.to_string(), "run it without --shard"));
+    }
     let mut results = run_checkpointed(&points, opts, library, checkpoint, cancel, progress);
     results.study_hash = study.hash();
     results.study = Some(study.clone());
@@ -256,6 +274,7 @@ pub fn run_checkpointed(
         cancelled,
         shard: opts.shard,
         build: build_id().to_string(),
+        inferred: Vec::new(),
     }
 }
 
@@ -281,7 +300,11 @@ pub fn run_into(
         scene_time_limit,
         measures: crate::study::Quantity::measures(&study.quantities),
     };
-    let mut results = run_checkpointed(points, opts, library, checkpoint, cancel, progress);
+    let mut results = if study.map.is_some_and(|m| m.refine.is_some()) {
+        adaptive::run_refined(study, points, opts, library, checkpoint, cancel, progress)?
+    } else {
+        run_checkpointed(points, opts, library, checkpoint, cancel, progress)
+    };
     results.study_hash = study.hash();
     results.study = Some(study.clone());
     let journal = output.journal.path().display().to_string();
@@ -423,12 +446,20 @@ pub fn merge(parts: Vec<SweepResults>, force: bool) -> anyhow::Result<SweepResul
         Some(s) => s.expand().map(|p| p.len()).unwrap_or(by_index.len()),
         None => by_index.len(),
     };
+    let outcomes: Vec<SceneOutcome> = by_index.into_values().collect();
+    // An adaptive map is complete when its refinement is, not when every cell ran.
+    let inferred = study.as_ref().and_then(|s| adaptive::replay(s, &outcomes));
+    let complete = match (&study, &inferred) {
+        (Some(s), _) if s.map.is_some_and(|m| m.refine.is_some()) => inferred.is_some(),
+        _ => outcomes.len() >= total,
+    };
     Ok(SweepResults {
         study_hash: hash,
         study,
-        cancelled: cancelled || by_index.len() < total,
-        outcomes: by_index.into_values().collect(),
+        cancelled: cancelled || !complete,
+        outcomes,
         shard: None,
         build,
+        inferred: inferred.unwrap_or_default(),
     })
 }

@@ -51,6 +51,8 @@ struct StoredResults {
     shard: Option<(usize, usize)>,
     #[serde(default)]
     build: String,
+    #[serde(default)]
+    inferred: Vec<super::InferredCell>,
 }
 
 /// Only the version, to explain why a file of another format did not parse.
@@ -94,6 +96,7 @@ pub fn load_results(path: &Path) -> anyhow::Result<SweepResults> {
         cancelled: stored.cancelled,
         shard: stored.shard,
         build: stored.build,
+        inferred: stored.inferred,
     })
 }
 

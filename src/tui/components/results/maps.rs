@@ -81,6 +81,12 @@ impl MapsView {
             let mut spans = vec![Span::styled(label, theme.dim())];
             for ix in first_x..first_x + count_x {
                 let (glyph, style) = map_cell(map, marks, ix, iy, theme);
+                // An adaptive map's inferred cells are dim: only the bright ones ran.
+                let style = if map.inferred(ix, iy) {
+                    style.add_modifier(Modifier::DIM)
+                } else {
+                    style
+                };
                 let style = if (ix, iy) == (cx, cy) {
                     style.add_modifier(Modifier::REVERSED)
                 } else {
@@ -103,12 +109,24 @@ impl MapsView {
             Span::raw(" safe  "),
             Span::styled(theme::CELL_FAILED, theme.failed()),
             Span::raw(" failed  blank not run"),
+            Span::raw(
+                if (0..ny).any(|iy| (0..nx).any(|ix| map.inferred(ix, iy))) {
+                    "  dim inferred"
+                } else {
+                    ""
+                },
+            ),
         ]));
         let state = match map.cells.get(cy).and_then(|r| r.get(cx)) {
             Some(Some(true)) => "overturned",
             Some(Some(false)) => "safe",
             Some(None) => mark_at(marks, (cx, cy)).describe(),
             None => "–",
+        };
+        let state = if map.inferred(cx, cy) {
+            format!("{state} (inferred by refinement, not run)")
+        } else {
+            state.to_string()
         };
         lines.push(Line::raw(format!(
             "{} = {}  {} = {}: {state}",

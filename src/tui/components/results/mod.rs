@@ -53,8 +53,12 @@ impl Results {
     pub fn new(results: SweepResults, cancelled: bool) -> Self {
         // Aggregate over the study's every point, the unrun ones as placeholders, so the axes
         // keep the study's full range while a partial run is shown.
-        let ran: std::collections::HashSet<usize> =
-            results.outcomes.iter().map(|o| o.point.index).collect();
+        // An adaptive map's inferred cells are no scenes, and no gaps either: the maps show
+        // their verdicts (dim), the spectra leave them out.
+        let ran: std::collections::HashSet<usize> = (results.outcomes.iter())
+            .map(|o| o.point.index)
+            .chain(results.inferred.iter().map(|c| c.index))
+            .collect();
         let mut padded = results.clone();
         padded.outcomes.extend(
             results
