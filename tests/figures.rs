@@ -261,11 +261,11 @@ fn selectors_pick_series_and_facets_split_them_into_rows() {
             .unwrap();
         svg_texts(&std::fs::read_to_string(path).unwrap())
     };
-    // The study's RON form, a coordinate label and a CSV name select the same series.
+    // `compare`'s selectors (report/select.rs): a value, a list, another spelling of it.
     for selector in [
         "mechanistic(play: 0.005)",
-        "mechanistic up=0.005",
-        "play = 0.005",
+        "mechanistic(play: [0.005])",
+        "mechanistic(play: 5e-3)",
     ] {
         let texts = draw(PlotChoice {
             select: vec![selector.into()],
@@ -282,7 +282,10 @@ fn selectors_pick_series_and_facets_split_them_into_rows() {
     }
     // Two selectors: both series.
     let texts = draw(PlotChoice {
-        select: vec!["play=0".into(), "play=0.01".into()],
+        select: vec![
+            "mechanistic(play: 0)".into(),
+            "mechanistic(play: 0.01)".into(),
+        ],
         ..Default::default()
     });
     assert!(texts.contains(&"mechanistic up=0".to_string()));

@@ -23,10 +23,10 @@ pub struct PlotArgs {
     /// PNG resolution in dots per inch (SVG is resolution independent).
     #[arg(long, default_value_t = 300.0, value_parser = parse_dpi)]
     pub dpi: f64,
-    /// Draw only the series that match: a device kind or label (`mechanistic`, `bare`), a
-    /// record (`landers`) and/or parameters (`play=0.005`, `kθ=3`), all of which must match;
-    /// the study's RON form works too: `mechanistic(k_theta: 3.0, play: 0.005)`. Repeat for
-    /// more series.
+    /// Draw only the series that match, as `compare --a/--b` selects: a device kind or label
+    /// with parameter values in the study's syntax, e.g. `mechanistic`, `bare`,
+    /// `mechanistic(k_theta: 3.0, play: [0.0, 0.005])`, `sequential(record: landers)`.
+    /// Repeat for more series.
     #[arg(long, value_name = "SELECTOR")]
     pub select: Vec<String>,
     /// One row of panels per value of this parameter (study field, CSV name or label:
