@@ -24,4 +24,5 @@ mod studies;
 mod study;
 mod sweep;
 mod tui;
+mod tui_compare;
 mod tui_smoke;
