@@ -7,6 +7,7 @@
 // in figure.rs, selection in select.rs).
 
 use super::aggregate::{Group, OverturningMap, PointState, Spectrum};
+use super::compare::{MapCell, MapComparison, compare_maps};
 use super::select::{Selector, select};
 use super::export::parameter;
 use super::figure::{
@@ -557,12 +558,7 @@ fn parameter_names(curves: &[&Curve]) -> String {
 
 /// A selector for the first chosen series: its device and first varying parameter.
 fn example_selector(curves: &[&Curve]) -> String {
-    let g = &curves[0].spectrum.group;
-    let device = device_name(g);
-    match g.settings.iter().find(|s| s.varies && s.id != "record") {
-        Some(s) => format!("{device}({}: {})", s.id, s.text),
-        None => device,
-    }
+    example_of(&curves[0].spectrum.group)
 }
 
 /// A selector for the last chosen series' device, with its record when there is one.
@@ -824,6 +820,35 @@ fn draw_map<DB: DrawingBackend>(
     map: &OverturningMap,
     title: &str,
 ) -> anyhow::Result<()> {
+    let grid = CellGrid {
+        xs: &map.xs,
+        ys: &map.ys,
+        x_axis: &map.x_axis,
+        y_axis: &map.y_axis,
+    };
+    draw_cells(area, canvas, &grid, title, |ix, iy| match map.cells[iy][ix] {
+        Some(true) => OVERTURNED,
+        Some(false) => SURVIVED,
+        None => WHITE,
+    })
+}
+
+/// The axes of a map of cells.
+struct CellGrid<'a> {
+    xs: &'a [f64],
+    ys: &'a [f64],
+    x_axis: &'a str,
+    y_axis: &'a str,
+}
+
+/// A map panel: one filled rectangle per cell, coloured by `color(ix, iy)`.
+fn draw_cells<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    canvas: Canvas,
+    grid: &CellGrid,
+    title: &str,
+    color: impl Fn(usize, usize) -> RGBColor,
+) -> anyhow::Result<()> {
     let edges = |v: &[f64]| -> Vec<f64> {
         // Cell edges halfway between grid values.
         let n = v.len();
@@ -838,8 +863,8 @@ fn draw_map<DB: DrawingBackend>(
         e.push(v[n - 1] + (v[n - 1] - v[n - 2]) / 2.0);
         e
     };
-    let (ex, ey) = (edges(&map.xs), edges(&map.ys));
-    let (x_label, y_label) = (coordinate_axis(&map.x_axis), coordinate_axis(&map.y_axis));
+    let (ex, ey) = (edges(grid.xs), edges(grid.ys));
+    let (x_label, y_label) = (coordinate_axis(grid.x_axis), coordinate_axis(grid.y_axis));
     let mut chart = build_chart(
         area,
         canvas,
@@ -852,19 +877,117 @@ fn draw_map<DB: DrawingBackend>(
             y_labels_below: None,
         },
     )?;
-    let cells = map.cells.iter().enumerate().flat_map(|(iy, row)| {
-        let (ex, ey) = (&ex, &ey);
-        row.iter().enumerate().map(move |(ix, c)| {
-            let color = match c {
-                Some(true) => OVERTURNED,
-                Some(false) => SURVIVED,
-                None => WHITE,
-            };
-            Rectangle::new([(ex[ix], ey[iy]), (ex[ix + 1], ey[iy + 1])], color.filled())
+    let (nx, ny) = (grid.xs.len(), grid.ys.len());
+    let cells = (0..ny).flat_map(|iy| {
+        let (ex, ey, color) = (&ex, &ey, &color);
+        (0..nx).map(move |ix| {
+            Rectangle::new(
+                [(ex[ix], ey[iy]), (ex[ix + 1], ey[iy + 1])],
+                color(ix, iy).filled(),
+            )
         })
     });
     chart.draw_series(cells).map_err(err)?;
     Ok(())
+}
+
+/// The colour of each kind of cell of two maps compared (Okabe–Ito, apart in greyscale too:
+/// light grey, sky blue, vermillion, dark grey, white).
+fn map_cell_color(c: MapCell) -> RGBColor {
+    match c {
+        MapCell::BothSurvive => SURVIVED,
+        MapCell::OnlyBSurvives => super::figure::PALETTE[5],
+        MapCell::OnlyASurvives => super::figure::PALETTE[4],
+        MapCell::BothOverturn => RGBColor(64, 64, 64),
+        MapCell::Missing => WHITE,
+    }
+}
+
+/// Two variants' overturning maps compared, one panel per pair (`compare`'s pairing of the
+/// selectors `a` and `b`): where both survive, only B survives (B's protective benefit), only
+/// A survives, both overturn, or a side failed or did not run; a legend with what each
+/// colour is. Returns the file written, or None when the results hold no maps.
+pub fn plot_map_differences(
+    dir: &Path,
+    options: &FigureOptions,
+    maps: &[OverturningMap],
+    a: &str,
+    b: &str,
+) -> anyhow::Result<Option<PathBuf>> {
+    if maps.is_empty() {
+        return Ok(None);
+    }
+    let (sa, sb) = (
+        Selector::parse(a).map_err(|e| anyhow::anyhow!("--a: {e}"))?,
+        Selector::parse(b).map_err(|e| anyhow::anyhow!("--b: {e}"))?,
+    );
+    let pairs = compare_maps(maps, &sa, &sb).map_err(|e| anyhow::anyhow!("{e}"))?;
+    const MAX_MAPS: usize = 12;
+    if pairs.len() > MAX_MAPS {
+        anyhow::bail!(
+            "{} pairs of overturning maps, more than {MAX_MAPS} in one figure; narrow --a/--b \
+             with parameter values, e.g. --b '{}'",
+            pairs.len(),
+            example_of(&pairs[0].b_group)
+        );
+    }
+    let legend: Vec<LegendEntry> = MapCell::ALL
+        .iter()
+        .map(|c| LegendEntry {
+            label: c.meaning().to_string(),
+            swatch: Swatch::Fill(map_cell_color(*c)),
+        })
+        .collect();
+    let cols = pairs.len().min(3);
+    let rows = pairs.len().div_ceil(cols);
+    let canvas = options.canvas(FigureSize::mm(
+        if cols == 1 { 110.0 } else { 65.0 * cols as f64 },
+        60.0 * rows as f64 + 24.0,
+    ));
+    let title = format!("Overturning maps compared: A = {a}, B = {b}");
+    let path = dir.join(format!("maps-difference.{}", options.format.extension()));
+    render(
+        &path,
+        options,
+        canvas,
+        |r| draw_map_differences(r, canvas, &title, &legend, &pairs, cols),
+        |r| draw_map_differences(r, canvas, &title, &legend, &pairs, cols),
+    )?;
+    Ok(Some(path))
+}
+
+fn draw_map_differences<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    canvas: Canvas,
+    title: &str,
+    legend: &[LegendEntry],
+    pairs: &[MapComparison],
+    cols: usize,
+) -> anyhow::Result<()> {
+    let (body, _) = split_figure(&root, canvas, title, legend)?;
+    let areas = body.split_evenly((pairs.len().div_ceil(cols), cols));
+    for (i, (area, m)) in areas.iter().zip(pairs).enumerate() {
+        let grid = CellGrid {
+            xs: &m.xs,
+            ys: &m.ys,
+            x_axis: &m.x_axis,
+            y_axis: &m.y_axis,
+        };
+        let title = format!("({}) {} vs {}", panel_letter(i), m.a, m.b);
+        draw_cells(area, canvas, &grid, &title, |ix, iy| {
+            map_cell_color(m.cells[iy][ix])
+        })?;
+    }
+    root.present().map_err(err)
+}
+
+/// A selector naming a group's device and its first varying parameter.
+fn example_of(g: &Group) -> String {
+    let device = device_name(g);
+    match g.settings.iter().find(|s| s.varies && s.id != "record") {
+        Some(s) => format!("{device}({}: {})", s.id, s.text),
+        None => device,
+    }
 }
 
 /// One panel of a scene's histories: lines, or a stacked area with a line on top.
