@@ -189,8 +189,10 @@ pub fn run(args: &StatusArgs) -> anyhow::Result<()> {
     if !resubmit.is_empty() {
         let ids: Vec<String> = resubmit.iter().map(|(i, _)| i.to_string()).collect();
         text.push_str(&format!(
-            "resubmit array tasks {} (e.g. sbatch --array={} …); each resumes from its journal\n",
-            ids.join(","),
+            // A bare `sbatch --array=…` would leave `rocklab slurm`'s merge job waiting on the
+            // failed array for ever, so point at the command that submits both again.
+            "resubmit array tasks {}: run the same `rocklab slurm … --submit` again (a new array \
+             and merge job; every task resumes from its journal, finished ones at once)\n",
             ids.join(",")
         ));
     } else if statuses.iter().all(|s| s.missing() == Some(0)) {
