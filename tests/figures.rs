@@ -508,7 +508,10 @@ fn overturning_maps_compare_cell_by_cell_with_a_legend() {
     for c in report::compare::MapCell::ALL {
         assert!(texts.contains(&c.meaning().to_string()), "{c:?}: {texts:?}");
     }
-    assert!(texts.contains(&"(a) sequential vs mechanistic".to_string()), "{texts:?}");
+    assert!(
+        texts.contains(&"(a) sequential vs mechanistic".to_string()),
+        "{texts:?}"
+    );
     // One filled cell per map point, plus the legend's five swatches.
     let pair = &report::compare::compare_maps(
         &maps,
@@ -519,7 +522,11 @@ fn overturning_maps_compare_cell_by_cell_with_a_legend() {
     let both_overturn = pair.count(report::compare::MapCell::BothOverturn);
     assert!(both_overturn > 0);
     let dark = svg.matches("fill=\"#404040\"").count();
-    assert_eq!(dark, both_overturn + 1, "dark cells: both overturn, and the legend");
+    assert_eq!(
+        dark,
+        both_overturn + 1,
+        "dark cells: both overturn, and the legend"
+    );
     // A selector that matches no map is an error that says what there is.
     let e = report::plot_map_differences(dir.path(), &svg_options(), &maps, "inerter", "bare")
         .unwrap_err()

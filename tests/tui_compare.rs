@@ -128,9 +128,7 @@ fn a_clutch_grid_pairs_sequential_with_each_member_sorted_by_mean_ratio() {
         let (a, b) = (of(&pair.a_group), of(&pair.b_group));
         assert_eq!(a.xs, b.xs);
         let both: Vec<f64> = (0..a.xs.len())
-            .filter(|&i| {
-                a.states[i] == PointState::Survived && b.states[i] == PointState::Survived
-            })
+            .filter(|&i| a.states[i] == PointState::Survived && b.states[i] == PointState::Survived)
             .map(|i| b.ys[i].unwrap() / a.ys[i].unwrap())
             .collect();
         let mean = both.iter().sum::<f64>() / both.len() as f64;
@@ -233,7 +231,10 @@ fn a_record_suite_pairs_each_record_with_the_same_record() {
     check(&app, DeviceKind::None);
     // A single record on the A side still pairs only with that record.
     keys(&mut app, &[Char('a'), Down, Right, Enter]);
-    assert_eq!(app.browser.compare.a.selector_text(), "bare(record: landers)");
+    assert_eq!(
+        app.browser.compare.a.selector_text(),
+        "bare(record: landers)"
+    );
     let p = pairs(&app);
     assert_eq!(p.len(), 1);
     assert_eq!(p[0].b_group.record(), Some("landers"));

@@ -8,12 +8,12 @@
 
 use super::aggregate::{Group, OverturningMap, PointState, Spectrum};
 use super::compare::{MapCell, MapComparison, compare_maps};
-use super::select::{Selector, select};
 use super::export::parameter;
 use super::figure::{
     Axes, Canvas, Dash, FigureOptions, FigureSize, LINE_PT, LegendEntry, Marker, SeriesStyle,
     Swatch, build_chart, draw_line, draw_markers, err, render, split_figure,
 };
+use super::select::{Selector, select};
 use crate::sim::History;
 use crate::study::Quantity;
 use crate::study::fmt_num;
@@ -227,7 +227,12 @@ pub fn plot_spectra(
     let all = curves(results, spectra);
     let groups: Vec<&Group> = all.iter().map(|c| &c.spectrum.group).collect();
     let picked = selection(choice, &groups)?;
-    let chosen: Vec<&Curve> = all.iter().zip(&picked).filter(|(_, p)| **p).map(|(c, _)| c).collect();
+    let chosen: Vec<&Curve> = all
+        .iter()
+        .zip(&picked)
+        .filter(|(_, p)| **p)
+        .map(|(c, _)| c)
+        .collect();
     if chosen.is_empty() {
         if !choice.select.is_empty() {
             eprintln!(
@@ -826,10 +831,12 @@ fn draw_map<DB: DrawingBackend>(
         x_axis: &map.x_axis,
         y_axis: &map.y_axis,
     };
-    draw_cells(area, canvas, &grid, title, |ix, iy| match map.cells[iy][ix] {
-        Some(true) => OVERTURNED,
-        Some(false) => SURVIVED,
-        None => WHITE,
+    draw_cells(area, canvas, &grid, title, |ix, iy| {
+        match map.cells[iy][ix] {
+            Some(true) => OVERTURNED,
+            Some(false) => SURVIVED,
+            None => WHITE,
+        }
     })
 }
 

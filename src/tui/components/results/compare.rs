@@ -157,7 +157,9 @@ fn choices(groups: &[&Group], device: &str) -> Vec<Choice> {
                 }
             };
             if !out[i].values.iter().any(|v| v.0 == s.value) {
-                out[i].values.push((s.value, s.text.clone(), s.name.clone()));
+                out[i]
+                    .values
+                    .push((s.value, s.text.clone(), s.name.clone()));
             }
         }
     }
@@ -280,7 +282,8 @@ fn step(side: &Side, field: usize, back: bool, groups: &[&Group], params: &[Choi
         let (v, _, name) = &param.values[next - 1];
         out.picks.push((param.id.clone(), *v, name.clone()));
         // Keep the study's parameter order.
-        out.picks.sort_by_key(|(id, ..)| params.iter().position(|c| c.id == *id));
+        out.picks
+            .sort_by_key(|(id, ..)| params.iter().position(|c| c.id == *id));
     }
     out
 }
@@ -426,11 +429,10 @@ fn pair_name(pairs: &[SpectrumPair], p: &SpectrumPair) -> String {
         (false, true) => format!("A {}", p.a),
         _ => {
             let b_words: Vec<&str> = p.b.split(' ').collect();
-            let shared: Vec<&str> = p
-                .a
-                .split(' ')
-                .filter(|w| *w != "·" && b_words.contains(w))
-                .collect();
+            let shared: Vec<&str> =
+                p.a.split(' ')
+                    .filter(|w| *w != "·" && b_words.contains(w))
+                    .collect();
             if shared.is_empty() {
                 format!("{} / {}", p.a, p.b)
             } else {
@@ -702,7 +704,9 @@ fn draw_map(
     let room_w = (area.width as usize).saturating_sub(ylabel + 2);
     let cell = (room_w / nx.max(1)).clamp(1, 6);
     let count_x = (room_w / cell).min(nx);
-    let room_y = (area.height as usize).saturating_sub(lines.len() + 5).max(1);
+    let room_y = (area.height as usize)
+        .saturating_sub(lines.len() + 5)
+        .max(1);
     let cell_h = (room_y / ny.max(1)).clamp(1, 2);
     let count_y = (room_y / cell_h).min(ny);
     lines.push(Line::styled(m.y_axis.clone(), theme.dim()));

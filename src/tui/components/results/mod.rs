@@ -194,12 +194,17 @@ impl ResultsScreen {
     pub fn point_at_cursor<'a>(&self, data: &'a Results) -> Option<&'a ScenePoint> {
         // Spectra and maps carry the index of each point's outcome: no label matching.
         let outcome = match self.tab {
-            ResultsTab::Spectra => {
-                *self.rows(data).get(self.spectra.row)?.outcomes.get(self.spectra.x)?
-            }
+            ResultsTab::Spectra => *self
+                .rows(data)
+                .get(self.spectra.row)?
+                .outcomes
+                .get(self.spectra.x)?,
             ResultsTab::Compare => {
                 // B's point of the selected pair, found by its group (no label matching).
-                let pairs = self.compare.pairs(data, self.current_quantity(data)?).ok()?;
+                let pairs = self
+                    .compare
+                    .pairs(data, self.current_quantity(data)?)
+                    .ok()?;
                 let pair = pairs.get(self.compare.pair.min(pairs.len().saturating_sub(1)))?;
                 let x = pair.points.get(self.spectra.x)?.x;
                 let b = self
@@ -331,16 +336,18 @@ impl Component for ResultsScreen {
         ];
         match self.tab {
             ResultsTab::Spectra => hints.push(("f", "filter")),
-            ResultsTab::Compare => hints = vec![
-                ("a/b", "pick A/B"),
-                ("↑↓", "pair"),
-                ("o", "sort"),
-                ("y", "scale"),
-                ("d", "maps"),
-                ("x", "swap"),
-                ("←→", "cursor"),
-                ("[ ]", "quantity"),
-            ],
+            ResultsTab::Compare => {
+                hints = vec![
+                    ("a/b", "pick A/B"),
+                    ("↑↓", "pair"),
+                    ("o", "sort"),
+                    ("y", "scale"),
+                    ("d", "maps"),
+                    ("x", "swap"),
+                    ("←→", "cursor"),
+                    ("[ ]", "quantity"),
+                ]
+            }
             ResultsTab::Maps => {}
         }
         hints.extend([("Enter", "scene"), ("w", "write results")]);

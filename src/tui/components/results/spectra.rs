@@ -238,10 +238,7 @@ pub fn split_common_prefix(labels: &[&str]) -> (String, Vec<String>) {
     let words: Vec<Vec<&str>> = labels.iter().map(|l| l.split(' ').collect()).collect();
     let shortest = words.iter().map(Vec::len).min().unwrap_or(0);
     let mut k = 0;
-    while labels.len() > 1
-        && k + 1 < shortest
-        && words.iter().all(|w| w[k] == words[0][k])
-    {
+    while labels.len() > 1 && k + 1 < shortest && words.iter().all(|w| w[k] == words[0][k]) {
         k += 1;
     }
     // Do not leave a dangling separator (`·`) at either side.
@@ -252,11 +249,18 @@ pub fn split_common_prefix(labels: &[&str]) -> (String, Vec<String>) {
         .iter()
         .map(|w| {
             let tail = &w[k..];
-            let tail = if tail.first() == Some(&"·") { &tail[1..] } else { tail };
+            let tail = if tail.first() == Some(&"·") {
+                &tail[1..]
+            } else {
+                tail
+            };
             tail.join(" ")
         })
         .collect();
-    (words.first().map_or(String::new(), |w| w[..k].join(" ")), rest)
+    (
+        words.first().map_or(String::new(), |w| w[..k].join(" ")),
+        rest,
+    )
 }
 
 #[cfg(test)]
@@ -270,10 +274,19 @@ mod tests {
         assert_eq!(rest, ["up=0", "up=0.01"]);
         // Different devices share nothing; a single row keeps its whole label.
         let (p, rest) = split_common_prefix(&["bare", "mechanistic"]);
-        assert_eq!((p.as_str(), rest), ("", vec!["bare".to_string(), "mechanistic".into()]));
+        assert_eq!(
+            (p.as_str(), rest),
+            ("", vec!["bare".to_string(), "mechanistic".into()])
+        );
         let (p, rest) = split_common_prefix(&["mechanistic up=0"]);
-        assert_eq!((p.as_str(), rest), ("", vec!["mechanistic up=0".to_string()]));
+        assert_eq!(
+            (p.as_str(), rest),
+            ("", vec!["mechanistic up=0".to_string()])
+        );
         let (p, rest) = split_common_prefix(&["sequential · landers", "sequential · kobe"]);
-        assert_eq!((p.as_str(), rest), ("sequential", vec!["landers".to_string(), "kobe".into()]));
+        assert_eq!(
+            (p.as_str(), rest),
+            ("sequential", vec!["landers".to_string(), "kobe".into()])
+        );
     }
 }
