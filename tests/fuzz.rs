@@ -241,6 +241,7 @@ proptest! {
             let bounds = rocklab::sim::Bounds {
                 cancel: None,
                 time_limit: Some(Duration::from_millis(200)),
+                ..Default::default()
             };
             let run = rocklab::sweep::guarded(|| {
                 let records = rocklab::excitation::library::global().unwrap();

@@ -82,10 +82,16 @@ fn one_and_two_threads_agree_with_each_other_and_with_scene_by_scene_runs() {
         report::results_csv(&one).unwrap(),
         report::results_csv(&two).unwrap()
     );
+    // A study's scenes compute what its quantities need; alone, the same measures.
+    let bounds = rocklab::sim::Bounds {
+        measures: rocklab::report::Quantity::measures(&study.quantities),
+        ..Default::default()
+    };
     for o in &one.outcomes {
-        let mut alone = rocklab::sim::run(
+        let mut alone = rocklab::sim::run_bounded(
             &o.point.scene,
             rocklab::excitation::library::global().unwrap(),
+            bounds,
         )
         .unwrap();
         alone.wall_seconds = 0.0;

@@ -17,17 +17,17 @@ use std::time::Duration;
 
 use KeyCode::{Backspace, Down, Enter, Esc, Left, Right, Up};
 
-const SMALL: (u16, u16) = (80, 24);
+pub(crate) const SMALL: (u16, u16) = (80, 24);
 const LARGE: (u16, u16) = (160, 48);
 
-fn new_app() -> App {
+pub(crate) fn new_app() -> App {
     new_app_in(scratch_dir())
 }
 
 /// Where this test's runs write (never into out/): target/tui-tests/<test name>, emptied
 /// first: a fixed path, so frames that show it are reproducible, and fresh, so no journal of
 /// an earlier test run is resumed.
-fn scratch_dir() -> PathBuf {
+pub(crate) fn scratch_dir() -> PathBuf {
     let name = std::thread::current()
         .name()
         .unwrap_or("main")
@@ -38,7 +38,7 @@ fn scratch_dir() -> PathBuf {
 }
 
 /// An app whose runs write under `out_root` (as `out/` for the real workbench).
-fn new_app_in(out_root: PathBuf) -> App {
+pub(crate) fn new_app_in(out_root: PathBuf) -> App {
     App::new(
         Study::builtin_default(),
         None,
@@ -50,13 +50,13 @@ fn new_app_in(out_root: PathBuf) -> App {
     )
 }
 
-fn render(app: &App, theme: Theme, (w, h): (u16, u16)) -> Buffer {
+pub(crate) fn render(app: &App, theme: Theme, (w, h): (u16, u16)) -> Buffer {
     let mut terminal = Terminal::new(TestBackend::new(w, h)).unwrap();
     terminal.draw(|f| draw(app, theme, f)).unwrap();
     terminal.backend().buffer().clone()
 }
 
-fn text(buf: &Buffer) -> String {
+pub(crate) fn text(buf: &Buffer) -> String {
     let w = buf.area.width as usize;
     buf.content
         .chunks(w)
@@ -108,7 +108,7 @@ fn styles(buf: &Buffer) -> String {
         .join("\n")
 }
 
-fn snap(name: &str, value: String) {
+pub(crate) fn snap(name: &str, value: String) {
     insta::with_settings!({
         snapshot_path => concat!(env!("CARGO_MANIFEST_DIR"), "/snapshots"),
         prepend_module_to_snapshot => false,
@@ -118,7 +118,7 @@ fn snap(name: &str, value: String) {
     });
 }
 
-fn snap_text(app: &App, name: &str) {
+pub(crate) fn snap_text(app: &App, name: &str) {
     for (size, tag) in [(SMALL, "80x24"), (LARGE, "160x48")] {
         snap(
             &format!("{name}_{tag}"),
@@ -141,26 +141,26 @@ fn snap_text_and_styles(app: &App, name: &str) {
     }
 }
 
-fn key(app: &mut App, code: KeyCode) -> Effect {
+pub(crate) fn key(app: &mut App, code: KeyCode) -> Effect {
     app.handle_key(KeyEvent::new(code, KeyModifiers::NONE))
 }
 
-fn keys(app: &mut App, codes: &[KeyCode]) {
+pub(crate) fn keys(app: &mut App, codes: &[KeyCode]) {
     for c in codes {
         key(app, *c);
     }
 }
 
-fn typed(app: &mut App, text: &str) {
+pub(crate) fn typed(app: &mut App, text: &str) {
     app.type_text(text);
 }
 
-fn ctrl(app: &mut App, c: char) -> Effect {
+pub(crate) fn ctrl(app: &mut App, c: char) -> Effect {
     app.handle_key(KeyEvent::new(KeyCode::Char(c), KeyModifiers::CONTROL))
 }
 
 /// Jump to a field with `/`, open its editor, replace the value, apply.
-fn set_field(app: &mut App, field: &str, value: &str) {
+pub(crate) fn set_field(app: &mut App, field: &str, value: &str) {
     key(app, KeyCode::Char('/'));
     typed(app, field);
     key(app, Enter);
@@ -171,7 +171,7 @@ fn set_field(app: &mut App, field: &str, value: &str) {
     key(app, Enter);
 }
 
-fn scene_count(app: &App) -> usize {
+pub(crate) fn scene_count(app: &App) -> usize {
     match &app.shared.check {
         Check::Ok(points) => points.len(),
         Check::Invalid(msg) => panic!("study invalid: {msg}"),
@@ -181,7 +181,7 @@ fn scene_count(app: &App) -> usize {
 /// Shrink the default study to a few quick scenes, by keys.
 /// Shrink the default study's frequency grid and add an overturning map over frequency ×
 /// amplitude, by keys: 3 variants × 4 frequencies × 3 amplitudes.
-fn small_map_study(app: &mut App) {
+pub(crate) fn small_map_study(app: &mut App) {
     set_field(app, "frequency", "ratio([2.0, 4.0, 6.0, 8.0])");
     set_field(app, "amplitude", "alpha_ratio([1.0, 2.0, 4.0])");
     set_field(app, "map", "(x: frequency, y: amplitude)");
@@ -203,10 +203,24 @@ fn run_to_completion(app: &mut App) {
 
 /// Results of [`small_map_study`] computed once and kept (tests/data), so that the results
 /// screens' snapshots test the drawing, not the physics: they do not change when the solver
-/// or a model does. Regenerate (after a deliberate change of the study or the results format)
-/// by writing `app.shared.results` of a run of `small_map_study` as JSON.
-fn fixed_results() -> SweepResults {
-    serde_json::from_str(include_str!("data/tui_small_map_results.json")).unwrap()
+/// or a model does. tests/data/tui_small_map.ron says how to regenerate them (after a
+/// deliberate change of the default study, the solver or the results format).
+pub(crate) fn fixed_results() -> SweepResults {
+    rocklab::report::load_results(std::path::Path::new(
+        "tests/data/tui_small_map_results.json",
+    ))
+    .unwrap()
+}
+
+/// The fixture's study is the one `small_map_study` makes by keys (else every results
+/// screen would say "study edited since this run").
+#[test]
+fn the_fixed_results_are_of_the_small_map_study() {
+    let mut app = new_app();
+    small_map_study(&mut app);
+    let file = Study::load(std::path::Path::new("tests/data/tui_small_map.ron")).unwrap();
+    assert_eq!(file, app.shared.study);
+    assert_eq!(fixed_results().study.as_ref(), Some(&app.shared.study));
 }
 
 /// The spectra, maps and comparison of fixed results, by keys.
@@ -272,8 +286,9 @@ fn scene_screen_draws_a_fixed_scene() {
             "flywheel_b_vel",
             "clutch_force_a",
             "clutch_force_b",
-            "e_kinetic",
-            "e_dissipated",
+            "e_input",
+            "e_structure",
+            "e_device_damping",
         ],
         rows: (0..=800)
             .map(|i| {
@@ -287,6 +302,7 @@ fn scene_screen_draws_a_fixed_scene() {
                     rate.min(0.0) * 1.5,
                     2.0 * rate.max(0.0),
                     -2.0 * rate.min(0.0),
+                    0.3 * (1.0 - decay(t)) + 0.5 * rate * rate,
                     0.5 * rate * rate,
                     0.3 * (1.0 - decay(t)),
                 ]
@@ -303,6 +319,52 @@ fn scene_screen_draws_a_fixed_scene() {
     assert_eq!(app.screen, Screen::Scene);
     assert!(app.wait_idle(Duration::from_secs(1)), "nothing runs");
     snap_text(&app, "scene");
+}
+
+/// The Fig. 8 scene (bare block, ωg/p = 4, from the Fig. 12 study, whose sweep stops it once
+/// settled at 1.2 s) rerun for the Scene screen: the whole 15 s with all its impacts, θ and the
+/// energy balance only (no device panels for a bare block), units on every axis.
+#[test]
+fn scene_screen_shows_the_whole_fig8_history() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/studies/fig12_rigid_spectra.ron"
+    );
+    let study = Study::load(std::path::Path::new(path)).unwrap();
+    let point = study
+        .expand()
+        .unwrap()
+        .into_iter()
+        .find(|p| p.scene.device == rocklab::scene::Device::None && p.coord("ωg/p") == Some(4.0))
+        .expect("the Fig. 12 study holds the Fig. 8 scene");
+    let mut app = App::new(
+        study,
+        None,
+        Options {
+            deterministic: true,
+            jobs: Some(2),
+            out_root: scratch_dir(),
+        },
+    );
+    app.scene.open(point);
+    key(&mut app, KeyCode::Char('4'));
+    assert_eq!(app.screen, Screen::Scene);
+    assert!(app.wait_idle(Duration::from_secs(60)), "the scene reruns");
+    let Some(SceneState::Done(result, history)) = app.scene.view.as_ref().map(|v| &v.state) else {
+        panic!("the scene finished");
+    };
+    assert!(result.counters.impacts >= 20, "{}", result.counters.impacts);
+    assert_eq!(history.column("t").unwrap().last(), Some(&15.0));
+    let screen = text(&render(&app, Theme::COLOR, SMALL));
+    assert!(screen.contains(&format!("0–15 s: impacts {}", result.counters.impacts)));
+    for unit in ["rad", "J", "t (s)"] {
+        assert!(screen.contains(unit), "{unit}\n{screen}");
+    }
+    for device in ["flywheel", "clutch", "device"] {
+        assert!(!screen.contains(device), "{device}\n{screen}");
+    }
+    assert!(screen.lines().all(|l| l.chars().count() <= 80));
+    snap("scene_fig8_full_80x24", screen);
 }
 
 #[test]

@@ -29,6 +29,9 @@ pub struct BenchArgs {
     /// Skip the sweep-throughput table (Fig. 12 and Fig. 24 studies on 1 and 2 threads).
     #[arg(long)]
     pub no_sweeps: bool,
+    /// Print only what each optional quantity (drift, accelerations, energy ledger) costs.
+    #[arg(long)]
+    pub quantity_costs: bool,
 }
 
 /// The studies whose sweep throughput the bench reports, embedded so the bench runs anywhere.
@@ -61,7 +64,8 @@ pub fn sweep_throughput(
     let mut best = f64::INFINITY;
     for _ in 0..repeats.max(1) {
         let start = Instant::now();
-        let results = crate::sweep::run(&points, &opts, library, &cancel, &|_| {});
+        // As `rocklab run` does it: the scenes compute only the study's quantities.
+        let results = crate::sweep::run_study(study, &opts, library, &cancel, &|_| {})?;
         best = best.min(start.elapsed().as_secs_f64());
         if let Some(failed) = results.outcomes.iter().find(|o| o.result.is_err()) {
             anyhow::bail!("a scene failed in the bench sweep: {:?}", failed.result);
@@ -321,6 +325,9 @@ fn print_exact_contact_table(args: &BenchArgs) -> anyhow::Result<()> {
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    if args.quantity_costs {
+        return super::bench_quantities::print(args);
+    }
     println!(
         "rocklab bench: relative peak errors against rtol = {:e}; time = median of {} runs",
         args.reference, args.repeats

@@ -1,6 +1,7 @@
 //! Command-line interface: clap commands at the edge, library errors turned into messages.
 
 pub mod bench;
+mod bench_quantities;
 pub mod compare;
 pub mod paper;
 pub mod plot;

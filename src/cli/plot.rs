@@ -100,18 +100,15 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
                         results.outcomes.last().map_or(0, |o| o.point.index)
                     ))
                 })?;
-            // The whole history, not just until no peak can change, and sampled finely enough
-            // for smooth curves: a tighter tolerance gives more (accepted) steps; the peaks
-            // agree with the stored result within its tolerance.
-            let mut scene = outcome.point.scene.clone();
-            scene.stop_when_settled = false;
-            scene.rtol = scene.rtol.min(1e-8);
+            // The whole history, not just until no peak can change, resampled on a uniform
+            // grid from the dense output (smooth curves at the stored result's tolerance).
+            let scene = crate::sim::history_scene(&outcome.point.scene);
             // Under the sweep's guard: a scene that panics fails here as it did in the sweep.
             let library = crate::excitation::library::global()?;
-            let (result, history) =
-                crate::sweep::guarded(|| crate::sim::run_with_history(&scene, library, true))
-                    .map_err(|e| anyhow::anyhow!("scene {index} failed: {e}"))?;
-            let history = history.context("no history recorded")?;
+            let (result, history) = crate::sweep::guarded(|| {
+                crate::sim::run_history(&scene, library, &crate::sim::Sampling::Auto)
+            })
+            .map_err(|e| anyhow::anyhow!("scene {index} failed: {e}"))?;
             let mut title = report::scene_title(index, &outcome.point.group, &outcome.point.coords);
             if result.overturned {
                 title.push_str(" (overturned)");

@@ -7,7 +7,9 @@ use crate::scene::{
     Form, Frequency, Impact, RecordScale, ResetRule, RigidBlock, Scene, Structure, default_epsilon,
     default_eta, default_rho,
 };
-use crate::sim::{self, SceneResult};
+
+use crate::sim::{self, Measures, SceneResult};
+use crate::study::Quantity;
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 
@@ -199,9 +201,21 @@ pub struct SimulateArgs {
     /// closed form (the default with no device or a rigid inerter under a record).
     #[arg(long)]
     pub integrate_contact: bool,
-    /// Write the time history to this CSV file.
+    /// Compute only these quantities (comma-separated: peak_rotation, peak_rotation_ratio,
+    /// peak_deformation, peak_drift, peak_abs_acceleration, peak_angular_acceleration, energy);
+    /// the rotation is always computed. Default: all.
+    #[arg(long, value_delimiter = ',')]
+    pub quantities: Option<Vec<String>>,
+    /// Write the time history to this CSV file: rows on a uniform time grid (see --dt) from the
+    /// integrator's dense output, plus a row before and after every event (impacts, uplifts,
+    /// clutch switches) at its exact instant.
     #[arg(long)]
     pub history: Option<PathBuf>,
+    /// Sample step of --history in seconds (`0.001`), or `steps` for one row per solver step.
+    /// Default: the duration / 4000 and at most a pulse's length / 200, rounded down to
+    /// 1, 2 or 5 × 10ᵏ s.
+    #[arg(long, value_parser = parse_sampling, requires = "history")]
+    pub dt: Option<sim::Sampling>,
     /// Print exactly one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
@@ -588,16 +602,16 @@ pub fn result_json(scene: &Scene, r: &SceneResult) -> serde_json::Value {
         "overturned": r.overturned,
         "peak_rotation": r.peaks.rotation,
         "peak_rotation_ratio": r.peak_rotation_ratio,
-        "peak_deformation": r.peaks.deformation,
-        "peak_drift": r.peaks.drift,
-        "peak_abs_acceleration_g": r.peaks.abs_acceleration_g,
+        "peak_deformation": r.measured.deformation.then_some(r.peaks.deformation),
+        "peak_drift": r.measured.drift.then_some(r.peaks.drift),
+        "peak_abs_acceleration_g": r.measured.abs_acceleration.then_some(r.peaks.abs_acceleration_g),
         "peak_angular_acceleration_p2": r.peaks.angular_acceleration_p2,
         "impacts": r.counters.impacts,
         "uplifts": r.counters.uplifts,
         "engagements": r.counters.engagements,
         "resets": r.counters.resets,
-        "energy_residual": r.energy_residual,
-        "energy": r.energy,
+        "energy_residual": r.measured.energy.then_some(r.energy_residual),
+        "energy": r.measured.energy.then_some(r.energy),
         "end_reason": r.end_reason,
         "end_time": r.end_time,
         "steps": r.stats.steps,
@@ -610,18 +624,54 @@ pub fn result_json(scene: &Scene, r: &SceneResult) -> serde_json::Value {
     })
 }
 
+impl SimulateArgs {
+    /// The measures `--quantities` asks for (all without it).
+    pub fn measures(&self) -> Result<Measures, UsageError> {
+        let Some(names) = &self.quantities else {
+            return Ok(Measures::ALL);
+        };
+        let mut quantities = Vec::new();
+        let mut energy = false;
+        for name in names.iter().map(|n| n.trim()) {
+            match Quantity::from_name(name) {
+                Some(q) => quantities.push(q),
+                None if name == "energy" => energy = true,
+                None => {
+                    let known: Vec<&str> = Quantity::ALL.iter().map(|q| q.name()).collect();
+                    return Err(UsageError::new(format!(
+                        "--quantities: unknown quantity `{name}`; known: {}, energy",
+                        known.join(", ")
+                    )));
+                }
+            }
+        }
+        Ok(Measures {
+            energy,
+            ..Quantity::measures(&quantities)
+        })
+    }
+}
+
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
+    let measures = args.measures()?;
     let scene = args.scene()?;
     let library = library::global()?;
-    let (result, history) =
-        crate::sweep::guarded(|| sim::run_with_history(&scene, library, args.history.is_some()))
-            .map_err(|e| match e {
-                // A scene the model refuses is bad input: exit 2 like a bad flag.
-                crate::sweep::Guarded::Sim(sim::SimError::Invalid(msg)) => {
-                    anyhow::Error::from(UsageError::new(msg))
-                }
-                e => e.into(),
-            })?;
+    let bounds = sim::Bounds {
+        measures,
+        ..Default::default()
+    };
+    let (result, history) = crate::sweep::guarded(|| {
+        let sampling = args.dt.clone().unwrap_or(sim::Sampling::Auto);
+        let sampling = args.history.is_some().then_some(&sampling);
+        sim::run_sampled(&scene, library, sampling, bounds)
+    })
+    .map_err(|e| match e {
+        // A scene the model refuses is bad input: exit 2 like a bad flag.
+        crate::sweep::Guarded::Sim(sim::SimError::Invalid(msg)) => {
+            anyhow::Error::from(UsageError::new(msg))
+        }
+        e => e.into(),
+    })?;
     if let (Some(path), Some(h)) = (&args.history, &history) {
         crate::report::write_history_csv(path, h)?;
     }
@@ -692,23 +742,22 @@ pub fn summary(scene: &Scene, r: &SceneResult) -> String {
     )
 }
 
-/// An angle in radians: a bare number or `…rad`, or degrees as `…deg` / `…°`.
-pub fn parse_angle(text: &str) -> Result<f64, String> {
+pub use crate::study::parse_angle;
+
+/// A --dt value: a positive step in seconds, or `steps`.
+pub fn parse_sampling(text: &str) -> Result<sim::Sampling, String> {
     let t = text.trim();
-    let (number, to_rad) = if let Some(n) = t.strip_suffix("deg").or_else(|| t.strip_suffix('°')) {
-        (n, std::f64::consts::PI / 180.0)
-    } else {
-        (t.strip_suffix("rad").unwrap_or(t), 1.0)
-    };
-    number
+    if t == "steps" {
+        return Ok(sim::Sampling::Steps);
+    }
+    t.strip_suffix('s')
+        .unwrap_or(t)
         .trim()
         .parse::<f64>()
         .ok()
-        .filter(|v| v.is_finite())
-        .map(|v| v * to_rad)
-        .ok_or_else(|| {
-            format!("`{text}` is not an angle: give radians (0.1745) or degrees (10deg)")
-        })
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .map(sim::Sampling::Uniform)
+        .ok_or_else(|| format!("`{text}` is not a sample step: give seconds (0.001) or `steps`"))
 }
 
 #[cfg(test)]

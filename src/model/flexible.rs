@@ -17,8 +17,9 @@
 
 use super::contact::ClosedFormContact;
 use super::device::DeviceModel;
+use super::rigid::below_peak;
 use super::shell::{Body, Landing, Mode, OwnLoss, Returnable, Rocking};
-use super::{Ledger, Peaks, extremum_on_step};
+use super::{Ledger, Measures, Peaks, extremum_on_step};
 use crate::excitation::{G, Motion};
 use crate::scene::FlexibleStructure;
 use crate::solver::Dense;
@@ -51,7 +52,7 @@ pub struct FlexibleBody {
 
 /// Geometry of the mass at one configuration (u, θ) about pivot s.
 #[derive(Clone, Copy, Debug)]
-struct Kinematics {
+pub struct Kinematics {
     sin: f64,
     cos: f64,
     /// sB − u: horizontal lever of the mass about the pivot, in the base frame.
@@ -174,6 +175,13 @@ impl Column {
         }
     }
 
+    /// [`Column::accelerations_kin`] computing the kinematics (for tests).
+    #[cfg(test)]
+    fn accelerations(&self, m: &Mode, ag: f64, y: &[f64], fd: f64, mc: f64) -> (f64, f64) {
+        let kin = self.kinematics(m, y[U], y[THETA]);
+        self.accelerations_kin(m, &kin, ag, y, fd, mc)
+    }
+
     /// (ü, θ̈) for device force `fd` (not counting a coupled mass) and coupled mass `mc`.
     ///
     /// Rocking phase (MODEL.md), with a = Fd − m a_g:
@@ -186,15 +194,23 @@ impl Column {
     /// loses mc κ Jᵀ. Full contact (θ ≡ 0): (m + mc) ü + c u̇ + k u = Fd − m a_g (Eq. 41).
     /// The 2×2 system is solved by Cramer's rule (a linear-algebra crate would round
     /// differently and buys nothing at this size).
+    /// `kin` are the configuration's kinematics.
     #[inline]
-    fn accelerations(&self, m: &Mode, ag: f64, y: &[f64], fd: f64, mc: f64) -> (f64, f64) {
+    fn accelerations_kin(
+        &self,
+        m: &Mode,
+        kin: &Kinematics,
+        ag: f64,
+        y: &[f64],
+        fd: f64,
+        mc: f64,
+    ) -> (f64, f64) {
         let (u, udot, thetadot) = (y[U], y[U_DOT], y[THETA_DOT]);
         let load = fd - self.m * ag;
         let elastic = self.k * u + self.c * udot;
         if !m.rocking() {
             return ((load - elastic) / (self.m + mc), 0.0);
         }
-        let kin = self.kinematics(m, u, y[THETA]);
         let (mass, h) = (self.m, self.h);
         let kappa = kin.z * thetadot * thetadot - 2.0 * kin.sin * udot * thetadot;
         let m11 = mass + mc * kin.cos * kin.cos;
@@ -210,14 +226,20 @@ impl Column {
 
     /// Ẍ from the state and (ü, θ̈).
     #[inline]
+    #[cfg(test)]
     fn xddot(&self, m: &Mode, y: &[f64], udd: f64, thdd: f64) -> f64 {
-        let kin = self.kinematics(m, y[U], y[THETA]);
+        self.xddot_kin(&self.kinematics(m, y[U], y[THETA]), y, udd, thdd)
+    }
+
+    #[inline]
+    fn xddot_kin(&self, kin: &Kinematics, y: &[f64], udd: f64, thdd: f64) -> f64 {
         let (udot, thetadot) = (y[U_DOT], y[THETA_DOT]);
         udd * kin.cos + kin.y * thdd + kin.z * thetadot * thetadot - 2.0 * kin.sin * udot * thetadot
     }
 }
 
 impl Body for FlexibleBody {
+    type Kin = Kinematics;
     const COORDINATES: &'static [&'static str] = &["u", "u_dot", "theta", "theta_dot"];
     const THETA: usize = THETA;
     const THETA_DOT: usize = THETA_DOT;
@@ -228,19 +250,33 @@ impl Body for FlexibleBody {
         self.col.m
     }
 
+    #[inline]
+    fn kin(&self, m: &Mode, y: &[f64]) -> Kinematics {
+        self.col.kinematics(m, y[U], y[THETA])
+    }
+
     /// Horizontal position and velocity of the mass.
     #[inline]
-    fn x_xdot(&self, m: &Mode, y: &[f64]) -> (f64, f64) {
-        let kin = self.col.kinematics(m, y[U], y[THETA]);
+    fn x_xdot_kin(&self, _m: &Mode, kin: &Kinematics, y: &[f64]) -> (f64, f64) {
         (kin.x, y[U_DOT] * kin.cos + kin.y * y[THETA_DOT])
     }
 
-    fn xddot(&self, m: &Mode, y: &[f64], dy: &[f64]) -> f64 {
-        self.col.xddot(m, y, dy[U_DOT], dy[THETA_DOT])
+    fn xddot(&self, _m: &Mode, kin: &Kinematics, y: &[f64], dy: &[f64]) -> f64 {
+        self.col.xddot_kin(kin, y, dy[U_DOT], dy[THETA_DOT])
     }
 
-    fn derivatives(&self, m: &Mode, ag: f64, y: &[f64], fd: f64, mc: f64, dy: &mut [f64]) -> f64 {
-        let (udd, thdd) = self.col.accelerations(m, ag, y, fd, mc);
+    #[allow(clippy::too_many_arguments)]
+    fn derivatives(
+        &self,
+        m: &Mode,
+        kin: &Kinematics,
+        ag: f64,
+        y: &[f64],
+        fd: f64,
+        mc: f64,
+        dy: &mut [f64],
+    ) -> f64 {
+        let (udd, thdd) = self.col.accelerations_kin(m, kin, ag, y, fd, mc);
         dy[U] = y[U_DOT];
         dy[U_DOT] = udd;
         if m.rocking() {
@@ -252,13 +288,13 @@ impl Body for FlexibleBody {
 
     /// Ẍ with the device's spring forces but without a coupled mass (the coupled Ẍ is
     /// Ẍ_bare / (1 + mc J M⁻¹ Jᵀ) by Sherman–Morrison, so it has the same sign).
-    fn bare_xddot(&self, m: &Mode, t: f64, y: &[f64]) -> f64 {
-        let x = self.x_xdot(m, y).0;
+    fn bare_xddot(&self, m: &Mode, kin: &Kinematics, t: f64, y: &[f64]) -> f64 {
+        let x = kin.x;
         let (fa, fb) = m.dev.spring_forces(x, m.layout.flywheel_states(y));
         let (udd, thdd) = self
             .col
-            .accelerations(m, m.motion.accel(t), y, -(fa + fb), 0.0);
-        self.col.xddot(m, y, udd, thdd)
+            .accelerations_kin(m, kin, m.motion.accel(t), y, -(fa + fb), 0.0);
+        self.col.xddot_kin(kin, y, udd, thdd)
     }
 
     fn uplift_margin(&self, _m: &Mode, side: f64, _t: f64, y: &[f64]) -> f64 {
@@ -322,32 +358,44 @@ impl Body for FlexibleBody {
             && accel_g <= peaks.abs_acceleration_g
     }
 
+    /// Steps whose interpolant bound of |u| (|θ|) lies below the running peak cannot raise it
+    /// and are skipped (see [`below_peak`]); the drift, a nonlinear function of (u, θ), is
+    /// searched on every step it is asked for.
     fn observe_step<const N: usize>(
         &self,
         m: &Mode,
+        measures: Measures,
         dense: &Dense<N>,
         t_end: f64,
         peaks: &mut Peaks,
     ) {
-        let deformation = extremum_on_step(dense, t_end, |y| y[U], |y| y[U_DOT]);
-        peaks.deformation = peaks.deformation.max(deformation);
-        if m.rocking() {
+        if measures.deformation && !below_peak(dense.bound(U), peaks.deformation) {
+            let deformation = extremum_on_step(dense, t_end, |y| y[U], |y| y[U_DOT]);
+            peaks.deformation = peaks.deformation.max(deformation);
+        }
+        if m.rocking() && !below_peak(dense.bound(THETA), peaks.rotation) {
             let rot = extremum_on_step(dense, t_end, |y| y[THETA], |y| y[THETA_DOT]);
             peaks.rotation = peaks.rotation.max(rot);
         }
-        let drift = extremum_on_step(
-            dense,
-            t_end,
-            |y| self.x_xdot(m, y).0,
-            |y| self.x_xdot(m, y).1,
-        );
-        peaks.drift = peaks.drift.max(drift / self.col.h);
+        if measures.drift {
+            let drift = extremum_on_step(
+                dense,
+                t_end,
+                |y| self.x_xdot(m, y).0,
+                |y| self.x_xdot(m, y).1,
+            );
+            peaks.drift = peaks.drift.max(drift / self.col.h);
+        }
     }
 
-    fn observe_point(&self, m: &Mode, y: &[f64], peaks: &mut Peaks) {
+    fn observe_point(&self, m: &Mode, measures: Measures, y: &[f64], peaks: &mut Peaks) {
         peaks.rotation = peaks.rotation.max(y[THETA].abs());
-        peaks.deformation = peaks.deformation.max(y[U].abs());
-        peaks.drift = peaks.drift.max(self.x_xdot(m, y).0.abs() / self.col.h);
+        if measures.deformation {
+            peaks.deformation = peaks.deformation.max(y[U].abs());
+        }
+        if measures.drift {
+            peaks.drift = peaks.drift.max(self.x_xdot(m, y).0.abs() / self.col.h);
+        }
     }
 
     fn tolerance_scales(&self, _m: &Mode) -> (Vec<f64>, [f64; 2], f64) {

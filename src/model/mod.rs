@@ -141,6 +141,55 @@ pub struct Peaks {
     pub angular_acceleration_p2: Option<f64>,
 }
 
+/// Which optional measures a run computes. Rotation (and overturning) are always tracked; a
+/// sweep of rotation spectra skips the acceleration peak searches, the drift and deformation
+/// extrema and the energy ledger's per-step evaluation. Every measure asked for is computed
+/// exactly as in a run that asks for all of them: the integrator takes the same steps
+/// (the energy accumulators stay in the state and in the error control), so the asked
+/// results are bit-identical.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Measures {
+    pub deformation: bool,
+    pub drift: bool,
+    pub abs_acceleration: bool,
+    pub angular_acceleration: bool,
+    /// The energy partition at the end and its balance residual.
+    pub energy: bool,
+}
+
+impl Measures {
+    pub const ALL: Measures = Measures {
+        deformation: true,
+        drift: true,
+        abs_acceleration: true,
+        angular_acceleration: true,
+        energy: true,
+    };
+    /// Peak rotation alone.
+    pub const ROTATION: Measures = Measures {
+        deformation: false,
+        drift: false,
+        abs_acceleration: false,
+        angular_acceleration: false,
+        energy: false,
+    };
+
+    /// Whether everything `other` asks for is measured here.
+    pub fn covers(self, other: Measures) -> bool {
+        (self.deformation || !other.deformation)
+            && (self.drift || !other.drift)
+            && (self.abs_acceleration || !other.abs_acceleration)
+            && (self.angular_acceleration || !other.angular_acceleration)
+            && (self.energy || !other.energy)
+    }
+}
+
+impl Default for Measures {
+    fn default() -> Self {
+        Measures::ALL
+    }
+}
+
 /// What the simulation driver needs from a structure family.
 pub trait SimModel<const N: usize>: OdeSystem<N> {
     /// State at t = 0 and the first action (e.g. idle until the ground lifts the block).
@@ -242,8 +291,19 @@ pub fn extremum_on_step<const N: usize>(
 /// the best sample when that reaches `floor` (so only steps that can raise a peak pay for it).
 pub fn refined_max(f: impl Fn(f64) -> f64, t0: f64, t1: f64, n: usize, floor: f64) -> f64 {
     let at = |k: usize| t0 + (t1 - t0) * k as f64 / n as f64;
-    let (best_k, best) = (0..=n)
-        .map(|k| (k, f(at(k))))
+    let values: Vec<f64> = (0..=n).map(|k| f(at(k))).collect();
+    refine_sampled(f, t0, t1, &values, floor)
+}
+
+/// [`refined_max`] given f at its n + 1 sample points t_k = t0 + (t1 − t0)k/n (computed by the
+/// caller, who may share work between several functions at the same points).
+pub fn refine_sampled(f: impl Fn(f64) -> f64, t0: f64, t1: f64, values: &[f64], floor: f64) -> f64 {
+    let n = values.len() - 1;
+    let at = |k: usize| t0 + (t1 - t0) * k as f64 / n as f64;
+    let (best_k, best) = values
+        .iter()
+        .copied()
+        .enumerate()
         .fold((0, f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a });
     // A sample that only ties the running peak still gets refined: when a maximum lies just
     // past the previous step's end, this step's first sample equals the peak so far and the
@@ -278,12 +338,24 @@ pub fn refined_max_of_samples(f: impl Fn(f64) -> f64, samples: &[(f64, f64)], fl
     best.max(golden_max(f, lo, hi))
 }
 
-/// Golden-section search for the maximum of a unimodal f on [lo, hi] (50 iterations).
+/// Golden-section search for the maximum of a unimodal f on [lo, hi] (50 iterations, one
+/// new evaluation each: the surviving interior point is kept).
 fn golden_max(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
     let r = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (hi - r * (hi - lo), lo + r * (hi - lo));
+    let (mut fc, mut fd) = (f(c), f(d));
     for _ in 0..50 {
-        let (c, d) = (hi - r * (hi - lo), lo + r * (hi - lo));
-        if f(c) > f(d) { hi = d } else { lo = c }
+        if fc > fd {
+            hi = d;
+            (d, fd) = (c, fc);
+            c = hi - r * (hi - lo);
+            fc = f(c);
+        } else {
+            lo = c;
+            (c, fc) = (d, fd);
+            d = lo + r * (hi - lo);
+            fd = f(d);
+        }
     }
     f(0.5 * (lo + hi))
 }

@@ -6,7 +6,7 @@
 
 use super::device::DeviceModel;
 use super::shell::{Body, Landing, Mode, OwnLoss, Returnable, Rocking};
-use super::{Ledger, Peaks, extremum_on_step};
+use super::{Ledger, Measures, Peaks, extremum_on_step};
 use crate::excitation::{G, Motion};
 use crate::scene::{Form, Impact, RigidBlock};
 use crate::solver::{Dense, Direction};
@@ -160,9 +160,9 @@ impl RigidBody {
         }
     }
 
-    /// Ẍ = R (C θ̈ + S θ̇²) for a given θ̈ (slender: R θ̈).
-    fn xddot_of(&self, m: &Mode, y: &[f64], thetaddot: f64) -> f64 {
-        let (s, c) = self.sc(m.pivot, y[THETA]);
+    /// Ẍ = R (C θ̈ + S θ̇²) for a given θ̈ (slender: R θ̈), (S, C) = `k`.
+    fn xddot_of(&self, k: &(f64, f64), y: &[f64], thetaddot: f64) -> f64 {
+        let (s, c) = *k;
         match self.form {
             Equations::Trigonometric => self.r * (c * thetaddot + s * y[THETA_DOT] * y[THETA_DOT]),
             Equations::Slender => self.r * thetaddot,
@@ -186,6 +186,8 @@ impl RigidBody {
 }
 
 impl Body for RigidBody {
+    /// (S, C) of [`RigidBody::sc`].
+    type Kin = (f64, f64);
     const COORDINATES: &'static [&'static str] = &["theta", "theta_dot"];
     const THETA: usize = THETA;
     const THETA_DOT: usize = THETA_DOT;
@@ -196,13 +198,18 @@ impl Body for RigidBody {
         self.m
     }
 
+    #[inline]
+    fn kin(&self, m: &Mode, y: &[f64]) -> (f64, f64) {
+        self.sc(m.pivot, y[THETA])
+    }
+
     /// Horizontal position and velocity of the centre of mass.
     #[inline]
-    fn x_xdot(&self, m: &Mode, y: &[f64]) -> (f64, f64) {
+    fn x_xdot_kin(&self, m: &Mode, k: &(f64, f64), y: &[f64]) -> (f64, f64) {
         if !m.rocking() {
             return (0.0, 0.0);
         }
-        let (s, c) = self.sc(m.pivot, y[THETA]);
+        let (s, c) = *k;
         let x = match self.form {
             Equations::Trigonometric => self.r * (m.pivot * self.sin_a - s),
             Equations::Slender => self.r * y[THETA],
@@ -210,20 +217,30 @@ impl Body for RigidBody {
         (x, self.r * c * y[THETA_DOT])
     }
 
-    fn xddot(&self, m: &Mode, y: &[f64], dy: &[f64]) -> f64 {
+    fn xddot(&self, m: &Mode, k: &(f64, f64), y: &[f64], dy: &[f64]) -> f64 {
         if !m.rocking() {
             return 0.0;
         }
-        self.xddot_of(m, y, dy[THETA_DOT])
+        self.xddot_of(k, y, dy[THETA_DOT])
     }
 
     /// (1 + ¾σC²) θ̈ = −p²(S + (a_g/g) C) − ¾σ C S θ̇² + (Fd R C + M)/I0, M the Dirac moment.
-    fn derivatives(&self, m: &Mode, ag: f64, y: &[f64], fd: f64, mc: f64, dy: &mut [f64]) -> f64 {
+    #[allow(clippy::too_many_arguments)]
+    fn derivatives(
+        &self,
+        m: &Mode,
+        k: &(f64, f64),
+        ag: f64,
+        y: &[f64],
+        fd: f64,
+        mc: f64,
+        dy: &mut [f64],
+    ) -> f64 {
         if !m.rocking() {
             return 0.0;
         }
         let (theta, thetadot) = (y[THETA], y[THETA_DOT]);
-        let (s, c) = self.sc(m.pivot, theta);
+        let (s, c) = *k;
         let moment = self.dirac_moment(m, theta, thetadot);
         let sigma = mc / self.m;
         let mut num = -self.p2 * (s + ag / G * c) + (fd * self.r * c + moment) / self.i0;
@@ -240,12 +257,12 @@ impl Body for RigidBody {
     }
 
     /// Ẍ of the bare block (no device force, no coupled mass).
-    fn bare_xddot(&self, m: &Mode, t: f64, y: &[f64]) -> f64 {
-        let (s, c) = self.sc(m.pivot, y[THETA]);
+    fn bare_xddot(&self, m: &Mode, k: &(f64, f64), t: f64, y: &[f64]) -> f64 {
+        let (s, c) = *k;
         let ag = m.motion.accel(t);
         let thdd =
             -self.p2 * (s + ag / G * c) + self.dirac_moment(m, y[THETA], y[THETA_DOT]) / self.i0;
-        self.xddot_of(m, y, thdd)
+        self.xddot_of(k, y, thdd)
     }
 
     /// s (Fd − m a_g) − m g tan α (slender: α): the ground (and a device spring) must beat
@@ -341,21 +358,57 @@ impl Body for RigidBody {
             && angular < peaks.angular_acceleration_p2.unwrap_or(0.0)
     }
 
+    /// The drift is a monotone function of |θ| (the same for the step's extremum and the
+    /// running peak), so it is read off the rotation's extremum at no cost.
     fn observe_step<const N: usize>(
         &self,
         m: &Mode,
+        _measures: Measures,
         dense: &Dense<N>,
         t_end: f64,
         peaks: &mut Peaks,
     ) {
-        if m.rocking() {
+        // No |θ| on the step's interpolant exceeds its bound: a step whose bound is below the
+        // running peak cannot raise it (nor the drift), and skipping it changes nothing.
+        if m.rocking() && !below_peak(dense.bound(THETA), peaks.rotation) {
             let rot = extremum_on_step(dense, t_end, |y| y[THETA], |y| y[THETA_DOT]);
             peaks.rotation = peaks.rotation.max(rot);
             peaks.drift = peaks.drift.max(self.drift_of(rot));
         }
     }
 
-    fn observe_point(&self, _m: &Mode, y: &[f64], peaks: &mut Peaks) {
+    /// After the ground has stopped (a_g ≡ 0): |Ẍ| = R|C θ̈ + S θ̇²| ≤ R(|θ̈| + S_max θ̇²) with
+    /// θ̈ the interpolant's rate of θ̇ (what the peak search reads) and S_max = sin(α + |θ|max)
+    /// (slender: α + |θ|max); and, for a device without springs (none, coupled, sequential) and
+    /// no Dirac moment, (1 + ¾σC²)|θ̈| = |p²S + ¾σCSθ̇²| ≤ p²S_max + ¾σS_max θ̇².
+    fn quiet_acceleration_bounds(
+        &self,
+        m: &Mode,
+        value: impl Fn(usize) -> f64,
+        rate: impl Fn(usize) -> f64,
+    ) -> (Option<f64>, Option<f64>) {
+        if !m.rocking() {
+            return (Some(0.0), Some(0.0));
+        }
+        let (theta, w, wdot) = (value(THETA), value(THETA_DOT), rate(THETA_DOT));
+        let s_max = match self.form {
+            Equations::Trigonometric if self.alpha + theta < 0.5 * PI => (self.alpha + theta).sin(),
+            Equations::Trigonometric => 1.0,
+            Equations::Slender => self.alpha + theta,
+        };
+        let abs_g = self.r * (wdot + s_max * w * w) / G;
+        let springless = matches!(
+            m.dev,
+            DeviceModel::None | DeviceModel::RigidInerter { .. } | DeviceModel::Sequential { .. }
+        );
+        let angular = (springless && self.dirac.is_none()).then(|| {
+            let sigma = m.coupled_mass() / self.m;
+            s_max + 0.75 * sigma * s_max * w * w / self.p2
+        });
+        (Some(abs_g), angular)
+    }
+
+    fn observe_point(&self, _m: &Mode, _measures: Measures, y: &[f64], peaks: &mut Peaks) {
         peaks.rotation = peaks.rotation.max(y[THETA].abs());
         peaks.drift = peaks.drift.max(self.drift_of(y[THETA]));
     }
@@ -433,4 +486,10 @@ impl Body for RigidBody {
             None => Some(0.5 * self.i0 * y[THETA_DOT] * y[THETA_DOT]),
         };
     }
+}
+
+/// Whether a bound of a step's values lies safely below the running peak (a margin for the
+/// rounding of the bound and of the values it bounds).
+pub(super) fn below_peak(bound: f64, peak: f64) -> bool {
+    bound * (1.0 + 1e-12) < peak
 }

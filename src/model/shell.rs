@@ -12,8 +12,10 @@
 // energy ledger) whose parts read and write the same state; split it only along a new seam.
 
 use super::device::{ClutchEvent, DeviceModel, resync_sequential, toggle_sequential};
+use super::rigid::below_peak;
 use super::{
-    Action, ClosedFormEnd, Counters, EndReason, Energy, Ledger, Peaks, SimModel, refined_max,
+    Action, ClosedFormEnd, Counters, EndReason, Energy, Ledger, Measures, Peaks, SimModel,
+    refine_sampled,
 };
 use crate::excitation::{G, Motion};
 use crate::solver::{Dense, Direction, MAX_EVENTS, OdeSystem};
@@ -148,6 +150,9 @@ pub struct Returnable {
 /// What a structure family supplies to the rocking shell. `m` is the shell's [`Mode`]; `y`
 /// the whole state, whose leading [`Body::COORDINATES`] components are the body's.
 pub trait Body {
+    /// Trigonometry and kinematics of one configuration, computed once per sample and shared
+    /// by the right-hand side, the event functions and the peak searches that need them.
+    type Kin: Copy;
     /// History names of the body's state components, in state order.
     const COORDINATES: &'static [&'static str];
     /// Indices of θ and θ̇ in the state.
@@ -160,16 +165,32 @@ pub trait Body {
 
     /// The mass the ground's inertial load acts on.
     fn mass(&self) -> f64;
-    /// Horizontal position X and velocity Ẋ of the point the device acts on.
-    fn x_xdot(&self, m: &Mode, y: &[f64]) -> (f64, f64);
+    /// The shared kinematics of state y.
+    fn kin(&self, m: &Mode, y: &[f64]) -> Self::Kin;
+    /// Horizontal position X and velocity Ẋ of the point the device acts on, `k` = kin(y).
+    fn x_xdot_kin(&self, m: &Mode, k: &Self::Kin, y: &[f64]) -> (f64, f64);
+    /// [`Body::x_xdot_kin`] computing the kinematics.
+    fn x_xdot(&self, m: &Mode, y: &[f64]) -> (f64, f64) {
+        self.x_xdot_kin(m, &self.kin(m, y), y)
+    }
     /// Ẍ from the state and its time derivative.
-    fn xddot(&self, m: &Mode, y: &[f64], dy: &[f64]) -> f64;
+    fn xddot(&self, m: &Mode, k: &Self::Kin, y: &[f64], dy: &[f64]) -> f64;
     /// Write the body's state derivatives under ground acceleration `ag`, device force `fd`
     /// (not counting a coupled mass) and coupled mass `mc`; return the rate of the
     /// [`Accumulator::Own`] integral.
-    fn derivatives(&self, m: &Mode, ag: f64, y: &[f64], fd: f64, mc: f64, dy: &mut [f64]) -> f64;
+    #[allow(clippy::too_many_arguments)]
+    fn derivatives(
+        &self,
+        m: &Mode,
+        k: &Self::Kin,
+        ag: f64,
+        y: &[f64],
+        fd: f64,
+        mc: f64,
+        dy: &mut [f64],
+    ) -> f64;
     /// Ẍ of the structure without a coupled mass: the sequential law decides on it.
-    fn bare_xddot(&self, m: &Mode, t: f64, y: &[f64]) -> f64;
+    fn bare_xddot(&self, m: &Mode, k: &Self::Kin, t: f64, y: &[f64]) -> f64;
     /// Uplift test toward side s while flat: positive when the base lifts off.
     fn uplift_margin(&self, m: &Mode, side: f64, t: f64, y: &[f64]) -> f64;
     /// Rocking: non-negative once the structure has passed over its pivot.
@@ -181,16 +202,30 @@ pub trait Body {
     /// The ground has stopped: can the energy left (the body's plus what the device can give
     /// back) no longer raise any peak?
     fn settled(&self, m: &Mode, y: &[f64], device: Returnable, peaks: &Peaks) -> bool;
-    /// Rotation, deformation and drift peaks over an accepted step.
+    /// Rotation, deformation and drift peaks (those `measures` asks for) over an accepted
+    /// step.
     fn observe_step<const N: usize>(
         &self,
         m: &Mode,
+        measures: Measures,
         dense: &Dense<N>,
         t_end: f64,
         peaks: &mut Peaks,
     );
     /// Rotation, deformation and drift peaks at one point.
-    fn observe_point(&self, m: &Mode, y: &[f64], peaks: &mut Peaks);
+    fn observe_point(&self, m: &Mode, measures: Measures, y: &[f64], peaks: &mut Peaks);
+    /// Upper bounds of |absolute acceleration|/g and of |θ̈|/p² over a step on which the
+    /// ground is at rest, given bounds of |y_i| (`value`) and of the interpolant's |ẏ_i|
+    /// (`rate`) over the step; None where the body has no cheap bound (the peak is then
+    /// searched).
+    fn quiet_acceleration_bounds(
+        &self,
+        _m: &Mode,
+        _value: impl Fn(usize) -> f64,
+        _rate: impl Fn(usize) -> f64,
+    ) -> (Option<f64>, Option<f64>) {
+        (None, None)
+    }
     /// Characteristic magnitudes for the error control: of the body's components, of one
     /// flywheel's (y, ẏ), and of the energies.
     fn tolerance_scales(&self, m: &Mode) -> (Vec<f64>, [f64; 2], f64);
@@ -263,6 +298,9 @@ pub struct Rocking<'m, B: Body> {
     initial_rotation: f64,
     events: [Ev; MAX_EVENTS],
     n_events: usize,
+    /// Whether an event function reads X or Ẋ (the sequential switch, the clutch events).
+    events_read_x: bool,
+    measures: Measures,
     /// Time of the last uplift, to recognise a grazing lift-off that lands at once.
     last_uplift: f64,
     pub(super) ledger: Ledger,
@@ -315,10 +353,22 @@ impl<'m, B: Body> Rocking<'m, B> {
             initial_rotation,
             events,
             n_events: n,
+            events_read_x: events[..n]
+                .iter()
+                .any(|e| matches!(e, Ev::Sequential | Ev::Clutch(_))),
+            measures: Measures::ALL,
             last_uplift: f64::NEG_INFINITY,
             ledger: Ledger::default(),
             counters: Counters::default(),
             peaks,
+        }
+    }
+
+    /// Compute only these measures (default: all); call before the run starts.
+    pub fn set_measures(&mut self, measures: Measures) {
+        self.measures = measures;
+        if !measures.angular_acceleration {
+            self.peaks.angular_acceleration_p2 = None;
         }
     }
 
@@ -332,11 +382,18 @@ impl<'m, B: Body> Rocking<'m, B> {
     }
 
     fn rhs_slice(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        let k = self.body.kin(&self.mode, y);
+        self.rhs_kin(t, y, &k, dy)
+    }
+
+    /// The right-hand side at (t, y) whose kinematics `k` are already known.
+    #[inline]
+    fn rhs_kin(&self, t: f64, y: &[f64], k: &B::Kin, dy: &mut [f64]) {
         dy.fill(0.0);
         let m = &self.mode;
         let layout = m.layout;
         let ag = m.motion.accel(t);
-        let (x, xdot) = self.x_xdot(y);
+        let (x, xdot) = self.body.x_xdot_kin(m, k, y);
         let (fa, fb) = m.dev.spring_forces(x, layout.flywheel_states(y));
         let (mut visc, mut fric) = (0.0, 0.0);
         for (i, f) in [fa, fb].into_iter().take(layout.flywheels).enumerate() {
@@ -349,16 +406,24 @@ impl<'m, B: Body> Rocking<'m, B> {
         }
         let own = self
             .body
-            .derivatives(m, ag, y, -(fa + fb), m.coupled_mass(), dy);
+            .derivatives(m, k, ag, y, -(fa + fb), m.coupled_mass(), dy);
         dy[layout.accumulator(Accumulator::Input)] = -self.body.mass() * ag * xdot;
         dy[layout.accumulator(Accumulator::DeviceDamping)] = visc;
         dy[layout.accumulator(Accumulator::Friction)] = fric;
         dy[layout.accumulator(Accumulator::Own)] = own;
     }
 
-    fn event_value(&self, ev: Ev, t: f64, y: &[f64]) -> f64 {
+    /// Event `ev`'s value at (t, y); `kx` = (kin(y), (X, Ẋ)) when the caller has them.
+    fn event_value(&self, ev: Ev, t: f64, y: &[f64], kx: Option<&(B::Kin, (f64, f64))>) -> f64 {
         let m = &self.mode;
         let rocking = m.rocking();
+        let kx = || match kx {
+            Some(v) => *v,
+            None => {
+                let k = self.body.kin(m, y);
+                (k, self.body.x_xdot_kin(m, &k, y))
+            }
+        };
         match ev {
             Ev::Impact if rocking => m.pivot * y[B::THETA],
             Ev::Impact => 1.0,
@@ -367,7 +432,8 @@ impl<'m, B: Body> Rocking<'m, B> {
             Ev::Uplift(_) if rocking => -1.0,
             Ev::Uplift(side) => self.body.uplift_margin(m, side, t, y),
             Ev::Sequential if rocking || B::MOVES_IN_CONTACT => {
-                self.x_xdot(y).1 * self.body.bare_xddot(m, t, y)
+                let (k, (_, xdot)) = kx();
+                xdot * self.body.bare_xddot(m, &k, t, y)
             }
             // X ≡ 0 while flat: the switch keeps its side until the base lifts.
             Ev::Sequential if m.sequential_engaged => 1.0,
@@ -377,7 +443,7 @@ impl<'m, B: Body> Rocking<'m, B> {
                 let DeviceModel::Mechanistic(c) = &m.dev else {
                     return 1.0;
                 };
-                let (x, xdot) = self.x_xdot(y);
+                let (_, (x, xdot)) = kx();
                 c.event_value(e, x, xdot, m.layout.flywheel_states(y))
             }
         }
@@ -389,8 +455,9 @@ impl<'m, B: Body> Rocking<'m, B> {
         if !matches!(self.mode.dev, DeviceModel::Sequential { .. }) {
             return;
         }
-        let xdot = self.x_xdot(y).1;
-        let bare = self.body.bare_xddot(&self.mode, t, y);
+        let k = self.body.kin(&self.mode, y);
+        let xdot = self.body.x_xdot_kin(&self.mode, &k, y).1;
+        let bare = self.body.bare_xddot(&self.mode, &k, t, y);
         resync_sequential(
             self.mode.dev.mr(),
             xdot,
@@ -459,21 +526,6 @@ impl<'m, B: Body> Rocking<'m, B> {
         dy[layout.flywheel(0)..layout.flywheel(layout.flywheels)]
             .iter()
             .all(|d| *d == 0.0)
-    }
-
-    /// |θ̈|/p² from the equations of motion at (t, y) for a body with that measure: zero
-    /// while flat; a Dirac impact moment included.
-    fn angular_acceleration_p2(&self, t: f64, y: &[f64]) -> f64 {
-        let Some(p2) = self.body.angular_acceleration_scale() else {
-            return 0.0;
-        };
-        if !self.mode.rocking() {
-            return 0.0;
-        }
-        let mut dy = [0.0; MAX_STATE];
-        let dy = &mut dy[..y.len()];
-        self.rhs_slice(t, y, dy);
-        dy[B::THETA_DOT].abs() / p2
     }
 
     fn impact(&mut self, t: f64, y: &mut [f64]) -> Action {
@@ -559,8 +611,30 @@ impl<'m, B: Body> Rocking<'m, B> {
         Returnable { energy, k, springs }
     }
 
-    fn absolute_acceleration(&self, t: f64, y: &[f64], dy: &[f64]) -> f64 {
-        self.body.xddot(&self.mode, y, dy) + self.mode.motion.accel(t)
+    fn absolute_acceleration(&self, t: f64, k: &B::Kin, y: &[f64], dy: &[f64]) -> f64 {
+        self.body.xddot(&self.mode, k, y, dy) + self.mode.motion.accel(t)
+    }
+
+    /// |absolute acceleration|/g (`dy` the interpolant's rates) and |θ̈|/p² (from the
+    /// right-hand side, 0 while flat) at (t, y), sharing the kinematics; each only if asked.
+    fn accelerations_at<const N: usize>(
+        &self,
+        t: f64,
+        y: &[f64; N],
+        dy: Option<&[f64; N]>,
+        angular: bool,
+    ) -> (f64, f64) {
+        let k = self.body.kin(&self.mode, y);
+        let abs_g = dy.map_or(0.0, |dy| self.absolute_acceleration(t, &k, y, dy).abs() / G);
+        let theta_dd = match self.body.angular_acceleration_scale() {
+            Some(p2) if angular && self.mode.rocking() => {
+                let mut d = [0.0; N];
+                self.rhs_kin(t, y, &k, &mut d);
+                d[B::THETA_DOT].abs() / p2
+            }
+            _ => 0.0,
+        };
+        (abs_g, theta_dd)
     }
 
     /// Clutch forces (f_a, f_b) and the device force Fd; a coupled mass pushes with −mc Ẍ.
@@ -573,8 +647,9 @@ impl<'m, B: Body> Rocking<'m, B> {
         let mc = self.mode.coupled_mass();
         if mc > 0.0 {
             let mut dy = vec![0.0; y.len()];
-            self.rhs_slice(t, y, &mut dy);
-            return (0.0, 0.0, -mc * self.body.xddot(&self.mode, y, &dy));
+            let k = self.body.kin(&self.mode, y);
+            self.rhs_kin(t, y, &k, &mut dy);
+            return (0.0, 0.0, -mc * self.body.xddot(&self.mode, &k, y, &dy));
         }
         (fa, fb, -(fa + fb))
     }
@@ -623,9 +698,15 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
         }
     }
 
+    /// The kinematics (one sin/cos for the rigid block) are computed once per sample and
+    /// shared by every event function that reads X or Ẋ.
     fn events(&self, t: f64, y: &[f64; N], g: &mut [f64]) {
+        let kx = self.events_read_x.then(|| {
+            let k = self.body.kin(&self.mode, y);
+            (k, self.body.x_xdot_kin(&self.mode, &k, y))
+        });
         for (i, gi) in g.iter_mut().enumerate() {
-            *gi = self.event_value(self.events[i], t, y);
+            *gi = self.event_value(self.events[i], t, y, kx.as_ref());
         }
     }
 
@@ -698,9 +779,24 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
         !B::MOVES_IN_CONTACT && self.mode.phase == Phase::Contact
     }
 
+    /// A measure not asked for cannot hold the run: its peak counts as out of reach.
     fn settled(&self, y: &[f64; N]) -> bool {
-        self.body
-            .settled(&self.mode, y, self.returnable(y), &self.peaks)
+        let mut peaks = self.peaks;
+        let unasked = |asked: bool, peak: &mut f64| {
+            if !asked {
+                *peak = f64::INFINITY
+            }
+        };
+        unasked(self.measures.deformation, &mut peaks.deformation);
+        unasked(self.measures.drift, &mut peaks.drift);
+        unasked(
+            self.measures.abs_acceleration,
+            &mut peaks.abs_acceleration_g,
+        );
+        if !self.measures.angular_acceleration {
+            peaks.angular_acceleration_p2 = Some(f64::INFINITY);
+        }
+        self.body.settled(&self.mode, y, self.returnable(y), &peaks)
     }
 
     fn advance_closed_form(
@@ -724,39 +820,101 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
         Some((t1, end))
     }
 
+    /// The acceleration peaks are the largest of 4 + 1 samples per step, refined around the
+    /// best one when it reaches the running peak ([`refine_sampled`]). The samples of both
+    /// share one state, one set of kinematics and one right-hand side. Once the ground has
+    /// stopped, a step whose bound ([`Body::quiet_acceleration_bounds`], from bounds of the
+    /// interpolant over the whole step) lies below the level at which the search could change
+    /// the peak is skipped: every sample, and every point the refinement visits, lies below
+    /// it too, so the result is the same as searching.
     fn observe_step(&mut self, dense: &Dense<N>, t_end: f64) {
         self.body
-            .observe_step(&self.mode, dense, t_end, &mut self.peaks);
-        if let Some(floor) = self.peaks.angular_acceleration_p2
-            && self.mode.rocking()
-        {
-            let theta_dd = |t: f64| self.angular_acceleration_p2(t, &dense.state(t));
-            let peak = refined_max(theta_dd, dense.t0, t_end, 4, floor);
+            .observe_step(&self.mode, self.measures, dense, t_end, &mut self.peaks);
+        let mut angular_floor = self
+            .peaks
+            .angular_acceleration_p2
+            .filter(|_| self.mode.rocking());
+        let mut abs_floor = self
+            .measures
+            .abs_acceleration
+            .then_some(self.peaks.abs_acceleration_g);
+        // The ground at rest over the whole step (a record's last sample may be non-zero).
+        let quiet = || {
+            dense.t0 >= self.mode.motion.end() && self.mode.motion.peak_abs(dense.t0, t_end) == 0.0
+        };
+        if (angular_floor.is_some() || abs_floor.is_some()) && quiet() {
+            let (abs_bound, angular_bound) = self.body.quiet_acceleration_bounds(
+                &self.mode,
+                |i| dense.bound(i),
+                |i| dense.rate_bound(i),
+            );
+            // refine_sampled leaves the peak unchanged when every sample is below this.
+            let unreachable = |bound: Option<f64>, floor: f64| {
+                bound.is_some_and(|b| below_peak(b, floor * (1.0 - 1e-9)))
+            };
+            if angular_floor.is_some_and(|f| unreachable(angular_bound, f)) {
+                angular_floor = None;
+            }
+            if abs_floor.is_some_and(|f| unreachable(abs_bound, f)) {
+                abs_floor = None;
+            }
+        }
+        if angular_floor.is_none() && abs_floor.is_none() {
+            return;
+        }
+        const SAMPLES: usize = 4;
+        let (t0, mut abs_values, mut angular_values) =
+            (dense.t0, [0.0; SAMPLES + 1], [0.0; SAMPLES + 1]);
+        for k in 0..=SAMPLES {
+            let t = t0 + (t_end - t0) * k as f64 / SAMPLES as f64;
+            let dy = abs_floor.map(|_| dense.derivative(t));
+            let (a, w) =
+                self.accelerations_at(t, &dense.state(t), dy.as_ref(), angular_floor.is_some());
+            abs_values[k] = a;
+            angular_values[k] = w;
+        }
+        if let Some(floor) = angular_floor {
+            let theta_dd = |t: f64| self.accelerations_at(t, &dense.state(t), None, true).1;
+            let peak = refine_sampled(theta_dd, t0, t_end, &angular_values, floor);
             self.peaks.angular_acceleration_p2 = Some(floor.max(peak));
         }
-        let accel_g = |t: f64| {
-            self.absolute_acceleration(t, &dense.state(t), &dense.derivative(t))
-                .abs()
-                / G
-        };
-        let peak = refined_max(accel_g, dense.t0, t_end, 4, self.peaks.abs_acceleration_g);
-        self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(peak);
+        if let Some(floor) = abs_floor {
+            let accel_g = |t: f64| {
+                let dy = dense.derivative(t);
+                self.accelerations_at(t, &dense.state(t), Some(&dy), false)
+                    .0
+            };
+            let peak = refine_sampled(accel_g, t0, t_end, &abs_values, floor);
+            self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(peak);
+        }
     }
 
     fn observe_point(&mut self, t: f64, y: &[f64; N]) {
+        self.body
+            .observe_point(&self.mode, self.measures, y, &mut self.peaks);
+        if !self.measures.abs_acceleration && self.peaks.angular_acceleration_p2.is_none() {
+            return;
+        }
+        let k = self.body.kin(&self.mode, y);
         let mut dy = [0.0; N];
-        self.rhs_slice(t, y, &mut dy);
-        self.body.observe_point(&self.mode, y, &mut self.peaks);
-        let a = self.absolute_acceleration(t, y, &dy);
-        self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a.abs() / G);
+        self.rhs_kin(t, y, &k, &mut dy);
+        if self.measures.abs_acceleration {
+            let a = self.absolute_acceleration(t, &k, y, &dy);
+            self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a.abs() / G);
+        }
         // After a jump this is the one-sided value just past it (the jump itself excluded).
-        if let Some(peak) = self.peaks.angular_acceleration_p2 {
-            let theta_dd = self.angular_acceleration_p2(t, y);
-            self.peaks.angular_acceleration_p2 = Some(peak.max(theta_dd));
+        if let Some(peak) = self.peaks.angular_acceleration_p2
+            && let Some(p2) = self.body.angular_acceleration_scale()
+            && self.mode.rocking()
+        {
+            self.peaks.angular_acceleration_p2 = Some(peak.max(dy[B::THETA_DOT].abs() / p2));
         }
     }
 
     fn observe_idle(&mut self, t0: f64, t1: f64) {
+        if !self.measures.abs_acceleration {
+            return;
+        }
         let a = self.mode.motion.peak_abs(t0, t1);
         self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a / G);
     }

@@ -28,7 +28,7 @@ pub use plot::{
 use crate::sim::History;
 use std::path::Path;
 
-/// A history as CSV: one header line, then one row per accepted step or event.
+/// A history as CSV: one header line, then one row per sample (see [`crate::sim::Sampling`]).
 pub fn history_csv(history: &History) -> anyhow::Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(&history.columns)?;

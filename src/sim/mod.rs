@@ -2,17 +2,22 @@
 //! locate event, apply jump, restart), track peaks and the energy balance.
 
 use crate::excitation::{Library, Motion, Pulse, RecordMotion};
+pub use crate::model::Measures;
 use crate::model::device::DeviceModel;
 use crate::model::flexible::FlexibleModel;
 use crate::model::rigid::RigidModel;
 use crate::model::{Action, ClosedFormEnd, Counters, EndReason, Energy, Peaks, SimModel};
 use crate::scene::{Excitation, Impact, RigidBlock, Scene, Structure};
 use crate::solver::{Integrator, Options, SolverError, Stats, StepOutcome};
+use history::Recorder;
+pub use history::{MAX_GRID_ROWS, Sampling, auto_step};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 use thiserror::Error;
+
+mod history;
 
 /// Accepted + rejected steps allowed per scene before it is reported as failed.
 pub const STEP_BUDGET: u64 = 5_000_000;
@@ -51,9 +56,13 @@ pub struct SceneResult {
     /// Equations integrated for a rigid block (`auto` resolved); None for other structures.
     #[serde(default)]
     pub form_used: Option<crate::scene::Form>,
+    /// What was computed ([`Bounds::measures`]); peaks and energies not measured read 0.
+    #[serde(default)]
+    pub measured: Measures,
 }
 
-/// A time history: column names and one row per accepted step or event.
+/// A time history: column names and one row per sample time of its [`Sampling`], plus two
+/// rows (before and after the jump) at each event.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct History {
     pub columns: Vec<&'static str>,
@@ -125,6 +134,8 @@ pub fn run(scene: &Scene, library: &Library) -> Result<SceneResult, SimError> {
 pub struct Bounds<'a> {
     pub cancel: Option<&'a AtomicBool>,
     pub time_limit: Option<Duration>,
+    /// The optional quantities to compute (default: all).
+    pub measures: Measures,
 }
 
 /// The bounds of a scene that started at `started`, checked every few steps.
@@ -189,11 +200,55 @@ pub fn run_with_history_bounded(
     record_history: bool,
     bounds: Bounds,
 ) -> Result<(SceneResult, Option<History>), SimError> {
+    run_sampled(
+        scene,
+        library,
+        record_history.then_some(&Sampling::Steps),
+        bounds,
+    )
+}
+
+/// The scene a history is recorded from: the whole duration the scene asks for (the
+/// settled-tail cut makes sweeps fast; a history shows the tail).
+pub fn history_scene(scene: &Scene) -> Scene {
+    Scene {
+        stop_when_settled: false,
+        ..scene.clone()
+    }
+}
+
+/// Run `scene` as it is and record its history with `sampling` (see [`history_scene`] for a
+/// scene view's full length).
+pub fn run_history(
+    scene: &Scene,
+    library: &Library,
+    sampling: &Sampling,
+) -> Result<(SceneResult, History), SimError> {
+    let (result, history) = run_sampled(scene, library, Some(sampling), Bounds::default())?;
+    Ok((result, history.unwrap_or_default()))
+}
+
+/// [`run_bounded`], recording a history when `sampling` is given.
+pub fn run_sampled(
+    scene: &Scene,
+    library: &Library,
+    sampling: Option<&Sampling>,
+    bounds: Bounds,
+) -> Result<(SceneResult, Option<History>), SimError> {
     scene
         .validate()
         .map_err(|e| SimError::Invalid(e.to_string()))?;
     let motion = motion_for(scene, library)?;
-    let mut history = record_history.then(History::default);
+    if let Some(Sampling::Uniform(dt)) = sampling
+        && !(*dt > 0.0 && scene.duration / dt <= MAX_GRID_ROWS)
+    {
+        return Err(SimError::Invalid(format!(
+            "history sample step {dt} s: give a positive step of at least {:.3e} s \
+             (duration / {MAX_GRID_ROWS:.0})",
+            scene.duration / MAX_GRID_ROWS
+        )));
+    }
+    let mut history = sampling.map(|s| Recorder::new(s, scene.duration, &motion));
     let started = Instant::now();
     let watch = &Watch {
         bounds,
@@ -211,6 +266,7 @@ pub fn run_with_history_bounded(
             form_used = Some(block.form);
             let mut model =
                 RigidModel::new(block, device, scene.impact, &motion, scene.initial_rotation);
+            model.set_measures(bounds.measures);
             let h = history.as_mut();
             match model.state_len() {
                 6 => drive::<6, _>(&mut model, &motion, scene, h, watch),
@@ -230,6 +286,7 @@ pub fn run_with_history_bounded(
             let device = DeviceModel::new(&scene.device, flex.mass, p);
             let mut model = FlexibleModel::new(flex, device, &motion, scene.initial_rotation)
                 .with_closed_form_contact(scene.closed_form_contact);
+            model.set_measures(bounds.measures);
             let h = history.as_mut();
             match model.state_len() {
                 8 => drive::<8, _>(&mut model, &motion, scene, h, watch),
@@ -241,7 +298,8 @@ pub fn run_with_history_bounded(
     result.peak_rotation_ratio = result.peaks.rotation / scene.structure.alpha();
     result.wall_seconds = started.elapsed().as_secs_f64();
     result.form_used = form_used;
-    Ok((result, history))
+    result.measured = bounds.measures;
+    Ok((result, history.map(Recorder::finish)))
 }
 
 /// The event loop, generic over the model and its state size N. The energy accumulators are
@@ -251,7 +309,7 @@ fn drive<const N: usize, M: SimModel<N>>(
     model: &mut M,
     motion: &Motion,
     scene: &Scene,
-    mut history: Option<&mut History>,
+    mut history: Option<&mut Recorder>,
     watch: &Watch,
 ) -> Result<SceneResult, SimError> {
     let duration = scene.duration;
@@ -274,6 +332,9 @@ fn drive<const N: usize, M: SimModel<N>>(
     let mut y = [0.0; N];
     let mut t = 0.0;
     let mut action = model.start(&mut y);
+    // The ledger's per-step evaluation only when asked; the accumulators stay integrated (and
+    // error controlled), so the steps, and every other result, are the same either way.
+    let ledger = watch.bounds.measures.energy;
     let e0 = model.energy(&y);
     let initial_stored = e0.structure + e0.inerter;
     let mut energy_scale = initial_stored.abs();
@@ -281,8 +342,7 @@ fn drive<const N: usize, M: SimModel<N>>(
     let mut stalls = 0;
     model.observe_point(t, &y);
     if let Some(h) = history.as_deref_mut() {
-        h.columns = model.history_columns();
-        h.rows.push(model.history_row(t, &y));
+        h.start(model, t, &y);
     }
     let end_reason = 'run: loop {
         match action {
@@ -290,6 +350,9 @@ fn drive<const N: usize, M: SimModel<N>>(
             Action::Idle { until } => {
                 let until = until.min(duration);
                 model.observe_idle(t, until);
+                if let Some(h) = history.as_deref_mut() {
+                    h.hold(model, until, &y);
+                }
                 t = until;
                 if t >= duration {
                     break EndReason::Duration;
@@ -300,9 +363,9 @@ fn drive<const N: usize, M: SimModel<N>>(
                 // located events are shown.
                 if let Some(h) = history.as_deref_mut() {
                     if action == Action::Continue {
-                        h.events.push((t, model.wake_name()));
+                        h.event(t, model.wake_name());
                     }
-                    h.rows.push(model.history_row(t, &y));
+                    h.exact(model, t, &y);
                 }
                 continue;
             }
@@ -313,6 +376,7 @@ fn drive<const N: usize, M: SimModel<N>>(
                     scene,
                     history: history.as_deref_mut(),
                     energy_scale: &mut energy_scale,
+                    ledger,
                 };
                 let integrated = integ.stats.steps + integ.stats.rejected;
                 if let Some(next) = run.advance_closed_form(
@@ -338,8 +402,9 @@ fn drive<const N: usize, M: SimModel<N>>(
             let outcome = integ.step(model, t_stop)?;
             // No step is taken when the stop lies within rounding of t (intervals below what
             // f64 resolves at this t): nothing to observe then, but it counts as work.
-            match integ.dense().copied() {
-                Some(dense) => model.observe_step(&dense, integ.t()),
+            let dense = integ.dense().copied();
+            match &dense {
+                Some(dense) => model.observe_step(dense, integ.t()),
                 None => stalls += 1,
             }
             watch.check(
@@ -348,8 +413,14 @@ fn drive<const N: usize, M: SimModel<N>>(
             )?;
             t = integ.t();
             y = *integ.y();
-            let e = model.energy(&y);
-            energy_scale = energy_scale.max(e.input.abs()).max(e.structure + e.inerter);
+            if let Some(h) = history.as_deref_mut() {
+                let at_event = matches!(outcome, StepOutcome::Event(_));
+                h.step(model, dense.as_ref(), t, &y, at_event);
+            }
+            if ledger {
+                let e = model.energy(&y);
+                energy_scale = energy_scale.max(e.input.abs()).max(e.structure + e.inerter);
+            }
             match outcome {
                 StepOutcome::Event(index) => {
                     break Run {
@@ -358,30 +429,34 @@ fn drive<const N: usize, M: SimModel<N>>(
                         scene,
                         history: history.as_deref_mut(),
                         energy_scale: &mut energy_scale,
+                        ledger,
                     }
                     .event(index, t, &mut y);
                 }
-                StepOutcome::Reached if t >= duration => {
-                    record(&mut history, model, t, &y);
-                    break 'run EndReason::Duration;
-                }
+                StepOutcome::Reached if t >= duration => break 'run EndReason::Duration,
                 StepOutcome::Reached if motion.jumps_at(t) => integ.refresh(model),
                 StepOutcome::Reached | StepOutcome::Stepped => {}
             }
             // A model may settle between breakpoints (a flexible column's free vibration decays
             // with no event to mark it).
             if let Some(reason) = stop_after_ground(model, motion, scene, t, &y) {
-                record(&mut history, model, t, &y);
                 break 'run reason;
             }
-            record(&mut history, model, t, &y);
         };
     };
-    let energy = model.energy(&y);
-    let imbalance = energy.imbalance() + initial_stored;
-    let scale = energy_scale
-        .max(energy.dissipated().abs())
-        .max(f64::MIN_POSITIVE);
+    if let Some(h) = history {
+        h.end(model, t, &y, end_reason, duration);
+    }
+    let (energy, energy_residual) = if ledger {
+        let energy = model.energy(&y);
+        let imbalance = energy.imbalance() + initial_stored;
+        let scale = energy_scale
+            .max(energy.dissipated().abs())
+            .max(f64::MIN_POSITIVE);
+        (energy, imbalance.abs() / scale)
+    } else {
+        (Energy::default(), 0.0)
+    };
     Ok(SceneResult {
         overturned: end_reason == EndReason::Overturned,
         end_reason,
@@ -390,13 +465,14 @@ fn drive<const N: usize, M: SimModel<N>>(
         peak_rotation_ratio: 0.0,
         counters: model.counters(),
         energy,
-        energy_residual: imbalance.abs() / scale,
+        energy_residual,
         stats: Stats {
             closed_form_steps,
             ..integ.stats
         },
         wall_seconds: 0.0,
         form_used: None,
+        measured: Measures::ALL,
     })
 }
 
@@ -405,8 +481,10 @@ struct Run<'r, const N: usize, M: SimModel<N>> {
     model: &'r mut M,
     motion: &'r Motion,
     scene: &'r Scene,
-    history: Option<&'r mut History>,
+    history: Option<&'r mut Recorder>,
     energy_scale: &'r mut f64,
+    /// Whether the energy ledger is asked for.
+    ledger: bool,
 }
 
 impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
@@ -415,13 +493,15 @@ impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
     /// or settled).
     fn event(&mut self, index: usize, t: f64, y: &mut [f64; N]) -> Action {
         let model = &mut *self.model;
-        record(&mut self.history, model, t, y);
         if let Some(h) = self.history.as_deref_mut() {
-            h.events.push((t, model.event_name(index)));
+            h.exact(model, t, y);
+            h.event(t, model.event_name(index));
         }
         let next = model.on_event(index, t, y);
         model.observe_point(t, y);
-        record(&mut self.history, model, t, y);
+        if let Some(h) = self.history.as_deref_mut() {
+            h.exact(model, t, y);
+        }
         if next == Action::Continue
             && let Some(reason) = stop_after_ground(model, self.motion, self.scene, t, y)
         {
@@ -443,21 +523,31 @@ impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
     ) -> Result<Option<Action>, SimError> {
         let duration = self.scene.duration;
         loop {
-            let Some((t1, how)) = self.model.advance_closed_form(*t, duration, y) else {
+            // On a grid, intervals end at its sample times too (an exact state there).
+            let stop = self
+                .history
+                .as_deref()
+                .and_then(Recorder::next_stop)
+                .map_or(duration, |s| s.min(duration));
+            let Some((t1, how)) = self.model.advance_closed_form(*t, stop, y) else {
                 return Ok(None);
             };
             *t = t1;
             *steps += 1;
             watch.check(*steps + integrated, *t)?;
-            let e = self.model.energy(y);
-            *self.energy_scale = self
-                .energy_scale
-                .max(e.input.abs())
-                .max(e.structure + e.inerter);
+            if self.ledger {
+                let e = self.model.energy(y);
+                *self.energy_scale = self
+                    .energy_scale
+                    .max(e.input.abs())
+                    .max(e.structure + e.inerter);
+            }
             if let ClosedFormEnd::Event(index) = how {
                 return Ok(Some(self.event(index, *t, y)));
             }
-            record(&mut self.history, self.model, *t, y);
+            if let Some(h) = self.history.as_deref_mut() {
+                h.interval_end(&*self.model, *t, y);
+            }
             if *t >= duration {
                 return Ok(Some(Action::Stop(EndReason::Duration)));
             }
@@ -486,16 +576,5 @@ fn stop_after_ground<const N: usize, M: SimModel<N>>(
         Some(EndReason::Settled)
     } else {
         None
-    }
-}
-
-fn record<const N: usize, M: SimModel<N>>(
-    history: &mut Option<&mut History>,
-    model: &M,
-    t: f64,
-    y: &[f64; N],
-) {
-    if let Some(h) = history.as_deref_mut() {
-        h.rows.push(model.history_row(t, y));
     }
 }

@@ -186,6 +186,30 @@ impl<const N: usize> Dense<N> {
         })
     }
 
+    /// No |y_i(t)| of the interpolant on the step exceeds this. In the nested form
+    /// y = r0 + τ(r1 + (1−τ)(r2 + …)) every multiplier lies in [0, 1], so
+    /// y = (1−τ)y(t0) + τy(t1) + τ(1−τ)Q with |Q| ≤ Σ_{k≥2}|r_k| and τ(1−τ) ≤ ¼.
+    pub fn bound(&self, i: usize) -> f64 {
+        let ends = self.r[0][i].abs().max((self.r[0][i] + self.r[1][i]).abs());
+        ends + 0.25 * self.r[2..].iter().map(|r| r[i].abs()).sum::<f64>()
+    }
+
+    /// No |ẏ_i(t)| of the interpolant on the step exceeds this. With V_k = r_k + m_k V_(k+1)
+    /// (m_k = τ or 1 − τ, |m_k| ≤ 1, |m_k'| = 1): |V_k| ≤ A_k = Σ_{j≥k}|r_j| and
+    /// |V_k'| ≤ A_(k+1) + B_(k+1) =: B_k; ẏ = V_0'/h.
+    pub fn rate_bound(&self, i: usize) -> f64 {
+        if self.h == 0.0 {
+            return f64::INFINITY;
+        }
+        // (A_j, B_j) from the top down, starting past the last coefficient (0, 0).
+        let (mut a, mut b) = (0.0, 0.0);
+        for r in self.r[1..].iter().rev() {
+            b += a;
+            a += r[i].abs();
+        }
+        (a + b) / self.h.abs()
+    }
+
     /// Time derivative of the interpolant at t.
     pub fn derivative(&self, t: f64) -> [f64; N] {
         let th = self.tau(t);

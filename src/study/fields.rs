@@ -58,7 +58,7 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ),
     ("p", "frequency parameter p (rad/s), instead of size"),
     ("size", "half-diagonal R (m), instead of p"),
-    ("alpha", "slenderness α (rad)"),
+    ("alpha", "slenderness α (rad), or in degrees as deg(10)"),
     ("mass", "structure mass (kg)"),
     ("form", "exact or slender (small-α) equations"),
     ("r0", "R0 = √(B² + H²) (m)"),

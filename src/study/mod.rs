@@ -13,12 +13,14 @@ pub mod fields;
 mod quantity;
 mod strict;
 mod values;
+pub mod writer;
 
 pub use error::StudyError;
 pub use expand::{
     DeviceKind, Layout, Parameter, Part, VariantLayout, device_label, fmt_digits, fmt_num,
 };
 pub use quantity::Quantity;
+pub use strict::{ANGLE_FIELDS, parse_angle};
 pub use values::Values;
 
 use crate::excitation::{KinkPolicy, PulseShape};
@@ -342,8 +344,9 @@ impl Study {
         // A byte-order mark (some Windows editors write one) is no part of the study.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         strict::check_names(text, origin)?;
+        let text = strict::resolve_degrees(text, origin)?;
         ron_options()
-            .from_str(text)
+            .from_str(&text)
             .map_err(|e| StudyError::from_ron(e, origin))
     }
 
@@ -370,8 +373,16 @@ impl Study {
             .expect("studies serialise")
     }
 
+    /// Write the study laid out for reading (lists on one line where they fit), every field
+    /// spelled out: what `rocklab run` keeps beside its results.
     pub fn save(&self, path: &Path) -> anyhow::Result<()> {
-        crate::fsutil::write_atomic(path, self.to_ron_string().as_bytes())
+        crate::fsutil::write_atomic(path, writer::write(self, None).text.as_bytes())
+    }
+
+    /// The study as text that keeps what the user wrote in `original` (the file it was
+    /// opened from): comments, spelling, defaults left out; see [`writer`].
+    pub fn to_ron_keeping(&self, original: Option<&str>) -> writer::Written {
+        writer::write(self, original)
     }
 
     /// Physical and structural validity. Errors name the field (as a path) with a hint; the

@@ -1,7 +1,7 @@
 //! The response quantities a study reports: part of the study schema (a study file names them),
 //! evaluated on a scene's result.
 
-use crate::sim::SceneResult;
+use crate::sim::{Measures, SceneResult};
 use serde::{Deserialize, Serialize};
 
 /// A response quantity reported per scene.
@@ -61,10 +61,36 @@ impl Quantity {
         Quantity::ALL.into_iter().find(|q| q.name() == name)
     }
 
+    /// What a run must compute to report `quantities` (the rotation is always computed).
+    pub fn measures(quantities: &[Quantity]) -> Measures {
+        let mut m = Measures::ROTATION;
+        for q in quantities {
+            match q {
+                Quantity::PeakRotation | Quantity::PeakRotationRatio => {}
+                Quantity::PeakDeformation => m.deformation = true,
+                Quantity::PeakDrift => m.drift = true,
+                Quantity::PeakAbsAcceleration => m.abs_acceleration = true,
+                Quantity::PeakAngularAcceleration => m.angular_acceleration = true,
+            }
+        }
+        m
+    }
+
+    /// Whether a run that computed `measured` reports this quantity.
+    pub fn measured_in(self, measured: Measures) -> bool {
+        match self {
+            Quantity::PeakRotation | Quantity::PeakRotationRatio => true,
+            Quantity::PeakDeformation => measured.deformation,
+            Quantity::PeakDrift => measured.drift,
+            Quantity::PeakAbsAcceleration => measured.abs_acceleration,
+            Quantity::PeakAngularAcceleration => measured.angular_acceleration,
+        }
+    }
+
     /// The value of this quantity in a result; None if the structure overturned (peaks of an
     /// overturned structure are not a response) or has no such measure.
     pub fn of(self, r: &SceneResult) -> Option<f64> {
-        if r.overturned {
+        if r.overturned || !self.measured_in(r.measured) {
             return None;
         }
         match self {

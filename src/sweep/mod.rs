@@ -107,7 +107,12 @@ pub fn run_study(
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<SweepResults, StudyError> {
     let points = study.expand()?;
-    let mut results = run(&points, opts, library, cancel, progress);
+    let checkpoint = Checkpoint {
+        reuse: cache(opts),
+        measures: crate::study::Quantity::measures(&study.quantities),
+        ..Default::default()
+    };
+    let mut results = run_checkpointed(&points, opts, library, checkpoint, cancel, progress);
     results.study_hash = study.hash();
     results.study = Some(study.clone());
     Ok(results)
@@ -122,18 +127,21 @@ pub fn run(
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> SweepResults {
-    let reuse = opts
-        .cache
+    let checkpoint = Checkpoint {
+        reuse: cache(opts),
+        ..Default::default()
+    };
+    run_checkpointed(points, opts, library, checkpoint, cancel, progress)
+}
+
+/// The finished scenes of the options' cache, if it may be reused.
+fn cache(opts: &SweepOptions) -> HashMap<String, Result<SceneResult, String>> {
+    opts.cache
         .as_ref()
         .and_then(|path| load_results(path).ok())
         .filter(reusable)
         .map(cache_by_key)
-        .unwrap_or_default();
-    let checkpoint = Checkpoint {
-        reuse,
-        ..Default::default()
-    };
-    run_checkpointed(points, opts, library, checkpoint, cancel, progress)
+        .unwrap_or_default()
 }
 
 /// What a sweep keeps across stops: the journal it appends to, the finished scenes it
@@ -144,6 +152,9 @@ pub struct Checkpoint<'a> {
     pub reuse: HashMap<String, Result<SceneResult, String>>,
     /// A scene running longer is stopped and recorded as failed, with the reason.
     pub scene_time_limit: Option<std::time::Duration>,
+    /// What each scene computes (the study's quantities); a finished scene is reused only if
+    /// it computed all of it.
+    pub measures: crate::sim::Measures,
 }
 
 /// [`run`] with each finished scene appended to the checkpoint's journal as it completes,
@@ -162,10 +173,16 @@ pub fn run_checkpointed(
         journal,
         mut reuse,
         scene_time_limit,
+        measures,
     } = checkpoint;
+    reuse.retain(|_, r| match r {
+        Ok(r) => r.measured.covers(measures),
+        Err(_) => true,
+    });
     let bounds = sim::Bounds {
         cancel: Some(cancel),
         time_limit: scene_time_limit,
+        measures,
     };
     let selected: Vec<&ScenePoint> = points
         .iter()
@@ -261,6 +278,7 @@ pub fn run_into(
         journal: Some(&output.journal),
         reuse: std::mem::take(&mut output.reuse),
         scene_time_limit,
+        measures: crate::study::Quantity::measures(&study.quantities),
     };
     let mut results = run_checkpointed(points, opts, library, checkpoint, cancel, progress);
     results.study_hash = study.hash();

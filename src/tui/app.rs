@@ -25,7 +25,9 @@ use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
-pub use super::components::prompt::{Pending, Prompt, StopSweep};
+pub use super::components::prompt::{
+    DropComments, OverwriteResults, Pending, Prompt, StopSweep, backup_path,
+};
 pub use super::components::results::{Results, ResultsTab};
 pub use super::components::run::{GroupProgress, RunState};
 pub use super::components::scene::{SceneState, SceneView};
@@ -97,6 +99,8 @@ pub struct App {
     calibration: AsyncSingleJob<(), f64>,
     /// Set by a first Ctrl-C with unsaved changes: a second one quits anyway.
     ctrl_c_armed: bool,
+    /// The sweep being stopped was discarded: its partial results are not shown.
+    discard_run: bool,
 }
 
 /// Whether `path` names results (a results directory, a results or journal file) rather than
@@ -140,6 +144,9 @@ pub fn load_results_at(path: &std::path::Path) -> anyhow::Result<(SweepResults, 
     Ok((results, dir))
 }
 
+/// The built-in default study's file, comments included.
+const BUILTIN_DEFAULT: &str = include_str!("../../studies/default.ron");
+
 fn key_press(code: KeyCode) -> KeyEvent {
     KeyEvent::new(code, KeyModifiers::NONE)
 }
@@ -154,6 +161,13 @@ fn check(study: &Study) -> Check {
 
 impl App {
     pub fn new(study: Study, path: Option<PathBuf>, options: Options) -> App {
+        // The text a save keeps comments and spelling from: the file the study came from,
+        // or the built-in default's.
+        let original = match &path {
+            Some(p) => std::fs::read_to_string(p).ok(),
+            None if study == Study::builtin_default() => Some(BUILTIN_DEFAULT.to_string()),
+            None => None,
+        };
         let mut app = App {
             screen: Screen::Study,
             editor: StudyScreen::new(&study),
@@ -162,6 +176,7 @@ impl App {
                 check: check(&study),
                 study,
                 path,
+                original,
                 dirty: false,
                 results: None,
                 out_dir: None,
@@ -178,6 +193,7 @@ impl App {
             message: None,
             calibration: AsyncSingleJob::default(),
             ctrl_c_armed: false,
+            discard_run: false,
         };
         app.start_calibration();
         app
@@ -234,6 +250,7 @@ impl App {
             return;
         };
         self.shared.path = None;
+        self.shared.original = None;
         self.shared.dirty = false;
         self.shared.out_dir = Some(dir.clone());
         self.editor.cursor = 0;
@@ -435,6 +452,7 @@ impl App {
             },
             Pending::Open(path) => match Study::load(&path) {
                 Ok(study) => {
+                    self.shared.original = std::fs::read_to_string(&path).ok();
                     self.shared.path = Some(path.clone());
                     self.shared.dirty = false;
                     self.editor.cursor = 0;
@@ -445,6 +463,7 @@ impl App {
             },
             Pending::New => {
                 self.shared.path = None;
+                self.shared.original = Some(BUILTIN_DEFAULT.to_string());
                 self.shared.dirty = false;
                 self.editor.cursor = 0;
                 self.set_study(Study::builtin_default(), None);
@@ -491,8 +510,31 @@ impl App {
                         return self.request_unsaved(Pending::Quit);
                     }
                 }
+                KeyCode::Char('d') => {
+                    self.runs.cancel();
+                    if stop.quit {
+                        return self.perform(Pending::Quit);
+                    }
+                    self.discard_run = true;
+                    self.say(format!(
+                        "discarding the sweep: its finished scenes stay in {}/",
+                        stop.out_dir.display()
+                    ));
+                }
                 KeyCode::Char('n') | KeyCode::Esc => {}
                 _ => self.prompt = Some(Prompt::StopSweep(stop)),
+            },
+            Prompt::DropComments(drop) => match key.code {
+                KeyCode::Char('y') => {
+                    self.save_to(drop.path, true);
+                }
+                KeyCode::Char('n') | KeyCode::Esc => self.say("not saved"),
+                _ => self.prompt = Some(Prompt::DropComments(drop)),
+            },
+            Prompt::OverwriteResults(over) => match key.code {
+                KeyCode::Char('y') => self.write_results(over.path),
+                KeyCode::Char('n') | KeyCode::Esc => self.say("results not written"),
+                _ => self.prompt = Some(Prompt::OverwriteResults(over)),
             },
             Prompt::SaveAs(mut line) => match line.handle_key(key) {
                 EditOutcome::Editing => self.prompt = Some(Prompt::SaveAs(line)),
@@ -502,10 +544,7 @@ impl App {
                     if line.text.trim().is_empty() {
                         self.complain("no file name given");
                     } else {
-                        let old = self.shared.path.replace(path);
-                        if !self.save() {
-                            self.shared.path = old;
-                        }
+                        self.save_to(path, false);
                     }
                 }
             },
@@ -548,8 +587,33 @@ impl App {
         Effect::None
     }
 
-    /// Write the current results (atomically) where `rocklab plot/compare/merge` can read them.
+    /// Write the current results where `rocklab plot/compare/merge` can read them, asking
+    /// first if a file is there (saying whether it holds results of another study).
     fn save_results(&mut self, path: PathBuf) {
+        let Some(data) = &self.shared.results else {
+            return;
+        };
+        if path.exists() {
+            let identity = crate::sweep::results_identity(&path).ok();
+            let scenes = crate::sweep::load_results(&path)
+                .ok()
+                .map(|r| r.outcomes.len());
+            let other_study = identity.and_then(|(hash, name)| {
+                (hash != data.results.study_hash)
+                    .then(|| name.unwrap_or_else(|| format!("study {hash}")))
+            });
+            self.prompt = Some(Prompt::OverwriteResults(OverwriteResults {
+                path,
+                scenes,
+                other_study,
+            }));
+            return;
+        }
+        self.write_results(path);
+    }
+
+    /// Write the current results (atomically), no questions asked.
+    fn write_results(&mut self, path: PathBuf) {
         let Some(data) = &self.shared.results else {
             return;
         };
@@ -565,16 +629,45 @@ impl App {
         }
     }
 
-    /// Save to the current path (atomically). False if there is no path or the write failed.
+    /// Save to the current path (atomically). False if there is no path, the save waits for
+    /// an answer, or the write failed.
     fn save(&mut self) -> bool {
         let Some(path) = self.shared.path.clone() else {
             self.prompt = Some(Prompt::SaveAs(LineEdit::new("study.ron")));
             return false;
         };
-        match self.shared.study.save(&path) {
+        self.save_to(path, false)
+    }
+
+    /// Save the study to `path` (which becomes the study's path), keeping the comments and
+    /// spelling of the file it came from. If some comments cannot be kept, ask first (unless
+    /// `drop_comments`), and keep the file it came from as `<path>.bak`.
+    fn save_to(&mut self, path: PathBuf, drop_comments: bool) -> bool {
+        let written = self
+            .shared
+            .study
+            .to_ron_keeping(self.shared.original.as_deref());
+        if !written.lost.is_empty() && !drop_comments {
+            self.prompt = Some(Prompt::DropComments(DropComments {
+                path,
+                lost: written.lost,
+            }));
+            return false;
+        }
+        let mut saved = Ok(());
+        if !written.lost.is_empty()
+            && let Some(original) = &self.shared.original
+        {
+            saved = crate::fsutil::write_atomic(&backup_path(&path), original.as_bytes());
+        }
+        let saved =
+            saved.and_then(|()| crate::fsutil::write_atomic(&path, written.text.as_bytes()));
+        match saved {
             Ok(()) => {
                 self.shared.dirty = false;
+                self.shared.original = Some(written.text);
                 self.say(format!("saved {}", path.display()));
+                self.shared.path = Some(path);
                 true
             }
             Err(e) => {
@@ -637,11 +730,19 @@ impl App {
                     Some(walls.iter().sum::<f64>() / walls.len() as f64);
             }
             let done = results.outcomes.len();
-            self.show_results(*results, cancelled);
-            if cancelled {
+            if std::mem::take(&mut self.discard_run) {
+                self.say(format!(
+                    "sweep discarded: its {done} finished scenes stay in {}/, not shown",
+                    self.shared.output_dir().display()
+                ));
+            } else if cancelled {
+                self.show_results(*results, cancelled);
                 self.say(format!("sweep cancelled: {done} finished scenes kept"));
-            } else if self.screen == Screen::Run {
-                self.screen = Screen::Results;
+            } else {
+                self.show_results(*results, cancelled);
+                if self.screen == Screen::Run {
+                    self.screen = Screen::Results;
+                }
             }
         }
         changed |= self.scene.poll();

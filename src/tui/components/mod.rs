@@ -34,6 +34,8 @@ pub struct Shared {
     pub options: Options,
     pub study: Study,
     pub path: Option<PathBuf>,
+    /// The text of the file the study came from (comments, spelling), kept by a save.
+    pub original: Option<String>,
     pub dirty: bool,
     pub check: Check,
     /// The results on screen: from the last sweep (finished or cancelled).

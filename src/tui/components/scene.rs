@@ -26,7 +26,7 @@ pub struct SceneView {
     pub state: SceneState,
 }
 
-type SceneOutput = Result<(SceneResult, Option<History>), String>;
+type SceneOutput = Result<(SceneResult, History), String>;
 
 #[derive(Default)]
 pub struct SceneScreen {
@@ -41,7 +41,9 @@ impl SceneScreen {
         let scene = point.scene.clone();
         self.job.spawn(move |_, _| {
             let library = crate::excitation::library::global().map_err(|e| e.to_string())?;
-            sim::run_with_history(&scene, library, true).map_err(|e| e.to_string())
+            // The whole duration (a sweep's scene may stop once settled), on a uniform grid.
+            sim::run_history(&sim::history_scene(&scene), library, &sim::Sampling::Auto)
+                .map_err(|e| e.to_string())
         });
         self.view = Some(SceneView {
             point,
@@ -70,7 +72,7 @@ impl SceneScreen {
             let state = match event {
                 JobEvent::Progress(()) => continue,
                 JobEvent::Done(Ok((result, history))) => {
-                    SceneState::Done(Box::new(result), history.unwrap_or_default())
+                    SceneState::Done(Box::new(result), history)
                 }
                 JobEvent::Done(Err(e)) => SceneState::Failed(e),
                 JobEvent::Lost => SceneState::Failed("the scene run stopped".into()),
@@ -119,14 +121,20 @@ impl Component for SceneScreen {
             SceneState::Failed(e) => {
                 lines.push(Line::styled(format!("failed: {e}"), theme.error()))
             }
-            SceneState::Done(r, _) => {
+            SceneState::Done(r, history) => {
+                // Counted over the whole history (the rerun does not stop once settled; a
+                // block at rest stays so until the end).
+                let span = history.rows.last().map_or(r.end_time, |row| row[0]);
                 let mut text = format!(
-                    "{}  θmax/α {}  impacts {}  engagements {}",
+                    "{}  θmax/α {}  0–{} s: impacts {}",
                     if r.overturned { "OVERTURNED" } else { "safe" },
                     fmt_num(r.peak_rotation_ratio),
+                    fmt_num(span),
                     r.counters.impacts,
-                    r.counters.engagements,
                 );
+                if view.point.scene.device != crate::scene::Device::None {
+                    text.push_str(&format!("  engagements {}", r.counters.engagements));
+                }
                 // The energy residual is at the level of the solver tolerance: it changes with
                 // any change to the integrator, so reproducible frames leave it out.
                 if !shared.options.deterministic {
@@ -142,59 +150,123 @@ impl Component for SceneScreen {
     }
 }
 
-/// One chart: title and (legend name, history column) of each series.
+/// One chart: title, unit of its values, and (legend name, values) of each series.
 struct Panel {
-    title: String,
-    series: Vec<(String, &'static str)>,
+    title: &'static str,
+    unit: &'static str,
+    series: Vec<(&'static str, Vec<f64>)>,
 }
 
-/// The charts of a scene, from the columns its model records: rotation (and the column
-/// deformation of a flexible structure), flywheel velocities, clutch forces, and every
-/// energy term.
-fn panels(history: &History) -> [Panel; 4] {
-    let has = |c: &str| history.columns.contains(&c);
-    let mut rotation = Panel {
-        title: "rotation θ (rad)".into(),
-        series: vec![("θ".into(), "theta")],
+/// The charts of a scene from the columns its model records, one quantity (one unit) per
+/// chart: rotation θ; the column deformation u of a flexible structure; the flywheel
+/// velocities and the clutch (or device) forces where a device moves; the energy balance
+/// (input, stored, dissipated). A device chart whose series are all zero (a bare structure) is
+/// left out.
+fn panels(history: &History) -> Vec<Panel> {
+    let col = |name: &str| history.column(name);
+    let moving = |name: &'static str, label: &'static str| {
+        col(name)
+            .filter(|v| v.iter().any(|x| *x != 0.0))
+            .map(|v| (label, v))
     };
-    if has("u") {
-        rotation.title = "rotation θ (rad), deformation u (m)".into();
-        rotation.series.push(("u".into(), "u"));
+    let mut panels = vec![Panel {
+        title: "rotation θ",
+        unit: "rad",
+        series: col("theta").map(|v| ("θ", v)).into_iter().collect(),
+    }];
+    if let Some(u) = col("u") {
+        panels.push(Panel {
+            title: "deformation u",
+            unit: "m",
+            series: vec![("u", u)],
+        });
     }
-    let pair = |title: &str, a: &'static str, b: &'static str| Panel {
-        title: title.into(),
-        series: vec![("a".into(), a), ("b".into(), b)],
-    };
-    let energy = Panel {
-        title: "energy (J)".into(),
-        series: history
-            .columns
-            .iter()
-            .filter_map(|c| Some((c.strip_prefix("e_")?.replace('_', " "), *c)))
-            .collect(),
-    };
-    [
-        rotation,
-        pair("flywheel velocities", "flywheel_a_vel", "flywheel_b_vel"),
-        pair("clutch force (N)", "clutch_force_a", "clutch_force_b"),
-        energy,
+    let flywheels: Vec<_> = [
+        ("flywheel_a_vel", "flywheel a"),
+        ("flywheel_b_vel", "flywheel b"),
     ]
+    .into_iter()
+    .filter_map(|(c, l)| moving(c, l))
+    .collect();
+    if !flywheels.is_empty() {
+        panels.push(Panel {
+            title: "flywheel velocity ẏ",
+            unit: "m/s",
+            series: flywheels,
+        });
+    }
+    let clutches: Vec<_> = [
+        ("clutch_force_a", "clutch a"),
+        ("clutch_force_b", "clutch b"),
+    ]
+    .into_iter()
+    .filter_map(|(c, l)| moving(c, l))
+    .collect();
+    if !clutches.is_empty() {
+        panels.push(Panel {
+            title: "clutch force",
+            unit: "N",
+            series: clutches,
+        });
+    } else if let Some(device) = moving("device_force", "Fd") {
+        panels.push(Panel {
+            title: "device force",
+            unit: "N",
+            series: vec![device],
+        });
+    }
+    let sum = |names: &[&str]| -> Option<Vec<f64>> {
+        let columns: Vec<Vec<f64>> = names.iter().filter_map(|n| col(n)).collect();
+        let first = columns.first()?;
+        Some(
+            (0..first.len())
+                .map(|i| columns.iter().map(|c| c[i]).sum())
+                .collect(),
+        )
+    };
+    let losses: Vec<&str> = history
+        .columns
+        .iter()
+        .copied()
+        .filter(|c| c.starts_with("e_") && !["e_input", "e_structure", "e_inerter"].contains(c))
+        .collect();
+    let energy: Vec<_> = [
+        ("input", sum(&["e_input"])),
+        ("stored", sum(&["e_structure", "e_inerter"])),
+        ("dissipated", sum(&losses)),
+    ]
+    .into_iter()
+    .filter_map(|(l, v)| Some((l, v?)))
+    .collect();
+    if !energy.is_empty() {
+        panels.push(Panel {
+            title: "energy",
+            unit: "J",
+            series: energy,
+        });
+    }
+    panels
 }
 
+/// The panels two to a row, an odd last one across the whole width.
 fn draw_histories(history: &History, theme: Theme, frame: &mut Frame, area: Rect) {
-    let [top, bottom] =
-        Layout::vertical([Constraint::Percentage(50), Constraint::Percentage(50)]).areas(area);
-    let [a, b] =
-        Layout::horizontal([Constraint::Percentage(50), Constraint::Percentage(50)]).areas(top);
-    let [c, d] =
-        Layout::horizontal([Constraint::Percentage(50), Constraint::Percentage(50)]).areas(bottom);
+    let panels = panels(history);
+    let rows = panels.len().div_ceil(2).max(1);
+    let row_areas = Layout::vertical(vec![Constraint::Ratio(1, rows as u32); rows]).split(area);
     let t = history.column("t").unwrap_or_default();
-    for (panel, rect) in panels(history).iter().zip([a, b, c, d]) {
-        let series: Vec<(&str, Vec<f64>)> = panel
-            .series
-            .iter()
-            .filter_map(|(name, col)| Some((name.as_str(), history.column(col)?)))
-            .collect();
-        draw_chart(frame, rect, theme, &panel.title, &t, &series);
+    for (pair, row) in panels.chunks(2).zip(row_areas.iter()) {
+        let cells = Layout::horizontal(vec![Constraint::Ratio(1, pair.len() as u32); pair.len()])
+            .split(*row);
+        for (panel, cell) in pair.iter().zip(cells.iter()) {
+            draw_chart(
+                frame,
+                *cell,
+                theme,
+                panel.title,
+                panel.unit,
+                &t,
+                &panel.series,
+            );
+        }
     }
 }

@@ -6,15 +6,20 @@ use super::fmt_num;
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::symbols::Marker;
+use ratatui::text::{Line, Span};
 use ratatui::widgets::{Axis, Block, Borders, Chart, Dataset, GraphType, Paragraph};
 
-/// A bordered chart of `series` (legend name, values) over the times `t`; "not recorded" when
-/// there is nothing to draw. Monochrome terminals tell the series apart by their markers.
+/// A bordered chart of `series` (legend name, values) over the times `t` (s), its values in
+/// `unit`: the unit is the middle label of the y axis and "t (s)" the middle one of the time
+/// axis; with two series or more a legend runs along the bottom border (a coloured line, or the
+/// series' marker on a monochrome terminal, before each name). "not recorded" when there is
+/// nothing to draw.
 pub fn draw_chart(
     frame: &mut Frame,
     area: Rect,
     theme: Theme,
     title: &str,
+    unit: &str,
     t: &[f64],
     series: &[(&str, Vec<f64>)],
 ) {
@@ -23,9 +28,12 @@ pub fn draw_chart(
         .iter()
         .map(|(name, values)| (*name, downsample(t, values, points)))
         .collect();
-    let block = Block::default()
+    let mut block = Block::default()
         .borders(Borders::ALL)
         .title(format!(" {title} "));
+    if series.len() > 1 {
+        block = block.title_bottom(legend(theme, series.iter().map(|s| s.0)));
+    }
     if series.is_empty() || t.is_empty() {
         frame.render_widget(Paragraph::new("not recorded").block(block), area);
         return;
@@ -42,18 +50,13 @@ pub fn draw_chart(
     } else {
         (lo - 1.0, hi + 1.0)
     };
-    let markers = [Marker::Braille, Marker::Dot, Marker::Block, Marker::Bar];
     let datasets = series
         .iter()
         .enumerate()
         .map(|(i, (name, data))| {
             Dataset::default()
                 .name(*name)
-                .marker(if theme.mono {
-                    markers[i % markers.len()]
-                } else {
-                    Marker::Braille
-                })
+                .marker(marker(theme, i))
                 .graph_type(GraphType::Line)
                 .style(theme.series(i))
                 .data(data)
@@ -61,17 +64,50 @@ pub fn draw_chart(
         .collect();
     let chart = Chart::new(datasets)
         .block(block)
-        .x_axis(
-            Axis::default()
-                .bounds([t0, t1.max(t0 + 1e-9)])
-                .labels([fmt_num(t0), format!("{} s", fmt_num(t1))]),
-        )
-        .y_axis(
-            Axis::default()
-                .bounds([lo, hi])
-                .labels([fmt_num(lo), fmt_num(hi)]),
-        );
+        // The legend is on the border: none inside the plot.
+        .legend_position(None)
+        .x_axis(Axis::default().bounds([t0, t1.max(t0 + 1e-9)]).labels([
+            fmt_num(t0),
+            "t (s)".into(),
+            fmt_num(t1),
+        ]))
+        .y_axis(Axis::default().bounds([lo, hi]).labels([
+            fmt_num(lo),
+            unit.to_string(),
+            fmt_num(hi),
+        ]));
     frame.render_widget(chart, area);
+}
+
+/// Monochrome terminals tell series apart by their markers, colour ones by colour.
+fn marker(theme: Theme, i: usize) -> Marker {
+    const MARKERS: [Marker; 4] = [Marker::Braille, Marker::Dot, Marker::Block, Marker::Bar];
+    if theme.mono {
+        MARKERS[i % MARKERS.len()]
+    } else {
+        Marker::Braille
+    }
+}
+
+/// ` ━ a  ━ b ` in the series' colours (their markers on a monochrome terminal).
+fn legend<'a>(theme: Theme, names: impl Iterator<Item = &'a str>) -> Line<'static> {
+    let mut spans = vec![Span::raw(" ")];
+    for (i, name) in names.enumerate() {
+        let swatch = match marker(theme, i) {
+            _ if !theme.mono => "━",
+            Marker::Dot => "•",
+            Marker::Block => "█",
+            Marker::Bar => "▄",
+            _ => "⣿",
+        };
+        if i > 0 {
+            spans.push(Span::raw("  "));
+        }
+        spans.push(Span::styled(swatch, theme.series(i)));
+        spans.push(Span::raw(format!(" {name}")));
+    }
+    spans.push(Span::raw(" "));
+    Line::from(spans)
 }
 
 /// About `n` points: the extremes of the samples in each of n/2 equal time windows, placed at

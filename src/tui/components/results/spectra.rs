@@ -155,9 +155,55 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
     let label_width = label_width(&names, area);
     let width = (area.width as usize).saturating_sub(label_width + 11);
     let st = Strip::fit(n, width, view.x);
+    let sel = rows[view.row.min(rows.len() - 1)];
+    let at = sel.xs.get(view.x).copied();
+    let value = sel.ys.get(view.x).copied().flatten();
+    let missing = |s: &Spectrum, x: usize| {
+        data.marks_of(s)
+            .get(x)
+            .copied()
+            .unwrap_or(Mark::Overturned)
+            .describe()
+    };
+    let readout = format!(
+        "{} = {}  {}: {}",
+        sel.axis,
+        at.map_or("–".into(), fmt_num),
+        sel.label,
+        value.map_or_else(|| missing(sel, view.x).into(), fmt_num)
+    );
+    let values: Vec<String> = rows
+        .iter()
+        .map(|s| {
+            let v = s.ys.get(view.x).copied().flatten();
+            format!(
+                "{} {}",
+                s.label,
+                v.map_or_else(|| missing(s, view.x).into(), fmt_num)
+            )
+        })
+        .collect();
+    // Every variant's value at the cursor, when that fits in two lines.
+    let all = values.join("  │  ");
+    let all_fits = all.chars().count() <= 2 * area.width as usize;
     // Blocks that fit, up to 4 rows tall each; keep the selected one in view.
-    let room = (area.height as usize).saturating_sub(4 + lines.len() + rows.len().min(4));
-    let height = (room / rows.len()).clamp(1, 4);
+    // Lines above the rows beyond the quantity line (filter, shared prefix).
+    let above = lines.len() - 1;
+    let mut room = (area.height as usize).saturating_sub(5 + above + rows.len().min(4));
+    let mut height = (room / rows.len()).clamp(1, 4);
+    if room / height < rows.len() {
+        // Rows are hidden: every line the footer does not take shows one (the footer is the
+        // axis, a blank line, the readout and, if it fits, the values at the cursor).
+        let lines_of = |chars: usize| chars.div_ceil(area.width.max(1) as usize).max(1);
+        let readout_lines = lines_of("cursor ".len() + readout.chars().count() + 20);
+        let values_lines = if all_fits {
+            lines_of(all.chars().count())
+        } else {
+            0
+        };
+        room = (area.height as usize).saturating_sub(3 + above + readout_lines + values_lines);
+        height = 1;
+    }
     let visible = (room / height).max(1);
     let offset = scroll_offset(view.row, rows.len(), visible);
     for (i, s) in rows.iter().enumerate().skip(offset).take(visible) {
@@ -191,41 +237,12 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
     let axis = rows[0].axis.clone();
     lines.push(axis_line(&rows[0].xs, &st, label_width + 1, &axis));
     lines.push(Line::raw(""));
-    let sel = rows[view.row.min(rows.len() - 1)];
-    let at = sel.xs.get(view.x).copied();
-    let value = sel.ys.get(view.x).copied().flatten();
-    let missing = |s: &Spectrum, x: usize| {
-        data.marks_of(s)
-            .get(x)
-            .copied()
-            .unwrap_or(Mark::Overturned)
-            .describe()
-    };
     lines.push(Line::from(vec![
         Span::styled("cursor ", theme.dim()),
-        Span::raw(format!(
-            "{} = {}  {}: {}",
-            sel.axis,
-            at.map_or("–".into(), fmt_num),
-            sel.label,
-            value.map_or_else(|| missing(sel, view.x).into(), fmt_num)
-        )),
+        Span::raw(readout),
         Span::styled("  Enter: open scene", theme.dim()),
     ]));
-    let values: Vec<String> = rows
-        .iter()
-        .map(|s| {
-            let v = s.ys.get(view.x).copied().flatten();
-            format!(
-                "{} {}",
-                s.label,
-                v.map_or_else(|| missing(s, view.x).into(), fmt_num)
-            )
-        })
-        .collect();
-    // Every variant's value at the cursor, when that fits in two lines.
-    let all = values.join("  │  ");
-    if all.chars().count() <= 2 * area.width as usize {
+    if all_fits {
         lines.push(Line::styled(all, theme.base()));
     }
     frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
