@@ -31,6 +31,11 @@ done
     --select mechanistic >/dev/null
 cp "$tmp/scene/scene-243.png" "$dest/fig12_scene243_histories.png"
 echo "$dest/fig12_scene243_histories.png"
+# The overturning maps compared cell by cell: where only the protected block survives.
+"$bin" plot "$results/overturning_map_rigid" --png "$tmp/difference" --dpi 150 \
+    --a bare --b mechanistic >/dev/null 2>&1
+cp "$tmp/difference/maps-difference.png" "$dest/overturning_map_rigid_difference.png"
+echo "$dest/overturning_map_rigid_difference.png"
 # The README's figure: Fig. 12 at a journal's full width.
 "$bin" plot "$results/fig12_rigid_spectra" --png "$tmp/readme" --size 160x80mm --dpi 150 >/dev/null
 cp "$tmp/readme/spectra.png" "$dest/fig12_readme.png"

@@ -261,11 +261,11 @@ fn selectors_pick_series_and_facets_split_them_into_rows() {
             .unwrap();
         svg_texts(&std::fs::read_to_string(path).unwrap())
     };
-    // The study's RON form, a coordinate label and a CSV name select the same series.
+    // `compare`'s selectors (report/select.rs): a value, a list, another spelling of it.
     for selector in [
         "mechanistic(play: 0.005)",
-        "mechanistic up=0.005",
-        "play = 0.005",
+        "mechanistic(play: [0.005])",
+        "mechanistic(play: 5e-3)",
     ] {
         let texts = draw(PlotChoice {
             select: vec![selector.into()],
@@ -282,7 +282,10 @@ fn selectors_pick_series_and_facets_split_them_into_rows() {
     }
     // Two selectors: both series.
     let texts = draw(PlotChoice {
-        select: vec!["play=0".into(), "play=0.01".into()],
+        select: vec![
+            "mechanistic(play: 0)".into(),
+            "mechanistic(play: 0.01)".into(),
+        ],
         ..Default::default()
     });
     assert!(texts.contains(&"mechanistic up=0".to_string()));
@@ -481,4 +484,52 @@ fn coordinates_get_the_names_the_issue_and_the_study_files_use() {
     // A label no table knows still becomes an identifier.
     assert_eq!(report::parameter("θ0/α").name, "theta0_alpha");
     assert_eq!(report::parameter("2x").name, "x_2x");
+}
+
+#[test]
+fn overturning_maps_compare_cell_by_cell_with_a_legend() {
+    // Results of a small map study (3 variants × 4 frequencies × 3 amplitudes).
+    let results: rocklab::sweep::SweepResults =
+        serde_json::from_str(include_str!("data/tui_small_map_results.json")).unwrap();
+    let maps = report::maps(&results);
+    let dir = tempfile::tempdir().unwrap();
+    let path = report::plot_map_differences(
+        dir.path(),
+        &svg_options(),
+        &maps,
+        "sequential",
+        "mechanistic",
+    )
+    .unwrap()
+    .unwrap();
+    assert!(path.ends_with("maps-difference.svg"));
+    let svg = std::fs::read_to_string(&path).unwrap();
+    let texts = svg_texts(&svg);
+    for c in report::compare::MapCell::ALL {
+        assert!(texts.contains(&c.meaning().to_string()), "{c:?}: {texts:?}");
+    }
+    assert!(
+        texts.contains(&"(a) sequential vs mechanistic".to_string()),
+        "{texts:?}"
+    );
+    // One filled cell per map point, plus the legend's five swatches.
+    let pair = &report::compare::compare_maps(
+        &maps,
+        &report::select::Selector::parse("sequential").unwrap(),
+        &report::select::Selector::parse("mechanistic").unwrap(),
+    )
+    .unwrap()[0];
+    let both_overturn = pair.count(report::compare::MapCell::BothOverturn);
+    assert!(both_overturn > 0);
+    let dark = svg.matches("fill=\"#404040\"").count();
+    assert_eq!(
+        dark,
+        both_overturn + 1,
+        "dark cells: both overturn, and the legend"
+    );
+    // A selector that matches no map is an error that says what there is.
+    let e = report::plot_map_differences(dir.path(), &svg_options(), &maps, "inerter", "bare")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("devices here"), "{e}");
 }

@@ -28,5 +28,6 @@ mod studies;
 mod study;
 mod sweep;
 mod tui;
+mod tui_compare;
 mod tui_saving;
 mod tui_smoke;

@@ -602,10 +602,12 @@ fn edit_run_and_read_results_by_keys() {
     keys(&mut app, &[KeyCode::Char('3'), KeyCode::Char('c'), Left]);
     let (expected, x) = {
         let data = app.shared.results.as_ref().unwrap();
-        let b = app.browser.rows(data)[app.browser.compare.b];
+        let q = app.browser.current_quantity(data).unwrap();
+        let pairs = app.browser.compare.pairs(data, q).unwrap();
+        let pair = &pairs[app.browser.compare.pair];
         let x = app.browser.spectra.x;
-        assert!(b.label.contains("mechanistic"), "{}", b.label);
-        (b.ys[x], b.xs[x])
+        assert!(pair.b.contains("mechanistic"), "{}", pair.b);
+        (pair.points[x].b, pair.points[x].x)
     };
     let expected = expected.expect("B survives at the cursor");
     key(&mut app, Enter);

@@ -23,12 +23,21 @@ pub struct PlotArgs {
     /// PNG resolution in dots per inch (SVG is resolution independent).
     #[arg(long, default_value_t = 300.0, value_parser = parse_dpi)]
     pub dpi: f64,
-    /// Draw only the series that match: a device kind or label (`mechanistic`, `bare`), a
-    /// record (`landers`) and/or parameters (`play=0.005`, `kθ=3`), all of which must match;
-    /// the study's RON form works too: `mechanistic(k_theta: 3.0, play: 0.005)`. Repeat for
-    /// more series.
+    /// Draw only the series that match, as `compare --a/--b` selects: a device kind or label
+    /// with parameter values in the study's syntax, e.g. `mechanistic`, `bare`,
+    /// `mechanistic(k_theta: 3.0, play: [0.0, 0.005])`, `sequential(record: landers)`.
+    /// Repeat for more series.
     #[arg(long, value_name = "SELECTOR")]
     pub select: Vec<String>,
+    /// With --b: the overturning maps of A and B compared cell by cell (maps-difference.*):
+    /// where both survive, only B survives, only A survives, both overturn; paired as
+    /// `compare --a/--b` pairs, e.g. --a sequential --b mechanistic.
+    #[arg(long, value_name = "SELECTOR", requires = "b")]
+    pub a: Option<String>,
+    /// With --a: the variant compared with A in maps-difference.* (it may be a grid: one
+    /// panel per member).
+    #[arg(long, value_name = "SELECTOR", requires = "a")]
+    pub b: Option<String>,
     /// One row of panels per value of this parameter (study field, CSV name or label:
     /// `play`, `k_theta`, `kθ`).
     #[arg(long, value_name = "PARAM")]
@@ -120,6 +129,12 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
             &dir, &options, &results, &spectra, &choice,
         )?);
         written.extend(report::plot_maps(&dir, &options, &results, &maps, &choice)?);
+        if let (Some(a), Some(b)) = (&args.a, &args.b) {
+            match report::plot_map_differences(&dir, &options, &maps, a, b)? {
+                Some(path) => written.push(path),
+                None => eprintln!("--a/--b: these results hold no overturning maps to compare"),
+            }
+        }
         if let Some((index, scene, title, history)) = &scene {
             let path = dir.join(format!("scene-{index}.{}", format.extension()));
             report::plot_history(&path, &options, title, scene, history)?;

@@ -20,7 +20,10 @@ pub use export::{
     results_csv_layout, results_json, save_results, summary, write_tables,
 };
 pub use figure::{FigureOptions, FigureSize, ImageFormat};
-pub use plot::{MAX_SERIES, PlotChoice, plot_history, plot_maps, plot_spectra, scene_title};
+pub use plot::{
+    MAX_SERIES, PlotChoice, plot_history, plot_map_differences, plot_maps, plot_spectra,
+    scene_title,
+};
 
 use crate::sim::History;
 use std::path::Path;

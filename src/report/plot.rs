@@ -3,15 +3,17 @@
 //! paper's Figs. 8/9/14 with the energy partition as a stacked area (Fig. 15). Looks (size,
 //! font, styles, ticks, legend) live in `figure.rs`.
 
-// Over 800 lines: spectra, maps and histories share the curve, selection and panel code here
-// (looks live in figure.rs); the selector shim is the next candidate to move (report/select.rs).
+// Over 800 lines: spectra, maps and histories share the curve and panel code here (looks live
+// in figure.rs, selection in select.rs).
 
-use super::aggregate::{OverturningMap, PointState, Spectrum};
+use super::aggregate::{Group, OverturningMap, PointState, Spectrum};
+use super::compare::{MapCell, MapComparison, compare_maps};
 use super::export::parameter;
 use super::figure::{
     Axes, Canvas, Dash, FigureOptions, FigureSize, LINE_PT, LegendEntry, Marker, SeriesStyle,
     Swatch, build_chart, draw_line, draw_markers, err, render, split_figure,
 };
+use super::select::{Selector, select};
 use crate::sim::History;
 use crate::study::Quantity;
 use crate::study::fmt_num;
@@ -37,8 +39,6 @@ pub const MAX_SERIES: usize = 12;
 /// A spectrum with what the figure needs to select, facet and style it.
 struct Curve<'a> {
     spectrum: &'a Spectrum,
-    /// `none`, `inerter`, `sequential`, `mechanistic`.
-    kind: String,
     record: Option<String>,
     /// The group without its record: the device label and its grid parameters.
     variant: String,
@@ -82,7 +82,6 @@ fn curves<'a>(results: &SweepResults, spectra: &'a [Spectrum]) -> Vec<Curve<'a>>
                 .collect();
             Curve {
                 spectrum: s,
-                kind: first.map_or(String::new(), |o| o.point.scene.device.name().to_string()),
                 record,
                 variant,
                 params,
@@ -99,65 +98,23 @@ fn names_parameter(given: &str, label: &str) -> bool {
     given == label || given == p.name || given == p.field
 }
 
-/// One selector term: `kind` / device label / record name, or `name=value`.
-fn term_matches(term: &str, c: &Curve) -> bool {
-    match term.split_once('=') {
-        Some((name, value)) => {
-            let Ok(v) = value.parse::<f64>() else {
-                // `device=mechanistic`, `record=landers`
-                return match name {
-                    "device" | "kind" => {
-                        c.kind == value || c.variant.split(' ').next() == Some(value)
-                    }
-                    "record" => c.record.as_deref() == Some(value),
-                    _ => false,
-                };
-            };
-            c.params.iter().any(|(label, x)| {
-                names_parameter(name, label) && (x - v).abs() <= 1e-9 * v.abs().max(1.0)
-            })
-        }
-        None => {
-            term == c.kind
-                || c.variant.split(' ').next() == Some(term)
-                || c.record.as_deref() == Some(term)
-                || term == c.spectrum.label
-                || (term == "bare" && c.kind == "none")
+/// Which of `groups` the `--select` selectors pick (the union; all without selectors), in
+/// `compare`'s selector language (report/select.rs): `mechanistic`, `bare`,
+/// `mechanistic(k_theta: 3.0, play: 0.005)`, `sequential(record: landers)`. A selector that
+/// is malformed is an error; one that matches nothing says what there is and picks nothing.
+fn selection(choice: &PlotChoice, groups: &[&Group]) -> anyhow::Result<Vec<bool>> {
+    if choice.select.is_empty() {
+        return Ok(vec![true; groups.len()]);
+    }
+    let mut picked = vec![false; groups.len()];
+    for text in &choice.select {
+        let sel = Selector::parse(text).map_err(|e| anyhow::anyhow!("--select: {e}"))?;
+        match select(groups, &sel) {
+            Ok(found) => found.into_iter().for_each(|i| picked[i] = true),
+            Err(e) => eprintln!("--select {text}: {e}"),
         }
     }
-}
-
-/// The selector's terms. Accepts `mechanistic play=0.005`, `mechanistic,play=0.005` and the
-/// study's RON form `mechanistic(play: 0.005)`; every term must match.
-///
-/// Deliberately tiny: `compare`'s selector module (report/select.rs) is the real selector
-/// language; this function is the one place to swap for it.
-fn selector_terms(selector: &str) -> Vec<String> {
-    let spaced: String = selector
-        .chars()
-        .map(|c| match c {
-            '(' | ')' | ',' => ' ',
-            ':' => '=',
-            c => c,
-        })
-        .collect();
-    // Join `name = value` written with spaces.
-    let mut terms: Vec<String> = Vec::new();
-    for tok in spaced.split_whitespace() {
-        match terms.last_mut() {
-            Some(last) if last.ends_with('=') || tok.starts_with('=') => last.push_str(tok),
-            _ => terms.push(tok.to_string()),
-        }
-    }
-    terms
-}
-
-fn selected(choice: &PlotChoice, c: &Curve) -> bool {
-    choice.select.is_empty()
-        || choice
-            .select
-            .iter()
-            .any(|s| selector_terms(s).iter().all(|t| term_matches(t, c)))
+    Ok(picked)
 }
 
 /// The label of a quantity's axis, with its symbol and unit.
@@ -268,7 +225,14 @@ pub fn plot_spectra(
     choice: &PlotChoice,
 ) -> anyhow::Result<Option<PathBuf>> {
     let all = curves(results, spectra);
-    let chosen: Vec<&Curve> = all.iter().filter(|c| selected(choice, c)).collect();
+    let groups: Vec<&Group> = all.iter().map(|c| &c.spectrum.group).collect();
+    let picked = selection(choice, &groups)?;
+    let chosen: Vec<&Curve> = all
+        .iter()
+        .zip(&picked)
+        .filter(|(_, p)| **p)
+        .map(|(c, _)| c)
+        .collect();
     if chosen.is_empty() {
         if !choice.select.is_empty() {
             eprintln!(
@@ -373,12 +337,12 @@ pub fn plot_spectra(
         eprintln!(
             "{}: {per_panel} spectra per panel, more than {max}: spectra skipped (the maps \
              and results.csv have them all). Choose with --select, e.g. --select '{}' or \
-             --select '{}' (device kind or label, record, name=value or the study's RON \
-             form; all terms must match; repeat --select for more series), split with \
+             --select '{}' (a device kind or label with parameter values in the study's \
+             syntax, as for `compare`; repeat --select for more series), split with \
              --facet PARAM (parameters: {}), or raise --max-series.",
             figure_title(results),
             example_selector(&chosen),
-            example_plain(&chosen),
+            example_record(&chosen),
             parameter_names(&chosen),
         );
         return Ok(None);
@@ -597,25 +561,26 @@ fn parameter_names(curves: &[&Curve]) -> String {
     }
 }
 
+/// A selector for the first chosen series: its device and first varying parameter.
 fn example_selector(curves: &[&Curve]) -> String {
-    let c = curves[0];
-    let mut s = c.variant.split(' ').next().unwrap_or("").to_string();
-    if let Some((l, v)) = c.params.first() {
-        s = format!("{s}({}: {})", parameter(l).name, fmt_num(*v));
-    }
-    s
+    example_of(&curves[0].spectrum.group)
 }
 
-fn example_plain(curves: &[&Curve]) -> String {
-    let c = curves[curves.len() - 1];
-    let mut s = c.variant.split(' ').next().unwrap_or("").to_string();
-    if let Some(r) = &c.record {
-        s = format!("{s} {r}");
+/// A selector for the last chosen series' device, with its record when there is one.
+fn example_record(curves: &[&Curve]) -> String {
+    let g = &curves[curves.len() - 1].spectrum.group;
+    let device = device_name(g);
+    match g.record() {
+        Some(r) => format!("{device}(record: {r})"),
+        None => device,
     }
-    if let Some((l, v)) = c.params.first() {
-        s = format!("{s} {l}={}", fmt_num(*v));
+}
+
+fn device_name(g: &Group) -> String {
+    match g.device {
+        crate::study::DeviceKind::None => "bare".into(),
+        k => k.name().into(),
     }
-    s
 }
 
 fn range_of(values: impl Iterator<Item = f64>) -> (f64, f64) {
@@ -779,35 +744,13 @@ pub fn plot_maps(
     maps: &[OverturningMap],
     choice: &PlotChoice,
 ) -> anyhow::Result<Option<PathBuf>> {
+    let groups: Vec<&Group> = maps.iter().map(|m| &m.group).collect();
+    let picked = selection(choice, &groups)?;
     let chosen: Vec<&OverturningMap> = maps
         .iter()
-        .filter(|m| {
-            choice.select.is_empty()
-                || m.outcomes.iter().flatten().flatten().any(|&i| {
-                    let Some(o) = results.outcomes.get(i) else {
-                        return false;
-                    };
-                    let pseudo = Spectrum {
-                        quantity: Quantity::PeakRotationRatio,
-                        label: m.label.clone(),
-                        group: m.group.clone(),
-                        axis: String::new(),
-                        xs: vec![],
-                        ys: vec![],
-                        states: vec![],
-                        outcomes: vec![],
-                    };
-                    let c = Curve {
-                        spectrum: &pseudo,
-                        kind: o.point.scene.device.name().to_string(),
-                        record: record_of(o),
-                        variant: m.label.clone(),
-                        params: o.point.coords.clone(),
-                        overturned: vec![],
-                    };
-                    selected(choice, &c)
-                })
-        })
+        .zip(&picked)
+        .filter(|(_, p)| **p)
+        .map(|(m, _)| m)
         .collect();
     if chosen.is_empty() {
         return Ok(None);
@@ -882,6 +825,37 @@ fn draw_map<DB: DrawingBackend>(
     map: &OverturningMap,
     title: &str,
 ) -> anyhow::Result<()> {
+    let grid = CellGrid {
+        xs: &map.xs,
+        ys: &map.ys,
+        x_axis: &map.x_axis,
+        y_axis: &map.y_axis,
+    };
+    draw_cells(area, canvas, &grid, title, |ix, iy| {
+        match map.cells[iy][ix] {
+            Some(true) => OVERTURNED,
+            Some(false) => SURVIVED,
+            None => WHITE,
+        }
+    })
+}
+
+/// The axes of a map of cells.
+struct CellGrid<'a> {
+    xs: &'a [f64],
+    ys: &'a [f64],
+    x_axis: &'a str,
+    y_axis: &'a str,
+}
+
+/// A map panel: one filled rectangle per cell, coloured by `color(ix, iy)`.
+fn draw_cells<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    canvas: Canvas,
+    grid: &CellGrid,
+    title: &str,
+    color: impl Fn(usize, usize) -> RGBColor,
+) -> anyhow::Result<()> {
     let edges = |v: &[f64]| -> Vec<f64> {
         // Cell edges halfway between grid values.
         let n = v.len();
@@ -896,8 +870,8 @@ fn draw_map<DB: DrawingBackend>(
         e.push(v[n - 1] + (v[n - 1] - v[n - 2]) / 2.0);
         e
     };
-    let (ex, ey) = (edges(&map.xs), edges(&map.ys));
-    let (x_label, y_label) = (coordinate_axis(&map.x_axis), coordinate_axis(&map.y_axis));
+    let (ex, ey) = (edges(grid.xs), edges(grid.ys));
+    let (x_label, y_label) = (coordinate_axis(grid.x_axis), coordinate_axis(grid.y_axis));
     let mut chart = build_chart(
         area,
         canvas,
@@ -910,15 +884,14 @@ fn draw_map<DB: DrawingBackend>(
             y_labels_below: None,
         },
     )?;
-    let cells = map.cells.iter().enumerate().flat_map(|(iy, row)| {
-        let (ex, ey) = (&ex, &ey);
-        row.iter().enumerate().map(move |(ix, c)| {
-            let color = match c {
-                Some(true) => OVERTURNED,
-                Some(false) => SURVIVED,
-                None => WHITE,
-            };
-            Rectangle::new([(ex[ix], ey[iy]), (ex[ix + 1], ey[iy + 1])], color.filled())
+    let (nx, ny) = (grid.xs.len(), grid.ys.len());
+    let cells = (0..ny).flat_map(|iy| {
+        let (ex, ey, color) = (&ex, &ey, &color);
+        (0..nx).map(move |ix| {
+            Rectangle::new(
+                [(ex[ix], ey[iy]), (ex[ix + 1], ey[iy + 1])],
+                color(ix, iy).filled(),
+            )
         })
     });
     chart.draw_series(cells).map_err(err)?;
@@ -947,6 +920,105 @@ fn draw_map<DB: DrawingBackend>(
         )
         .map_err(err)?;
     Ok(())
+}
+
+/// The colour of each kind of cell of two maps compared (Okabe–Ito, apart in greyscale too:
+/// light grey, sky blue, vermillion, dark grey, white).
+fn map_cell_color(c: MapCell) -> RGBColor {
+    match c {
+        MapCell::BothSurvive => SURVIVED,
+        MapCell::OnlyBSurvives => super::figure::PALETTE[5],
+        MapCell::OnlyASurvives => super::figure::PALETTE[4],
+        MapCell::BothOverturn => RGBColor(64, 64, 64),
+        MapCell::Missing => WHITE,
+    }
+}
+
+/// Two variants' overturning maps compared, one panel per pair (`compare`'s pairing of the
+/// selectors `a` and `b`): where both survive, only B survives (B's protective benefit), only
+/// A survives, both overturn, or a side failed or did not run; a legend with what each
+/// colour is. Returns the file written, or None when the results hold no maps.
+pub fn plot_map_differences(
+    dir: &Path,
+    options: &FigureOptions,
+    maps: &[OverturningMap],
+    a: &str,
+    b: &str,
+) -> anyhow::Result<Option<PathBuf>> {
+    if maps.is_empty() {
+        return Ok(None);
+    }
+    let (sa, sb) = (
+        Selector::parse(a).map_err(|e| anyhow::anyhow!("--a: {e}"))?,
+        Selector::parse(b).map_err(|e| anyhow::anyhow!("--b: {e}"))?,
+    );
+    let pairs = compare_maps(maps, &sa, &sb).map_err(|e| anyhow::anyhow!("{e}"))?;
+    const MAX_MAPS: usize = 12;
+    if pairs.len() > MAX_MAPS {
+        anyhow::bail!(
+            "{} pairs of overturning maps, more than {MAX_MAPS} in one figure; narrow --a/--b \
+             with parameter values, e.g. --b '{}'",
+            pairs.len(),
+            example_of(&pairs[0].b_group)
+        );
+    }
+    let legend: Vec<LegendEntry> = MapCell::ALL
+        .iter()
+        .map(|c| LegendEntry {
+            label: c.meaning().to_string(),
+            swatch: Swatch::Fill(map_cell_color(*c)),
+        })
+        .collect();
+    let cols = pairs.len().min(3);
+    let rows = pairs.len().div_ceil(cols);
+    let canvas = options.canvas(FigureSize::mm(
+        if cols == 1 { 110.0 } else { 65.0 * cols as f64 },
+        60.0 * rows as f64 + 24.0,
+    ));
+    let title = format!("Overturning maps compared: A = {a}, B = {b}");
+    let path = dir.join(format!("maps-difference.{}", options.format.extension()));
+    render(
+        &path,
+        options,
+        canvas,
+        |r| draw_map_differences(r, canvas, &title, &legend, &pairs, cols),
+        |r| draw_map_differences(r, canvas, &title, &legend, &pairs, cols),
+    )?;
+    Ok(Some(path))
+}
+
+fn draw_map_differences<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    canvas: Canvas,
+    title: &str,
+    legend: &[LegendEntry],
+    pairs: &[MapComparison],
+    cols: usize,
+) -> anyhow::Result<()> {
+    let (body, _) = split_figure(&root, canvas, title, legend)?;
+    let areas = body.split_evenly((pairs.len().div_ceil(cols), cols));
+    for (i, (area, m)) in areas.iter().zip(pairs).enumerate() {
+        let grid = CellGrid {
+            xs: &m.xs,
+            ys: &m.ys,
+            x_axis: &m.x_axis,
+            y_axis: &m.y_axis,
+        };
+        let title = format!("({}) {} vs {}", panel_letter(i), m.a, m.b);
+        draw_cells(area, canvas, &grid, &title, |ix, iy| {
+            map_cell_color(m.cells[iy][ix])
+        })?;
+    }
+    root.present().map_err(err)
+}
+
+/// A selector naming a group's device and its first varying parameter.
+fn example_of(g: &Group) -> String {
+    let device = device_name(g);
+    match g.settings.iter().find(|s| s.varies && s.id != "record") {
+        Some(s) => format!("{device}({}: {})", s.id, s.text),
+        None => device,
+    }
 }
 
 /// One panel of a scene's histories: lines, or a stacked area with a line on top.
@@ -1226,19 +1298,6 @@ pub fn scene_title(index: usize, group: &str, coords: &[(String, f64)]) -> Strin
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn selector_terms_accept_plain_and_ron_forms() {
-        assert_eq!(
-            selector_terms("mechanistic(k_theta: 3.0, play: 0.005)"),
-            vec!["mechanistic", "k_theta=3.0", "play=0.005"]
-        );
-        assert_eq!(
-            selector_terms("mechanistic up = 0.005"),
-            vec!["mechanistic", "up=0.005"]
-        );
-        assert_eq!(selector_terms("bare,landers"), vec!["bare", "landers"]);
-    }
 
     #[test]
     fn decimation_keeps_the_extremes() {

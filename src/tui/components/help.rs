@@ -54,10 +54,13 @@ impl Help {
             h("Results"),
             k("s m c", "spectra / overturning maps / compare A and B"),
             k("←→ ↑↓", "cursor along the axis / variant or map cell"),
-            k("[ ]", "previous / next quantity or map"),
-            k("a b x", "compare: next A, next B, swap"),
-            k("Enter", "open the scene under the cursor"),
-            k("w", "write the results file (JSON) for rocklab plot"),
+            k("[ ]  f", "prev/next quantity or map; f filter spectra rows"),
+            k("a b x", "compare: pick A / B (device, values), swap"),
+            k("o y d", "compare: sort pairs, one y scale or two, maps"),
+            k(
+                "Enter  w",
+                "open the scene under the cursor / write results",
+            ),
             h("Scene"),
             k("Esc", "back to results"),
         ];

@@ -62,11 +62,14 @@ pub struct Bars<'a> {
     pub cursor: usize,
     pub height: usize,
     pub theme: Theme,
+    /// The value drawn full height: a scale shared with other strips (None: the strip's own
+    /// maximum).
+    pub max: Option<f64>,
 }
 
 /// One spectrum as `height` rows of styled cells (top row first). One row uses the bars of
-/// `report::sparkline`; taller blocks use eighth-blocks over the rows, scaled from 0 to the
-/// spectrum's maximum. A point without a value shows what it stands for (`marks`; missing
+/// `report::sparkline`; taller blocks (and strips on a shared scale) use eighth-blocks over the
+/// rows, scaled from 0 to the spectrum's maximum (or the shared `max`). A point without a value shows what it stands for (`marks`; missing
 /// ones read as overturned): `×` overturned, `?` failed, blank not run. The cursor column is
 /// reversed.
 pub fn bar_rows(
@@ -80,10 +83,11 @@ pub fn bar_rows(
         cursor,
         height,
         theme,
+        max: shared_max,
     } = *layout;
     const EIGHTHS: [char; 9] = [' ', '▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
     let glyphs: Vec<char> = report::sparkline(values).chars().collect();
-    let max = values.iter().flatten().copied().fold(0.0, f64::max);
+    let max = shared_max.unwrap_or_else(|| values.iter().flatten().copied().fold(0.0, f64::max));
     let mut rows = vec![Vec::new(); height];
     for i in st.first..st.first + st.count {
         let value = values.get(i).copied().flatten();
@@ -106,7 +110,9 @@ pub fn bar_rows(
                     Mark::NotRun => ' ',
                     _ => '×',
                 },
-                Some(_) if height == 1 => glyphs.get(i).copied().unwrap_or(' '),
+                Some(_) if height == 1 && shared_max.is_none() => {
+                    glyphs.get(i).copied().unwrap_or(' ')
+                }
                 Some(_) => EIGHTHS[eighths.saturating_sub(8 * level).min(8)],
             };
             let mut s = match (value, mark) {

@@ -164,7 +164,7 @@ impl ResultsScreen {
         if data.spectra.is_empty() && !data.maps.is_empty() {
             self.tab = ResultsTab::Maps;
         }
-        self.compare = CompareView::default_pair(&self.rows(data));
+        self.compare = CompareView::default_pair(&self.all_rows(data));
     }
 
     pub fn current_quantity(&self, data: &Results) -> Option<Quantity> {
@@ -172,7 +172,7 @@ impl ResultsScreen {
     }
 
     /// The spectra of the current quantity, one per variant (and axis).
-    pub fn rows<'a>(&self, data: &'a Results) -> Vec<&'a Spectrum> {
+    pub fn all_rows<'a>(&self, data: &'a Results) -> Vec<&'a Spectrum> {
         let q = self.current_quantity(data);
         data.spectra
             .iter()
@@ -180,18 +180,42 @@ impl ResultsScreen {
             .collect()
     }
 
+    /// The spectra rows shown: those of the current quantity that the filter (`f`) picks.
+    pub fn rows<'a>(&self, data: &'a Results) -> Vec<&'a Spectrum> {
+        let all = self.all_rows(data);
+        match &self.spectra.filter {
+            None => all,
+            Some(sel) => {
+                let groups: Vec<&report::Group> = all.iter().map(|s| &s.group).collect();
+                report::select::select(&groups, sel)
+                    .map(|found| found.into_iter().map(|i| all[i]).collect())
+                    .unwrap_or_default()
+            }
+        }
+    }
+
     /// The scene behind the point under the cursor (in the comparison: B's).
     pub fn point_at_cursor<'a>(&self, data: &'a Results) -> Option<&'a ScenePoint> {
         // Spectra and maps carry the index of each point's outcome: no label matching.
         let outcome = match self.tab {
-            ResultsTab::Spectra | ResultsTab::Compare => {
-                let rows = self.rows(data);
-                let idx = if self.tab == ResultsTab::Compare {
-                    self.compare.b
-                } else {
-                    self.spectra.row
-                };
-                *rows.get(idx)?.outcomes.get(self.spectra.x)?
+            ResultsTab::Spectra => *self
+                .rows(data)
+                .get(self.spectra.row)?
+                .outcomes
+                .get(self.spectra.x)?,
+            ResultsTab::Compare => {
+                // B's point of the selected pair, found by its group (no label matching).
+                let pairs = self
+                    .compare
+                    .pairs(data, self.current_quantity(data)?)
+                    .ok()?;
+                let pair = pairs.get(self.compare.pair.min(pairs.len().saturating_sub(1)))?;
+                let x = pair.points.get(self.spectra.x)?.x;
+                let b = self
+                    .all_rows(data)
+                    .into_iter()
+                    .find(|s| s.group == pair.b_group)?;
+                *b.outcomes.get(b.xs.iter().position(|v| *v == x)?)?
             }
             ResultsTab::Maps => {
                 let m = data.maps.get(self.maps.map)?;
@@ -229,6 +253,21 @@ impl Component for ResultsScreen {
                 _ => Action::None,
             };
         };
+        // The filter line and the pair picker take every key while open.
+        if self.spectra.filter_edit.is_some() {
+            let groups: Vec<&report::Group> =
+                self.all_rows(data).iter().map(|s| &s.group).collect();
+            self.spectra.filter_key(key, &groups);
+            let rows = self.rows(data);
+            self.spectra.clamp(rows.len(), spectra::axis_len(&rows));
+            return Action::None;
+        }
+        if self.tab == ResultsTab::Compare && self.compare.picking.is_some() {
+            let groups: Vec<&report::Group> =
+                self.all_rows(data).iter().map(|s| &s.group).collect();
+            self.compare.handle_key(key, &groups, 0);
+            return Action::None;
+        }
         match key.code {
             KeyCode::Char('s') => self.tab = ResultsTab::Spectra,
             KeyCode::Char('m') => self.tab = ResultsTab::Maps,
@@ -252,16 +291,41 @@ impl Component for ResultsScreen {
             _ => {}
         }
         match self.tab {
-            ResultsTab::Spectra | ResultsTab::Compare => {
+            ResultsTab::Spectra => {
+                if self.spectra.filter_start(key) {
+                    return Action::None;
+                }
                 let rows = self.rows(data);
                 let (nrows, nx) = (rows.len(), spectra::axis_len(&rows));
                 self.spectra
                     .handle_key(key, nrows, nx, data.quantities.len());
-                self.compare.handle_key(key, nrows);
                 // The quantity may have changed: keep every cursor on a row.
                 let rows = self.rows(data);
                 self.spectra.clamp(rows.len(), spectra::axis_len(&rows));
-                self.compare.clamp(rows.len());
+            }
+            ResultsTab::Compare => {
+                let groups: Vec<&report::Group> =
+                    self.all_rows(data).iter().map(|s| &s.group).collect();
+                let npairs = self
+                    .current_quantity(data)
+                    .and_then(|q| self.compare.pairs(data, q).ok())
+                    .map_or(0, |p| p.len());
+                let npairs = if self.compare.show_map {
+                    self.compare.map_pairs(data).map_or(0, |m| m.len())
+                } else {
+                    npairs
+                };
+                if !self.compare.handle_key(key, &groups, npairs) {
+                    // ←→ along the axis, [ ] quantity: the spectra's cursor.
+                    let rows = self.all_rows(data);
+                    let nx = spectra::axis_len(&rows);
+                    let row = self.spectra.row;
+                    self.spectra
+                        .handle_key(key, rows.len(), nx, data.quantities.len());
+                    self.spectra.row = row;
+                    let rows = self.rows(data);
+                    self.spectra.clamp(rows.len(), spectra::axis_len(&rows));
+                }
             }
             ResultsTab::Maps => self.maps.handle_key(key, data),
         }
@@ -269,13 +333,34 @@ impl Component for ResultsScreen {
     }
 
     fn hints(&self, _: &Shared) -> Vec<Hint> {
-        vec![
+        let mut hints = vec![
             ("s/m/c", "spectra/maps/compare"),
             ("←→↑↓", "cursor"),
             ("[ ]", "quantity"),
-            ("Enter", "scene"),
-            ("w", "write results"),
-        ]
+        ];
+        match self.tab {
+            ResultsTab::Spectra => hints.push(("f", "filter")),
+            ResultsTab::Compare => {
+                hints = vec![
+                    ("a/b", "pick A/B"),
+                    ("↑↓", "pair"),
+                    ("o", "sort"),
+                    ("y", "scale"),
+                    ("d", "maps"),
+                    ("x", "swap"),
+                    ("←→", "cursor"),
+                    ("[ ]", "quantity"),
+                ]
+            }
+            ResultsTab::Maps => {}
+        }
+        hints.extend([("Enter", "scene"), ("w", "write results")]);
+        hints
+    }
+
+    fn captures_keys(&self) -> bool {
+        self.spectra.filter_edit.is_some()
+            || (self.tab == ResultsTab::Compare && self.compare.picking.is_some())
     }
 
     fn draw(&self, shared: &Shared, theme: Theme, frame: &mut Frame, area: Rect) {
@@ -325,12 +410,8 @@ impl Component for ResultsScreen {
     }
 }
 
-/// Width of the variant names left of the bars: the longest name, within limits.
-fn label_width(rows: &[&Spectrum], extra: usize, area: Rect) -> usize {
-    let longest = rows
-        .iter()
-        .map(|s| s.label.chars().count() + extra)
-        .max()
-        .unwrap_or(0);
+/// Width of the row names left of the bars: the longest name, within limits.
+fn label_width(names: &[String], area: Rect) -> usize {
+    let longest = names.iter().map(|s| s.chars().count()).max().unwrap_or(0);
     longest.clamp(8, (area.width as usize / 3).max(8))
 }

@@ -1,11 +1,15 @@
 //! Spectra: one strip of bars per variant for the current quantity, a cursor along the axis,
-//! and every variant's value at the cursor.
+//! and every variant's value at the cursor. Rows are named by what varies among them (the
+//! words every row shares are said once, above), and `f` filters them with a selector of
+//! report/select.rs (`mechanistic(play: 0.005)`; Esc clears).
 
+use super::super::super::edit::{EditOutcome, LineEdit};
 use super::super::super::theme::Theme;
 use super::super::super::widgets::strip::{Bars, Strip, axis_line, series_lines};
-use super::super::super::widgets::{fmt_num, pad, scroll_offset, truncate};
+use super::super::super::widgets::{edit_spans, fmt_num, pad, scroll_offset, truncate};
 use super::{Mark, Results, ResultsScreen, label_width};
-use crate::report::Spectrum;
+use crate::report::select::{Selector, select};
+use crate::report::{Group, Spectrum};
 use crossterm::event::{KeyCode, KeyEvent};
 use ratatui::Frame;
 use ratatui::layout::Rect;
@@ -21,6 +25,11 @@ pub struct SpectraView {
     pub row: usize,
     /// Cursor along the spectrum axis.
     pub x: usize,
+    /// Rows shown: those this selector picks (all without one).
+    pub filter: Option<Selector>,
+    /// The filter being typed (`f`), and why the last one typed was refused.
+    pub filter_edit: Option<LineEdit>,
+    pub filter_error: Option<String>,
 }
 
 /// Points on the longest spectrum among `rows`.
@@ -46,6 +55,56 @@ impl SpectraView {
         }
     }
 
+    /// `f` opens the filter line (with the filter in force); Esc clears the filter. Returns
+    /// whether the key was one of these.
+    pub fn filter_start(&mut self, key: KeyEvent) -> bool {
+        match key.code {
+            KeyCode::Char('f') => {
+                let text = self.filter.as_ref().map_or("", |f| f.text.as_str());
+                self.filter_edit = Some(LineEdit::new(text));
+                true
+            }
+            KeyCode::Esc if self.filter.is_some() => {
+                self.filter = None;
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// A key for the open filter line: Enter applies a selector that picks rows among
+    /// `groups` (else says why and stays open), Esc clears the filter.
+    pub fn filter_key(&mut self, key: KeyEvent, groups: &[&Group]) {
+        let Some(edit) = self.filter_edit.as_mut() else {
+            return;
+        };
+        match edit.handle_key(key) {
+            EditOutcome::Editing => {}
+            EditOutcome::Cancel => {
+                self.filter_edit = None;
+                self.filter = None;
+                self.filter_error = None;
+            }
+            EditOutcome::Commit if edit.text.trim().is_empty() => {
+                self.filter_edit = None;
+                self.filter = None;
+                self.filter_error = None;
+            }
+            EditOutcome::Commit => {
+                match Selector::parse(&edit.text).and_then(|sel| select(groups, &sel).map(|_| sel))
+                {
+                    Ok(sel) => {
+                        self.filter = Some(sel);
+                        self.filter_edit = None;
+                        self.filter_error = None;
+                        self.row = 0;
+                    }
+                    Err(e) => self.filter_error = Some(e.0),
+                }
+            }
+        }
+    }
+
     pub fn clamp(&mut self, nrows: usize, nx: usize) {
         self.row = self.row.min(nrows.saturating_sub(1));
         self.x = self.x.min(nx.saturating_sub(1));
@@ -56,13 +115,44 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
     let view = &screen.spectra;
     let rows = screen.rows(data);
     let mut lines = vec![screen.quantity_line(data, theme)];
+    let total = screen.all_rows(data).len();
+    if let Some(edit) = &view.filter_edit {
+        let mut spans = vec![Span::styled("filter ", theme.key())];
+        spans.extend(edit_spans(
+            theme,
+            edit,
+            (area.width as usize).saturating_sub(8),
+        ));
+        lines.push(Line::from(spans));
+        lines.push(match &view.filter_error {
+            Some(e) => Line::styled(e.clone(), theme.error()),
+            None => Line::styled(
+                "e.g. mechanistic(play: 0.005), sequential(record: landers)   Enter apply  Esc clear",
+                theme.dim(),
+            ),
+        });
+    } else if let Some(f) = &view.filter {
+        lines.push(Line::from(vec![
+            Span::styled(format!("filter {}", f.text), theme.key()),
+            Span::styled(
+                format!(": {} of {total} rows   f edit  Esc clear", rows.len()),
+                theme.dim(),
+            ),
+        ]));
+    }
     if rows.is_empty() {
         lines.push(Line::raw("no spectra in these results"));
-        frame.render_widget(Paragraph::new(lines), area);
+        frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
         return;
     }
+    // Name rows by what tells them apart: the words all share are said once, above.
+    let labels: Vec<&str> = rows.iter().map(|s| s.label.as_str()).collect();
+    let (prefix, names) = split_common_prefix(&labels);
+    if !prefix.is_empty() {
+        lines.push(Line::styled(format!("all rows: {prefix} …"), theme.dim()));
+    }
     let n = axis_len(&rows);
-    let label_width = label_width(&rows, 0, area);
+    let label_width = label_width(&names, area);
     let width = (area.width as usize).saturating_sub(label_width + 11);
     let st = Strip::fit(n, width, view.x);
     let sel = rows[view.row.min(rows.len() - 1)];
@@ -97,7 +187,9 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
     let all = values.join("  │  ");
     let all_fits = all.chars().count() <= 2 * area.width as usize;
     // Blocks that fit, up to 4 rows tall each; keep the selected one in view.
-    let mut room = (area.height as usize).saturating_sub(5 + rows.len().min(4));
+    // Lines above the rows beyond the quantity line (filter, shared prefix).
+    let above = lines.len() - 1;
+    let mut room = (area.height as usize).saturating_sub(5 + above + rows.len().min(4));
     let mut height = (room / rows.len()).clamp(1, 4);
     if room / height < rows.len() {
         // Rows are hidden: every line the footer does not take shows one (the footer is the
@@ -109,7 +201,7 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
         } else {
             0
         };
-        room = (area.height as usize).saturating_sub(3 + readout_lines + values_lines);
+        room = (area.height as usize).saturating_sub(3 + above + readout_lines + values_lines);
         height = 1;
     }
     let visible = (room / height).max(1);
@@ -117,7 +209,7 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
     for (i, s) in rows.iter().enumerate().skip(offset).take(visible) {
         let selected = i == view.row;
         let label = Span::styled(
-            pad(&truncate(&s.label, label_width), label_width),
+            pad(&truncate(&names[i], label_width), label_width),
             if selected {
                 theme.selected()
             } else {
@@ -130,6 +222,7 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
             cursor: view.x,
             height,
             theme,
+            max: None,
         };
         let marks = data.marks_of(s);
         lines.extend(series_lines(
@@ -153,4 +246,64 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
         lines.push(Line::styled(all, theme.base()));
     }
     frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
+}
+
+/// The words every label starts with (when each keeps at least one of its own), and the
+/// labels without them: "mechanistic kθ=3 up=0", "mechanistic kθ=3 up=0.01" →
+/// ("mechanistic kθ=3", ["up=0", "up=0.01"]).
+pub fn split_common_prefix(labels: &[&str]) -> (String, Vec<String>) {
+    let words: Vec<Vec<&str>> = labels.iter().map(|l| l.split(' ').collect()).collect();
+    let shortest = words.iter().map(Vec::len).min().unwrap_or(0);
+    let mut k = 0;
+    while labels.len() > 1 && k + 1 < shortest && words.iter().all(|w| w[k] == words[0][k]) {
+        k += 1;
+    }
+    // Do not leave a dangling separator (`·`) at either side.
+    while k > 0 && words[0][k - 1] == "·" {
+        k -= 1;
+    }
+    let rest = words
+        .iter()
+        .map(|w| {
+            let tail = &w[k..];
+            let tail = if tail.first() == Some(&"·") {
+                &tail[1..]
+            } else {
+                tail
+            };
+            tail.join(" ")
+        })
+        .collect();
+    (
+        words.first().map_or(String::new(), |w| w[..k].join(" ")),
+        rest,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::split_common_prefix;
+
+    #[test]
+    fn the_shared_words_of_row_labels_are_said_once() {
+        let (p, rest) = split_common_prefix(&["mechanistic kθ=3 up=0", "mechanistic kθ=3 up=0.01"]);
+        assert_eq!(p, "mechanistic kθ=3");
+        assert_eq!(rest, ["up=0", "up=0.01"]);
+        // Different devices share nothing; a single row keeps its whole label.
+        let (p, rest) = split_common_prefix(&["bare", "mechanistic"]);
+        assert_eq!(
+            (p.as_str(), rest),
+            ("", vec!["bare".to_string(), "mechanistic".into()])
+        );
+        let (p, rest) = split_common_prefix(&["mechanistic up=0"]);
+        assert_eq!(
+            (p.as_str(), rest),
+            ("", vec!["mechanistic up=0".to_string()])
+        );
+        let (p, rest) = split_common_prefix(&["sequential · landers", "sequential · kobe"]);
+        assert_eq!(
+            (p.as_str(), rest),
+            ("sequential", vec!["landers".to_string(), "kobe".into()])
+        );
+    }
 }
