@@ -830,6 +830,7 @@ fn draw_map<DB: DrawingBackend>(
         ys: &map.ys,
         x_axis: &map.x_axis,
         y_axis: &map.y_axis,
+        boundary_of: Some(&map.cells),
     };
     draw_cells(area, canvas, &grid, title, |ix, iy| {
         match map.cells[iy][ix] {
@@ -846,6 +847,8 @@ struct CellGrid<'a> {
     ys: &'a [f64],
     x_axis: &'a str,
     y_axis: &'a str,
+    /// Overturned verdicts whose boundary is drawn as a line (a single map's panel).
+    boundary_of: Option<&'a [Vec<Option<bool>>]>,
 }
 
 /// A map panel: one filled rectangle per cell, coloured by `color(ix, iy)`.
@@ -896,11 +899,13 @@ fn draw_cells<DB: DrawingBackend>(
     });
     chart.draw_series(cells).map_err(err)?;
     // The overturning boundary: the cell edges between an overturned and a survived cell.
-    let verdict =
-        |ix: usize, iy: usize| map.cells.get(iy).and_then(|r| r.get(ix)).copied().flatten();
+    let Some(cells) = grid.boundary_of else {
+        return Ok(());
+    };
+    let verdict = |ix: usize, iy: usize| cells.get(iy).and_then(|r| r.get(ix)).copied().flatten();
     let mut edges = Vec::new();
-    for iy in 0..map.ys.len() {
-        for ix in 0..map.xs.len() {
+    for iy in 0..ny {
+        for ix in 0..nx {
             let Some(here) = verdict(ix, iy) else {
                 continue;
             };
@@ -1003,6 +1008,7 @@ fn draw_map_differences<DB: DrawingBackend>(
             ys: &m.ys,
             x_axis: &m.x_axis,
             y_axis: &m.y_axis,
+            boundary_of: None,
         };
         let title = format!("({}) {} vs {}", panel_letter(i), m.a, m.b);
         draw_cells(area, canvas, &grid, &title, |ix, iy| {
