@@ -109,11 +109,8 @@ fn dense_output_bounds_hold_over_every_step() {
         }
     }
     let mut integ = Integrator::new(Options {
-        rtol: 1e-3,
-        atol: [1e-3; 3],
-        h_max: f64::INFINITY,
-        controlled: 3,
         max_steps: 100_000,
+        ..Options::new(1e-3, [1e-3; 3])
     });
     integ.restart(&Forced, 0.0, [1.0, -2.0, 0.0]);
     let mut steps = 0;

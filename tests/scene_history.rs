@@ -177,6 +177,7 @@ fn closed_form_contact_histories_are_on_the_grid() {
         initial_rotation: 0.0,
         stop_when_settled: false,
         closed_form_contact: true,
+        method: Default::default(),
     };
     // Rocking phases, if any, integrated as tightly as the reference.
     let scene = Scene {

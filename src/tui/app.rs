@@ -210,10 +210,12 @@ impl App {
     }
 
     pub fn file_label(&self) -> String {
-        let name = self.shared.path.as_ref().map_or_else(
-            || "built-in default study".to_string(),
-            |p| p.display().to_string(),
-        );
+        let name = match (&self.shared.path, &self.shared.out_dir) {
+            (Some(p), _) => p.display().to_string(),
+            // Opened results carry their study but no study file.
+            (None, Some(dir)) => format!("study of {}/", dir.display()),
+            (None, None) => "built-in default study".to_string(),
+        };
         if self.shared.dirty {
             format!("{name} [+]")
         } else {
