@@ -115,4 +115,17 @@ fi
 tm send-keys -t "$SESSION" q
 wait_for 100 "rocklab-exited" || fail "q did not end the workbench from the Scene screen"
 grep -qx "rocklab-exit=0" "$OUT/exit" || fail "exit status after the scene view: $(cat "$OUT/exit")"
-echo "PASS: workbench drew the default study in colour and under NO_COLOR, handled resizes, exited cleanly on q, and showed the Fig. 8 scene over 15 s with $impacts impacts"
+# A lost terminal (the tmux session killed, as a dropped SSH connection does): the workbench
+# ends instead of spinning in its input loop.
+tm kill-session -t "$SESSION"
+tm new-session -d -s "$SESSION" -x 80 -y 24 \
+  "echo \$\$ > '$OUT/pid'; exec env TERM=xterm-256color '$BIN' tui" || fail "cannot start tmux"
+wait_for 100 "1 Study" || fail "the workbench did not draw before the hangup test"
+pid=$(cat "$OUT/pid")
+tm kill-session -t "$SESSION"
+for _ in $(seq 100); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+if kill -0 "$pid" 2>/dev/null; then
+  kill -9 "$pid"
+  fail "the workbench kept running 10 s after its terminal was gone"
+fi
+echo "PASS: workbench drew the default study in colour and under NO_COLOR, handled resizes, exited cleanly on q, showed the Fig. 8 scene over 15 s with $impacts impacts, and ended when its terminal was gone"

@@ -63,13 +63,36 @@ fn run_app(mut app: App, mono: bool) -> anyhow::Result<()> {
     for signal in [signal_hook::consts::SIGHUP, signal_hook::consts::SIGTERM] {
         let _ = signal_hook::flag::register(signal, interrupted.clone());
     }
+    let shutting_down = Arc::new(AtomicBool::new(false));
+    watch_for_a_stuck_hangup(interrupted.clone(), shutting_down.clone());
     let mut terminal = setup()?;
-    let outcome = event_loop(&mut terminal, &mut app, theme, &interrupted);
+    let outcome = event_loop(&mut terminal, &mut app, theme, &interrupted, &shutting_down);
     restore();
     outcome
 }
 
 type Term = Terminal<CrosstermBackend<Stdout>>;
+
+/// How long the event loop has to notice a SIGHUP/SIGTERM before the process ends without it.
+const HANGUP_GRACE: std::time::Duration = std::time::Duration::from_secs(2);
+
+/// crossterm 0.29 spins for ever inside `event::poll` once its terminal is gone: its tty read
+/// loop retries on EOF and EIO, so after a lost SSH session the event loop never runs again and
+/// the orphaned workbench burns a core (seen on a killed tmux server). Finished scenes are in
+/// the sweep journal already (one write per scene), so when the loop has not taken up a
+/// hangup within a grace period, end the process from this thread; the next run or
+/// `rocklab tui` resumes from the journal.
+fn watch_for_a_stuck_hangup(interrupted: Arc<AtomicBool>, shutting_down: Arc<AtomicBool>) {
+    std::thread::spawn(move || {
+        while !interrupted.load(Ordering::Relaxed) {
+            std::thread::sleep(std::time::Duration::from_millis(100));
+        }
+        std::thread::sleep(HANGUP_GRACE);
+        if !shutting_down.load(Ordering::Relaxed) {
+            std::process::exit(129);
+        }
+    });
+}
 
 fn setup() -> anyhow::Result<Term> {
     // Restore the terminal before the panic message is printed, or it would be lost in the
@@ -104,12 +127,14 @@ fn event_loop(
     app: &mut App,
     theme: Theme,
     interrupted: &AtomicBool,
+    shutting_down: &AtomicBool,
 ) -> anyhow::Result<()> {
     terminal.draw(|f| draw::draw(app, theme, f))?;
     let mut last_draw = Instant::now();
     let mut pending = false;
     loop {
         if interrupted.load(Ordering::Relaxed) {
+            shutting_down.store(true, Ordering::Relaxed);
             app.shutdown();
             return Ok(());
         }
