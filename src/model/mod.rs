@@ -9,6 +9,7 @@ pub mod rigid;
 pub mod sdof;
 pub mod shell;
 
+use crate::solver::search::{brent_max, illinois_root};
 use crate::solver::{Dense, OdeSystem};
 use serde::{Deserialize, Serialize};
 
@@ -245,7 +246,9 @@ pub trait SimModel<const N: usize>: OdeSystem<N> {
 }
 
 /// Largest |value(y)| over the step, where `rate(y)` is its time derivative: endpoints plus
-/// interior zeros of the rate, located on the dense output.
+/// interior zeros of the rate, located on the dense output. The zero is located by Illinois
+/// (regula falsi) to a bracket of 1e-12 of the sample spacing: |value| is flat there, so the
+/// value's relative error is ~(1e-12)², far below roundoff.
 pub fn extremum_on_step<const N: usize>(
     dense: &Dense<N>,
     t_end: f64,
@@ -265,21 +268,8 @@ pub fn extremum_on_step<const N: usize>(
         let r = rate(&y);
         best = best.max(value(&y).abs());
         if r_prev * r < 0.0 {
-            let ra = r_prev;
-            let (mut a, mut b) = (t_prev, t);
-            for _ in 0..60 {
-                let m = 0.5 * (a + b);
-                let rm = rate(&dense.state(m));
-                if rm * ra > 0.0 {
-                    a = m
-                } else {
-                    b = m
-                }
-                if b - a < 1e-15 * t.abs().max(1.0) {
-                    break;
-                }
-            }
-            best = best.max(value(&dense.state(0.5 * (a + b))).abs());
+            let root = illinois_root(|s| rate(&dense.state(s)), t_prev, r_prev, t, r);
+            best = best.max(value(&dense.state(root)).abs());
         }
         t_prev = t;
         r_prev = r;
@@ -287,8 +277,8 @@ pub fn extremum_on_step<const N: usize>(
     best
 }
 
-/// Largest f over the sample points t_k = t0 + (t1 − t0)k/n, refined by golden section around
-/// the best sample when that reaches `floor` (so only steps that can raise a peak pay for it).
+/// Largest f over the sample points t_k = t0 + (t1 − t0)k/n, refined around the best sample
+/// when that reaches `floor` (so only steps that can raise a peak pay for it).
 pub fn refined_max(f: impl Fn(f64) -> f64, t0: f64, t1: f64, n: usize, floor: f64) -> f64 {
     let at = |k: usize| t0 + (t1 - t0) * k as f64 / n as f64;
     let values: Vec<f64> = (0..=n).map(|k| f(at(k))).collect();
@@ -299,7 +289,7 @@ pub fn refined_max(f: impl Fn(f64) -> f64, t0: f64, t1: f64, n: usize, floor: f6
 /// caller, who may share work between several functions at the same points).
 pub fn refine_sampled(f: impl Fn(f64) -> f64, t0: f64, t1: f64, values: &[f64], floor: f64) -> f64 {
     let n = values.len() - 1;
-    let at = |k: usize| t0 + (t1 - t0) * k as f64 / n as f64;
+    let sample = |k: usize| (t0 + (t1 - t0) * k as f64 / n as f64, values[k]);
     let (best_k, best) = values
         .iter()
         .copied()
@@ -311,11 +301,15 @@ pub fn refine_sampled(f: impl Fn(f64) -> f64, t0: f64, t1: f64, values: &[f64], 
     if best < floor * (1.0 - 1e-9) {
         return best;
     }
-    best.max(golden_max(
-        f,
-        at(best_k.saturating_sub(1)),
-        at((best_k + 1).min(n)),
-    ))
+    best.max(
+        brent_max(
+            f,
+            sample(best_k.saturating_sub(1)),
+            sample(best_k),
+            sample((best_k + 1).min(n)),
+        )
+        .1,
+    )
 }
 
 /// [`refined_max`] over samples (t_k, f(t_k)) the caller already has, refining also when the
@@ -333,29 +327,7 @@ pub fn refined_max_of_samples(f: impl Fn(f64) -> f64, samples: &[(f64, f64)], fl
     if best < floor - 1e-9 * floor.abs() {
         return best;
     }
-    let lo = samples[best_k.saturating_sub(1)].0;
-    let hi = samples[(best_k + 1).min(samples.len() - 1)].0;
-    best.max(golden_max(f, lo, hi))
-}
-
-/// Golden-section search for the maximum of a unimodal f on [lo, hi] (50 iterations, one
-/// new evaluation each: the surviving interior point is kept).
-fn golden_max(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
-    let r = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut c, mut d) = (hi - r * (hi - lo), lo + r * (hi - lo));
-    let (mut fc, mut fd) = (f(c), f(d));
-    for _ in 0..50 {
-        if fc > fd {
-            hi = d;
-            (d, fd) = (c, fc);
-            c = hi - r * (hi - lo);
-            fc = f(c);
-        } else {
-            lo = c;
-            (c, fc) = (d, fd);
-            d = lo + r * (hi - lo);
-            fd = f(d);
-        }
-    }
-    f(0.5 * (lo + hi))
+    let lo = samples[best_k.saturating_sub(1)];
+    let hi = samples[(best_k + 1).min(samples.len() - 1)];
+    best.max(brent_max(f, lo, samples[best_k], hi).1)
 }
