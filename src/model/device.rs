@@ -289,6 +289,27 @@ impl ClutchModel {
         }
     }
 
+    /// [`Self::event_value`]'s time derivative along the solution, from the structure's
+    /// (X, Ẋ, Ẍ) and the flywheel states `fly` with their rates `fly_dot`. A reset function
+    /// that is a constant (the clutch engaged) has rate 0.
+    pub fn event_rate(
+        &self,
+        ev: ClutchEvent,
+        (x, xdot, xddot): (f64, f64, f64),
+        fly: &[f64],
+        fly_dot: &[f64],
+    ) -> f64 {
+        let (da, db) = (x - fly[0], x - fly[2]);
+        let (da_dot, db_dot) = (xdot - fly_dot[0], xdot - fly_dot[2]);
+        match ev {
+            ClutchEvent::ContactA | ClutchEvent::GuardA => da_dot,
+            ClutchEvent::ContactB | ClutchEvent::GuardB => db_dot,
+            ClutchEvent::ResetA if self.a_resettable(da) => xddot - fly_dot[1],
+            ClutchEvent::ResetB if self.b_resettable(db) => xddot - fly_dot[3],
+            ClutchEvent::ResetA | ClutchEvent::ResetB => 0.0,
+        }
+    }
+
     /// The jump of a clutch event at structure position x: a reset puts the flywheel at x
     /// (velocity unchanged) and books the spring energy it releases; a contact crossing into
     /// engagement is counted.

@@ -278,6 +278,10 @@ impl Body for RigidBody {
         m.pivot * y[THETA] - self.alpha
     }
 
+    fn overturn_margin_rate(&self, m: &Mode, _y: &[f64], dy: &[f64]) -> Option<f64> {
+        Some(m.pivot * dy[THETA])
+    }
+
     /// Housner's impact: θ̇⁺ = √r θ̇⁻ about the other corner (r by Eq. 16 with a coupled
     /// inerter); the Dirac model's moment has already taken the energy. Below the rest rate the
     /// block is put flat, its remaining kinetic energy booked as a reset.

@@ -195,6 +195,10 @@ pub trait Body {
     fn uplift_margin(&self, m: &Mode, side: f64, t: f64, y: &[f64]) -> f64;
     /// Rocking: non-negative once the structure has passed over its pivot.
     fn overturn_margin(&self, m: &Mode, y: &[f64]) -> f64;
+    /// Its time derivative along the solution (dy = dy/dt), where it has a closed form.
+    fn overturn_margin_rate(&self, _m: &Mode, _y: &[f64], _dy: &[f64]) -> Option<f64> {
+        None
+    }
     /// The impact jump at θ = 0 (after the shell counted it): velocities, pivot, energy lost.
     fn impact(&mut self, m: &mut Mode, ledger: &mut Ledger, y: &mut [f64]) -> Landing;
     /// Kinetic plus potential (plus strain) energy of the structure.
@@ -708,6 +712,57 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
         for (i, gi) in g.iter_mut().enumerate() {
             *gi = self.event_value(self.events[i], t, y, kx.as_ref());
         }
+    }
+
+    /// While rocking, every function has its rate in closed form: the impact margin's is
+    /// pivot·θ̇, the overturn margin's the body's, a clutch's from Ẋ, Ẍ and the flywheels'
+    /// rates, and the others are constants of the phase. One call of the kinematics then
+    /// gives the screen what two calls of [`OdeSystem::events`] gave by differencing. In
+    /// contact (an uplift margin reads a_g(t)) and with the sequential law (its switch reads
+    /// Ẍ) the integrator differences.
+    fn events_with_rates(
+        &self,
+        t: f64,
+        y: &[f64; N],
+        dydt: &[f64; N],
+        g: &mut [f64],
+        rates: &mut [f64],
+    ) -> bool {
+        let m = &self.mode;
+        let closed_form = |ev: &Ev| match ev {
+            Ev::Impact | Ev::Uplift(_) | Ev::Clutch(_) => true,
+            Ev::Overturn => self.body.overturn_margin_rate(m, y, dydt).is_some(),
+            Ev::Sequential | Ev::Own(_) => false,
+        };
+        if !m.rocking() || !self.events[..self.n_events].iter().all(closed_form) {
+            return false;
+        }
+        // The kinematics only where a function reads X (a bare block's read θ alone).
+        let kx = self.events_read_x.then(|| {
+            let k = self.body.kin(m, y);
+            let (x, xdot) = self.body.x_xdot_kin(m, &k, y);
+            (k, (x, xdot), self.body.xddot(m, &k, y, dydt))
+        });
+        let kin_x = kx.map(|(k, v, _)| (k, v));
+        let (fly, fly_dot) = (m.layout.flywheel_states(y), m.layout.flywheel_states(dydt));
+        for (i, ev) in self.events[..self.n_events].iter().enumerate() {
+            g[i] = self.event_value(*ev, t, y, kin_x.as_ref());
+            rates[i] = match (ev, &m.dev, &kx) {
+                (Ev::Impact, ..) => m.pivot * dydt[B::THETA],
+                (Ev::Overturn, ..) => self.body.overturn_margin_rate(m, y, dydt).unwrap_or(0.0),
+                (Ev::Clutch(e), DeviceModel::Mechanistic(c), Some((_, (x, xdot), xddot))) => {
+                    c.event_rate(*e, (*x, *xdot, *xddot), fly, fly_dot)
+                }
+                _ => 0.0,
+            };
+        }
+        true
+    }
+
+    /// One function alone: an impact or overturn margin reads θ only, without the
+    /// kinematics every function that reads X needs.
+    fn event(&self, index: usize, t: f64, y: &[f64; N]) -> f64 {
+        self.event_value(self.events[index], t, y, None)
     }
 
     fn max_step(&self) -> f64 {

@@ -15,6 +15,7 @@
 //! everything else: the event scan and root refinement, restarts, FSAL, stops, budget, stats.
 
 mod dop853;
+pub mod search;
 
 use thiserror::Error;
 
@@ -73,6 +74,13 @@ pub trait OdeSystem<const N: usize> {
         Direction::Either
     }
     fn events(&self, _t: f64, _y: &[f64; N], _g: &mut [f64]) {}
+    /// Event function `index` alone at (t, y): what the root refinement reads. By default all
+    /// of them are computed; a system whose functions cost more together overrides it.
+    fn event(&self, index: usize, t: f64, y: &[f64; N]) -> f64 {
+        let mut g = [0.0; MAX_EVENTS];
+        self.events(t, y, &mut g[..self.event_count()]);
+        g[index]
+    }
     /// The sign event function `index` takes just after (t, y), where it is exactly zero
     /// because a jump put the state on its surface; 0 if the system cannot tell.
     fn sign_after_zero(&self, _index: usize, _t: f64, _y: &[f64; N]) -> f64 {
@@ -989,8 +997,6 @@ fn refine_root<const N: usize, S: OdeSystem<N>>(
     mut b: f64,
     mut gb: f64,
 ) -> f64 {
-    let m = sys.event_count();
-    let mut g = [0.0; MAX_EVENTS];
     let tol = 4.0 * f64::EPSILON * b.abs().max(dense.h.abs());
     let mut side = 0i8;
     for _ in 0..200 {
@@ -1002,8 +1008,7 @@ fn refine_root<const N: usize, S: OdeSystem<N>>(
         if !(c > a && c < b) {
             c = 0.5 * (a + b);
         }
-        sys.events(c, &dense.state(c), &mut g[..m]);
-        let gc = g[index];
+        let gc = sys.event(index, c, &dense.state(c));
         if gc == 0.0 {
             // Exactly on the surface: step just past it, onto the post-crossing side.
             return (c + tol).min(b);
