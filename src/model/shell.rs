@@ -1069,7 +1069,7 @@ mod tests {
             (-0.2 * block.alpha, [-0.001, -0.3, 0.002, 0.1]),
             (0.5 * block.alpha, [0.05, 0.4, 0.06, 0.2]),
         ] {
-            let mut model = RigidModel::new(block, device.clone(), scene.impact, &motion, rotation);
+            let mut model = RigidModel::new(block, device, scene.impact, &motion, rotation);
             let mut y = [0.0; 10];
             model.start(&mut y);
             y[1] = 0.7 * rotation.signum();
