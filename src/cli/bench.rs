@@ -170,19 +170,37 @@ fn relative_error(a: f64, reference: f64) -> f64 {
     }
 }
 
-/// Stats of one run of `scene` with the time in the integrator's stages measured
-/// (`Stats::stage_nanos`); a separate run, so the all-in times carry no clock reads.
-pub fn stage_timed(scene: &Scene) -> Result<SceneResult, sim::SimError> {
+/// `scene` run `repeats` times with the time in the integrator's stages measured
+/// (`Stats::stage_nanos`, two clock reads per step): the last result and the medians of the
+/// stage time (ns) and of the whole run's time (s), from the same runs, so load on the
+/// machine moves both alike.
+pub fn stage_timed(
+    scene: &Scene,
+    repeats: usize,
+) -> Result<(SceneResult, f64, f64), sim::SimError> {
     let library =
         crate::excitation::library::global().map_err(|e| sim::SimError::Invalid(e.to_string()))?;
-    sim::run_bounded(
-        scene,
-        library,
-        sim::Bounds {
-            time_stages: true,
-            ..Default::default()
-        },
-    )
+    let bounds = sim::Bounds {
+        time_stages: true,
+        ..Default::default()
+    };
+    let (mut stages, mut wall, mut last) = (Vec::new(), Vec::new(), None);
+    for _ in 0..repeats.max(1) {
+        let start = Instant::now();
+        let r = sim::run_bounded(scene, library, bounds)?;
+        wall.push(start.elapsed().as_secs_f64());
+        stages.push(r.stats.stage_nanos as f64);
+        last = Some(r);
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    Ok((
+        last.expect("ran once"),
+        median(&mut stages),
+        median(&mut wall),
+    ))
 }
 
 /// RHS calls made inside the stages (trial steps, and DOP853's dense-output stages): the
@@ -234,8 +252,7 @@ fn print_method_tables(args: &BenchArgs) -> anyhow::Result<()> {
                 let mut s = scene.clone();
                 s.method = method;
                 s.rtol = rtol;
-                let (result, seconds) = timed(&s, rtol, args.repeats)?;
-                let staged = stage_timed(&s)?;
+                let (result, stage_nanos, seconds) = stage_timed(&s, args.repeats)?;
                 let got = peaks(&result);
                 let errors = std::array::from_fn(|i| relative_error(got[i], want[i]));
                 let st = result.stats;
@@ -253,8 +270,8 @@ fn print_method_tables(args: &BenchArgs) -> anyhow::Result<()> {
                     st.rhs_evals as f64 / st.steps.max(1) as f64,
                     seconds * 1e3,
                     seconds * 1e9 / st.rhs_evals.max(1) as f64,
-                    staged.stats.stage_nanos as f64 / stage_calls(method, &staged.stats),
-                    staged.stats.event_calls as f64 / staged.stats.steps.max(1) as f64,
+                    stage_nanos / stage_calls(method, &st),
+                    st.event_calls as f64 / st.steps.max(1) as f64,
                 );
             }
         }

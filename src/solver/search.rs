@@ -69,7 +69,18 @@ pub fn brent_max(
         ((hi.0, -hi.1), (lo.0, -lo.1))
     };
     if x <= a || x >= b {
-        // The best sample is an end of the bracket: start inside it.
+        // The best sample is an end of the bracket. If f falls from it into the bracket, that
+        // end is the maximum: with at most one extremum inside (what the samples' spacing is
+        // chosen for), an interior maximum above it would need a minimum between them too.
+        let inward = if x >= b {
+            b - 1e-6 * (b - a)
+        } else {
+            a + 1e-6 * (b - a)
+        };
+        if f(inward) < -fx {
+            return (x, -fx);
+        }
+        // Else start inside it.
         x = a + CGOLD * (b - a);
         fx = -f(x);
         (w, fw, v, fv) = (x, fx, x, fx);
@@ -169,5 +180,14 @@ mod tests {
         // The best sample at an end of the bracket: the search starts inside it.
         let (_, v) = brent_max(f, (1.0, f(1.0)), (1.0, f(1.0)), (1.5, f(1.5)));
         assert!((v - want).abs() < 1e-15 * want);
+        // f still rising at the bracket's right end, or falling from its left end: the end.
+        assert_eq!(
+            brent_max(f, (0.5, f(0.5)), (1.0, f(1.0)), (1.0, f(1.0))),
+            (1.0, f(1.0))
+        );
+        assert_eq!(
+            brent_max(f, (1.5, f(1.5)), (1.5, f(1.5)), (2.0, f(2.0))),
+            (1.5, f(1.5))
+        );
     }
 }
