@@ -1061,8 +1061,12 @@ mod tests {
         let Structure::Rigid(block) = &scene.structure else {
             unreachable!()
         };
-        let library = crate::excitation::library::global().unwrap();
-        let motion = crate::sim::motion_for(&scene, library).unwrap();
+        // Fig. 8's sine pulse, A = 1.5 g tan α at ω = 4p (the model reads a_g only).
+        let motion = Motion::Pulse(crate::excitation::Pulse::new(
+            crate::excitation::PulseShape::Sine,
+            1.5 * G * block.alpha.tan(),
+            4.0 * scene.structure.p(),
+        ));
         let device = DeviceModel::new(&scene.device, block.mass, scene.structure.p());
         for (rotation, fly) in [
             (0.3 * block.alpha, [0.004, 0.02, -0.003, -0.05]),
