@@ -46,14 +46,14 @@ fn measures() -> Vec<(&'static str, Measures)> {
             },
         ),
         (
-            "+ |ẍ|max (absolute acceleration)",
+            "+ \\|ẍ\\|max (absolute acceleration)",
             Measures {
                 abs_acceleration: true,
                 ..rotation
             },
         ),
         (
-            "+ |θ̈|max (angular acceleration)",
+            "+ \\|θ̈\\|max (angular acceleration)",
             Measures {
                 angular_acceleration: true,
                 ..rotation
