@@ -132,23 +132,7 @@ fn mp_accel_shape(s: f64, gamma: f64, nu: f64) -> f64 {
     -0.5 * ((s / gamma).sin() / gamma * (s + nu).cos() + (1.0 + (s / gamma).cos()) * (s + nu).sin())
 }
 
-/// max |f| on [a, b]: a fine scan, then golden-section refinement around the best sample.
+/// max |f| on [a, b] for a shape of the phase s (period 2π): the pulses' own scan.
 fn max_abs(f: impl Fn(f64) -> f64, a: f64, b: f64) -> f64 {
-    let n = 4000;
-    let h = (b - a) / n as f64;
-    let best = (0..=n)
-        .map(|k| a + k as f64 * h)
-        .max_by(|x, y| f(*x).abs().total_cmp(&f(*y).abs()))
-        .expect("non-empty scan");
-    let (mut lo, mut hi) = ((best - h).max(a), (best + h).min(b));
-    let r = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..80 {
-        let (m1, m2) = (hi - r * (hi - lo), lo + r * (hi - lo));
-        if f(m1).abs() < f(m2).abs() {
-            lo = m1;
-        } else {
-            hi = m2;
-        }
-    }
-    f(best).abs().max(f(0.5 * (lo + hi)).abs())
+    super::scan_peak(f, a, b, 2.0 * PI)
 }
