@@ -24,6 +24,17 @@ fail() {
   exit 1
 }
 
+# Start the session running command $1. Retried: after `kill-session` of its last session the
+# server is still exiting for a moment, and a client that reaches it then gets "server exited
+# unexpectedly" (seen once under load in CI).
+start() {
+  for _ in 1 2 3 4 5; do
+    tm new-session -d -s "$SESSION" -x 80 -y 24 "$1" 2>/dev/null && return 0
+    sleep 0.5
+  done
+  fail "cannot start tmux"
+}
+
 # Wait (at most $1 tenths of a second) until the pane shows the text $2.
 wait_for() {
   local tries=$1 text=$2
@@ -38,9 +49,7 @@ wait_for() {
 
 # The shell line after the binary prints its exit code once the workbench has exited; the
 # pane stays open so that the screen it left behind can be inspected.
-tm new-session -d -s "$SESSION" -x 80 -y 24 \
-  "env -u NO_COLOR TERM=xterm-256color '$BIN'; echo \"rocklab-exit=\$?\" > '$OUT/exit'; echo rocklab-exited; sleep 60" \
-  || fail "cannot start tmux"
+start "env -u NO_COLOR TERM=xterm-256color '$BIN'; echo \"rocklab-exit=\$?\" > '$OUT/exit'; echo rocklab-exited; sleep 60"
 
 wait_for 100 "Study" || fail "the workbench did not draw within 10 s"
 wait_for 50 "scenes in" || fail "the default study summary (scene count) is not drawn"
@@ -73,9 +82,7 @@ tm capture-pane -p -t "$SESSION" | grep -qx "rocklab-exited" || fail "the termin
 
 # ...and off under NO_COLOR: no colour escapes at all, only reverse video and bold.
 tm kill-session -t "$SESSION"
-tm new-session -d -s "$SESSION" -x 80 -y 24 \
-  "NO_COLOR=1 TERM=xterm-256color '$BIN'; echo \"rocklab-exit=\$?\" > '$OUT/exit'; echo rocklab-exited; sleep 60" \
-  || fail "cannot start tmux"
+start "NO_COLOR=1 TERM=xterm-256color '$BIN'; echo \"rocklab-exit=\$?\" > '$OUT/exit'; echo rocklab-exited; sleep 60"
 wait_for 100 "scenes in" || fail "the workbench did not draw under NO_COLOR"
 if tm capture-pane -e -p -t "$SESSION" | grep -qE "$COLOUR"; then
   fail "colours drawn under NO_COLOR"
@@ -100,9 +107,7 @@ cat > "$OUT/fig8.ron" <<'STUDY'
 STUDY
 "$BIN" run "$OUT/fig8.ron" --out "$OUT/fig8" --quiet >/dev/null 2>&1 || fail "rocklab run of the Fig. 8 scene failed"
 tm kill-session -t "$SESSION"
-tm new-session -d -s "$SESSION" -x 80 -y 24 \
-  "TERM=xterm-256color '$BIN' tui '$OUT/fig8'; echo \"rocklab-exit=\$?\" > '$OUT/exit'; echo rocklab-exited; sleep 60" \
-  || fail "cannot start tmux"
+start "TERM=xterm-256color '$BIN' tui '$OUT/fig8'; echo \"rocklab-exit=\$?\" > '$OUT/exit'; echo rocklab-exited; sleep 60"
 wait_for 100 "Enter: open scene" || fail "the Fig. 8 results did not open"
 tm send-keys -t "$SESSION" Enter
 wait_for 100 "0–15 s: impacts" || fail "the Fig. 8 scene view does not cover 15 s"
@@ -118,8 +123,7 @@ grep -qx "rocklab-exit=0" "$OUT/exit" || fail "exit status after the scene view:
 # A lost terminal (the tmux session killed, as a dropped SSH connection does): the workbench
 # ends instead of spinning in its input loop.
 tm kill-session -t "$SESSION"
-tm new-session -d -s "$SESSION" -x 80 -y 24 \
-  "echo \$\$ > '$OUT/pid'; exec env TERM=xterm-256color '$BIN' tui" || fail "cannot start tmux"
+start "echo \$\$ > '$OUT/pid'; exec env TERM=xterm-256color '$BIN' tui"
 wait_for 100 "1 Study" || fail "the workbench did not draw before the hangup test"
 pid=$(cat "$OUT/pid")
 tm kill-session -t "$SESSION"
