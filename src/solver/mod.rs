@@ -796,10 +796,10 @@ impl<const N: usize> Integrator<N> {
         }
     }
 
-    /// Event values and rates at (t, y) with dy/dt = `f`: from the system if it provides
-    /// them, else by differencing along the tangent over `eps` (negative: backward, staying
-    /// inside the step just taken; positive: forward, inside the step to come — the rate
-    /// jumps at forcing kinks, and each step needs its own side's).
+    /// Event values and rates at (t, y) with dy/dt = `f`: from the system if it provides them
+    /// (returns true), else by differencing along the tangent over `eps` (negative: backward,
+    /// staying inside the step just taken; positive: forward, inside the step to come — the
+    /// rate jumps at forcing kinks, and each step needs its own side's).
     #[allow(clippy::too_many_arguments)]
     fn event_rates<S: OdeSystem<N>>(
         &mut self,
@@ -811,11 +811,11 @@ impl<const N: usize> Integrator<N> {
         g: &mut [f64; MAX_EVENTS],
         rates: &mut [f64; MAX_EVENTS],
         values_known: bool,
-    ) {
+    ) -> bool {
         let m = sys.event_count();
         self.stats.event_calls += 1;
         if sys.events_with_rates(t, y, f, &mut g[..m], &mut rates[..m]) {
-            return;
+            return true;
         }
         if !values_known {
             sys.events(t, y, &mut g[..m]);
@@ -827,6 +827,7 @@ impl<const N: usize> Integrator<N> {
         for i in 0..m {
             rates[i] = (g_eps[i] - g[i]) / eps;
         }
+        false
     }
 
     /// Look for a triggering sign change in the step just accepted; return the earliest
@@ -850,7 +851,9 @@ impl<const N: usize> Integrator<N> {
     ///
     /// The screen costs two calls of the event functions per step (values and a tangent
     /// difference) against the scan's four, five when it fails; where it keeps failing (event-
-    /// dense stretches: a chattering clutch) it pauses for [`SCREEN_PAUSE`] steps.
+    /// dense stretches: a chattering clutch) it pauses for [`SCREEN_PAUSE`] steps. With rates
+    /// in closed form it costs one call, the end values the scan needs anyway, so it never
+    /// pauses.
     fn locate_event<S: OdeSystem<N>>(
         &mut self,
         sys: &S,
@@ -885,14 +888,14 @@ impl<const N: usize> Integrator<N> {
         let t1 = dense.t1();
         let mut g1 = [0.0; MAX_EVENTS];
         let mut rates1 = [0.0; MAX_EVENTS];
-        self.event_rates(sys, t1, y1, f1, -eps, &mut g1, &mut rates1, false);
+        let closed_form = self.event_rates(sys, t1, y1, f1, -eps, &mut g1, &mut rates1, false);
         let clear =
             (0..m).all(|i| no_root_inside(self.g_val[i], h * self.g_rate[i], g1[i], h * rates1[i]));
         if clear {
             self.screen_fails = 0;
         } else {
             self.screen_fails += 1;
-            if self.screen_fails >= 3 {
+            if self.screen_fails >= 3 && !closed_form {
                 self.screen_fails = 0;
                 self.screen_pause = SCREEN_PAUSE;
             }
