@@ -173,15 +173,17 @@ fn relative_error(a: f64, reference: f64) -> f64 {
 /// `scene` run `repeats` times with the time in the integrator's stages measured
 /// (`Stats::stage_nanos`, two clock reads per step): the last result and the medians of the
 /// stage time (ns) and of the whole run's time (s), from the same runs, so load on the
-/// machine moves both alike.
+/// machine moves both alike. `measures`: the quantities computed.
 pub fn stage_timed(
     scene: &Scene,
     repeats: usize,
+    measures: sim::Measures,
 ) -> Result<(SceneResult, f64, f64), sim::SimError> {
     let library =
         crate::excitation::library::global().map_err(|e| sim::SimError::Invalid(e.to_string()))?;
     let bounds = sim::Bounds {
         time_stages: true,
+        measures,
         ..Default::default()
     };
     let (mut stages, mut wall, mut last) = (Vec::new(), Vec::new(), None);
@@ -244,20 +246,25 @@ fn print_method_tables(args: &BenchArgs) -> anyhow::Result<()> {
             args.reference, DOP853_BELOW_RTOL
         );
         println!(
-            "| method | rtol | worst peak err | RHS calls | accepted | rejected | RHS/accepted | time (ms) | ns/RHS all-in | ns/RHS stages | event calls/step |"
+            "| method | rtol | worst peak err | RHS calls | accepted | rejected | RHS/accepted | time (ms) | ns/RHS all-in | ns/RHS stages | all-in / stages | rotation only: all-in / stages | event calls/step |"
         );
-        println!("|---|---|---|---|---|---|---|---|---|---|---|");
+        println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
         for method in [Method::Dp54, Method::Dop853] {
             for &rtol in &args.rtol {
                 let mut s = scene.clone();
                 s.method = method;
                 s.rtol = rtol;
-                let (result, stage_nanos, seconds) = stage_timed(&s, args.repeats)?;
+                let (result, stage_nanos, seconds) =
+                    stage_timed(&s, args.repeats, sim::Measures::ALL)?;
+                // The same scene computing the rotation alone, as a rotation spectrum does.
+                let (rot, rot_stage_nanos, rot_seconds) =
+                    stage_timed(&s, args.repeats, sim::Measures::ROTATION)?;
+                let rot_ratio = rot_seconds * 1e9 / rot_stage_nanos;
                 let got = peaks(&result);
                 let errors = std::array::from_fn(|i| relative_error(got[i], want[i]));
                 let st = result.stats;
                 println!(
-                    "| {} | {:.0e} | {:.1e} | {} | {} | {} | {:.2} | {:.3} | {:.0} | {:.0} | {:.2} |",
+                    "| {} | {:.0e} | {:.1e} | {} | {} | {} | {:.2} | {:.3} | {:.0} | {:.0} | {:.2} | {:.2} | {:.2} |",
                     match method {
                         Method::Dop853 => "dop853",
                         _ => "dp54",
@@ -271,6 +278,9 @@ fn print_method_tables(args: &BenchArgs) -> anyhow::Result<()> {
                     seconds * 1e3,
                     seconds * 1e9 / st.rhs_evals.max(1) as f64,
                     stage_nanos / stage_calls(method, &st),
+                    seconds * 1e9 / stage_nanos * stage_calls(method, &st)
+                        / st.rhs_evals.max(1) as f64,
+                    rot_ratio * stage_calls(method, &rot.stats) / rot.stats.rhs_evals.max(1) as f64,
                     st.event_calls as f64 / st.steps.max(1) as f64,
                 );
             }
