@@ -891,11 +891,11 @@ impl<const N: usize> Integrator<N> {
         let closed_form = self.event_rates(sys, t1, y1, f1, -eps, &mut g1, &mut rates1, false);
         let clear =
             (0..m).all(|i| no_root_inside(self.g_val[i], h * self.g_rate[i], g1[i], h * rates1[i]));
-        if clear {
+        if clear || closed_form {
             self.screen_fails = 0;
         } else {
             self.screen_fails += 1;
-            if self.screen_fails >= 3 && !closed_form {
+            if self.screen_fails >= 3 {
                 self.screen_fails = 0;
                 self.screen_pause = SCREEN_PAUSE;
             }

@@ -3,7 +3,8 @@
 //! scans; they know nothing of either.
 
 /// A zero of f in [a, b] where f(a) = fa and f(b) = fb have opposite signs: Illinois
-/// (modified regula falsi), to a bracket of 1e-12 of b − a (or until f is exactly 0).
+/// (modified regula falsi), to a bracket of 1e-12 of b − a or a few ulps of t, whichever is
+/// wider (or until f is exactly 0).
 pub fn illinois_root(
     f: impl Fn(f64) -> f64,
     mut a: f64,
@@ -11,7 +12,8 @@ pub fn illinois_root(
     mut b: f64,
     mut fb: f64,
 ) -> f64 {
-    let tol = 1e-12 * (b - a);
+    // A fraction of the bracket alone can fall below the spacing of floats at large t.
+    let tol = (1e-12 * (b - a)).max(4.0 * f64::EPSILON * a.abs().max(b.abs()));
     // Which end the last step kept: an end kept twice has its value halved (Illinois).
     let mut kept = 0i8;
     for _ in 0..100 {
@@ -60,7 +62,8 @@ pub fn brent_max(
     if b <= a {
         return x;
     }
-    let tol = 1e-8 * (b - a);
+    let width = b - a;
+    let tol = (1e-8 * width).max(4.0 * f64::EPSILON * a.abs().max(b.abs()));
     // Minimise −f. x is the best point, w the second best, v the previous w.
     let (mut x, mut fx) = (x.0, -x.1);
     let ((mut w, mut fw), (mut v, mut fv)) = if -lo.1 <= -hi.1 {
@@ -114,10 +117,15 @@ pub fn brent_max(
                     d = tol.copysign(xm - x);
                 }
                 // The parabola's own prediction of the gain at its vertex: below roundoff of
-                // the value, one last evaluation there ends the search.
-                if (v - w) * (v - x) * (w - x) != 0.0 {
+                // the value, one last evaluation there ends the search. Trusted only once its
+                // points are within 1e-5 of the bracket of x (convex, as near a maximum): its
+                // vertex is then off the true one by ~(spacing)²/scale, far below the
+                // spacing, and the value's error below roundoff. (Through the raw samples the
+                // prediction can be small by accident: 7e-7 errors were seen.)
+                let spacing = (x - w).abs().max((x - v).abs());
+                if (v - w) * (v - x) * (w - x) != 0.0 && spacing <= 1e-5 * width {
                     let curvature = 2.0 * ((fv - fx) / (v - x) - (fw - fx) / (w - x)) / (v - w);
-                    last = 0.5 * curvature.abs() * d * d <= 1e-15 * fx.abs();
+                    last = curvature > 0.0 && 0.5 * curvature * d * d <= 1e-15 * fx.abs();
                 }
             }
         } else {
@@ -161,6 +169,22 @@ mod tests {
     use super::*;
 
     #[test]
+    fn illinois_stops_at_float_resolution_far_from_zero() {
+        use std::cell::Cell;
+        let calls = Cell::new(0);
+        // A bracket of 2.5e-4 s at t = 100 s: 1e-12 of it is below the spacing of floats.
+        // Its root lies between two floats, so f is never exactly zero there.
+        let s0 = 0.000_123_456_789_f64.sin();
+        let f = |t: f64| {
+            calls.set(calls.get() + 1);
+            (t - 100.0).sin() - s0
+        };
+        let root = illinois_root(f, 100.0, f(100.0), 100.00025, f(100.00025));
+        assert!((root - 100.000_123_456_789).abs() < 1e-12, "{root}");
+        assert!(calls.get() < 30, "{} evaluations", calls.get());
+    }
+
+    #[test]
     fn illinois_finds_the_root_of_a_cubic_to_roundoff() {
         // (t − 0.3)(t² + 1) has one real root, at 0.3.
         let f = |t: f64| (t - 0.3) * (t * t + 1.0);
@@ -180,6 +204,19 @@ mod tests {
         // The best sample at an end of the bracket: the search starts inside it.
         let (_, v) = brent_max(f, (1.0, f(1.0)), (1.0, f(1.0)), (1.5, f(1.5)));
         assert!((v - want).abs() < 1e-15 * want);
+        // Samples placed so that the parabola through them peaks at the middle one (f(x − h) =
+        // f(x + h)) while the true maximum is 1e-3 away: the search must not stop there.
+        let h = 0.1;
+        let symmetric = |x: f64| f(x - h) - f(x + h);
+        let x = illinois_root(
+            symmetric,
+            t_star - 0.05,
+            symmetric(t_star - 0.05),
+            t_star + 0.05,
+            symmetric(t_star + 0.05),
+        );
+        let (_, v) = brent_max(f, (x - h, f(x - h)), (x, f(x)), (x + h, f(x + h)));
+        assert!((v - want).abs() < 1e-15 * want, "{v} vs {want}");
         // f still rising at the bracket's right end, or falling from its left end: the end.
         assert_eq!(
             brent_max(f, (0.5, f(0.5)), (1.0, f(1.0)), (1.0, f(1.0))),
