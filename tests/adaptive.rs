@@ -219,27 +219,24 @@ fn a_stopped_adaptive_map_resumes_from_its_journal() {
         jobs: Some(1),
         ..Default::default()
     };
+    let run =
+        |output: &mut sweep::Output, cancel: &AtomicBool, progress: &(dyn Fn(Progress) + Sync)| {
+            sweep::run_into(
+                output, &study, &points, &opts, library, None, cancel, progress,
+            )
+            .unwrap()
+        };
     // First run: stopped after 20 scenes (in the coarse round: there is more to do).
     let cancel = AtomicBool::new(false);
     let done = AtomicUsize::new(0);
     let mut output = open();
-    let stopped = sweep::run_into(
-        &mut output,
-        &study,
-        &points,
-        &opts,
-        library,
-        None,
-        &cancel,
-        &|p| {
-            if let Progress::SceneDone { .. } = p
-                && done.fetch_add(1, Ordering::Relaxed) + 1 >= 20
-            {
-                cancel.store(true, Ordering::Relaxed);
-            }
-        },
-    )
-    .unwrap();
+    let stopped = run(&mut output, &cancel, &|p| {
+        if let Progress::SceneDone { .. } = p
+            && done.fetch_add(1, Ordering::Relaxed) + 1 >= 20
+        {
+            cancel.store(true, Ordering::Relaxed);
+        }
+    });
     assert!(stopped.cancelled);
     assert!(
         stopped.inferred.is_empty(),
@@ -259,21 +256,11 @@ fn a_stopped_adaptive_map_resumes_from_its_journal() {
     let cancel = AtomicBool::new(false);
     let (reused, computed) = (AtomicUsize::new(0), AtomicUsize::new(0));
     let mut output = open();
-    let resumed = sweep::run_into(
-        &mut output,
-        &study,
-        &points,
-        &opts,
-        library,
-        None,
-        &cancel,
-        &|p| {
-            if let Progress::SceneDone { reused: r, .. } = p {
-                if r { &reused } else { &computed }.fetch_add(1, Ordering::Relaxed);
-            }
-        },
-    )
-    .unwrap();
+    let resumed = run(&mut output, &cancel, &|p| {
+        if let Progress::SceneDone { reused: r, .. } = p {
+            if r { &reused } else { &computed }.fetch_add(1, Ordering::Relaxed);
+        }
+    });
     assert!(!resumed.cancelled);
     assert_eq!(reused.load(Ordering::Relaxed), first);
     assert_eq!(

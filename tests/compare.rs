@@ -453,12 +453,7 @@ fn compare_json_reports_the_pairs_of_a_results_file() {
         ])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let json = crate::util::json_of(out);
     let pairs = json["pairs"].as_array().unwrap();
     assert_eq!(pairs.len(), 2);
     // One side a grid is not the case here: study order (α = 0.1 first).

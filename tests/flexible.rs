@@ -2,7 +2,7 @@
 //! fixed-base response, the rigid point-mass limit, energy balance, mirror symmetry, the
 //! paper's Fig. 14 ordering, and the CLI contract.
 
-use crate::util::rocklab;
+use crate::util::{rocklab, rocklab_json};
 use rocklab::excitation::{G, PulseShape};
 use rocklab::scene::{
     Amplitude, Clutch, ClutchStiffness, Coupling, Damping, Device, Excitation, FlexibleStructure,
@@ -596,13 +596,7 @@ fn cli_runs_case6_with_the_rigid_json_keys_and_history() {
         "--history",
         &csv_arg,
     ]);
-    let out = rocklab(&args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let json = rocklab_json(&args);
     for key in [
         "overturned",
         "peak_rotation",

@@ -3,27 +3,16 @@
 //! integrator's dense output, with every event instant kept as a pair of rows (before and after
 //! its jump).
 
-use crate::util::rocklab;
+use crate::util::{fig12_study_and_fig8_point, rocklab, rocklab_json};
 use rocklab::excitation::library;
 use rocklab::presets::{self, mechanistic, rigid_fig8};
 use rocklab::scene::*;
 use rocklab::sim::{self, History, Sampling};
-use rocklab::study::Study;
 
 /// The Fig. 8 scene as the Fig. 12 study sweeps it: bare block, ωg/p = 4, 15 s, stopping once
 /// settled.
 fn fig8_study_scene() -> Scene {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/studies/fig12_rigid_spectra.ron"
-    );
-    let study = Study::load(std::path::Path::new(path)).unwrap();
-    let point = study
-        .expand()
-        .unwrap()
-        .into_iter()
-        .find(|p| p.scene.device == Device::None && p.coord("ωg/p") == Some(4.0))
-        .expect("the Fig. 12 study holds the Fig. 8 scene");
+    let (_, point) = fig12_study_and_fig8_point();
     assert!(point.scene.stop_when_settled, "studies stop settled scenes");
     assert_eq!(point.scene.duration, 15.0);
     point.scene
@@ -230,13 +219,7 @@ fn simulate_history_takes_a_sample_step() {
     ];
     let mut args = pulse.to_vec();
     args.extend([csv.to_str().unwrap(), "--dt", "0.01"]);
-    let out = rocklab(&args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let json = rocklab_json(&args);
     let impacts = json["impacts"].as_u64().unwrap();
     assert!(impacts >= 20, "{impacts}");
     let text = std::fs::read_to_string(&csv).unwrap();

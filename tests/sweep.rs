@@ -142,12 +142,7 @@ fn the_simulate_command_agrees_with_the_sweep() {
     ])
     .output()
     .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let json = crate::util::json_of(out);
     let r = o.result.as_ref().unwrap();
     assert_eq!(
         json["peak_rotation_ratio"].as_f64().unwrap(),

@@ -326,17 +326,7 @@ fn scene_screen_draws_a_fixed_scene() {
 /// energy balance only (no device panels for a bare block), units on every axis.
 #[test]
 fn scene_screen_shows_the_whole_fig8_history() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/studies/fig12_rigid_spectra.ron"
-    );
-    let study = Study::load(std::path::Path::new(path)).unwrap();
-    let point = study
-        .expand()
-        .unwrap()
-        .into_iter()
-        .find(|p| p.scene.device == rocklab::scene::Device::None && p.coord("ωg/p") == Some(4.0))
-        .expect("the Fig. 12 study holds the Fig. 8 scene");
+    let (study, point) = crate::util::fig12_study_and_fig8_point();
     let mut app = App::new(
         study,
         None,

@@ -41,3 +41,35 @@ pub fn sig4(v: f64) -> String {
     let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
     format!("{v:.decimals$}")
 }
+
+/// Run the `rocklab` binary with `args`, which must succeed (stderr shown if not), and parse
+/// its standard output as JSON.
+pub fn rocklab_json(args: &[&str]) -> serde_json::Value {
+    json_of(rocklab(args))
+}
+
+/// The JSON a successful `rocklab` run printed (stderr shown if it failed).
+pub fn json_of(out: Output) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// The shipped Fig. 12 study and its Fig. 8 scene (bare block, ωg/p = 4).
+pub fn fig12_study_and_fig8_point() -> (rocklab::study::Study, rocklab::study::ScenePoint) {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/studies/fig12_rigid_spectra.ron"
+    );
+    let study = rocklab::study::Study::load(std::path::Path::new(path)).unwrap();
+    let point = study
+        .expand()
+        .unwrap()
+        .into_iter()
+        .find(|p| p.scene.device == rocklab::scene::Device::None && p.coord("ωg/p") == Some(4.0))
+        .expect("the Fig. 12 study holds the Fig. 8 scene");
+    (study, point)
+}
