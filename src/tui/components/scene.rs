@@ -181,33 +181,35 @@ fn panels(history: &History) -> Vec<Panel> {
             series: vec![("u", u)],
         });
     }
-    let flywheels: Vec<_> = [
-        ("flywheel_a_vel", "flywheel a"),
-        ("flywheel_b_vel", "flywheel b"),
-    ]
-    .into_iter()
-    .filter_map(|(c, l)| moving(c, l))
-    .collect();
-    if !flywheels.is_empty() {
-        panels.push(Panel {
-            title: "flywheel velocity ẏ",
-            unit: "m/s",
-            series: flywheels,
-        });
-    }
-    let clutches: Vec<_> = [
-        ("clutch_force_a", "clutch a"),
-        ("clutch_force_b", "clutch b"),
-    ]
-    .into_iter()
-    .filter_map(|(c, l)| moving(c, l))
-    .collect();
-    if !clutches.is_empty() {
-        panels.push(Panel {
-            title: "clutch force",
-            unit: "N",
-            series: clutches,
-        });
+    // A device chart with the series of `columns` that move, if any does.
+    let moving_panel = |title, unit, columns: [(&'static str, &'static str); 2]| {
+        let series: Vec<_> = columns
+            .into_iter()
+            .filter_map(|(c, l)| moving(c, l))
+            .collect();
+        (!series.is_empty()).then_some(Panel {
+            title,
+            unit,
+            series,
+        })
+    };
+    panels.extend(moving_panel(
+        "flywheel velocity ẏ",
+        "m/s",
+        [
+            ("flywheel_a_vel", "flywheel a"),
+            ("flywheel_b_vel", "flywheel b"),
+        ],
+    ));
+    if let Some(clutches) = moving_panel(
+        "clutch force",
+        "N",
+        [
+            ("clutch_force_a", "clutch a"),
+            ("clutch_force_b", "clutch b"),
+        ],
+    ) {
+        panels.push(clutches);
     } else if let Some(device) = moving("device_force", "Fd") {
         panels.push(Panel {
             title: "device force",
