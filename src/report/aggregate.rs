@@ -115,19 +115,10 @@ pub struct OverturningMap {
 impl OverturningMap {
     /// Whether cell (ix, iy) holds a verdict that an adaptive map inferred without running it.
     pub fn inferred(&self, ix: usize, iy: usize) -> bool {
-        let cell = self
-            .cells
-            .get(iy)
-            .and_then(|r| r.get(ix))
-            .copied()
-            .flatten();
-        let ran = self
-            .outcomes
-            .get(iy)
-            .and_then(|r| r.get(ix))
-            .copied()
-            .flatten();
-        cell.is_some() && ran.is_none()
+        fn at<T: Copy>(grid: &[Vec<Option<T>>], ix: usize, iy: usize) -> Option<T> {
+            grid.get(iy).and_then(|r| r.get(ix)).copied().flatten()
+        }
+        at(&self.cells, ix, iy).is_some() && at(&self.outcomes, ix, iy).is_none()
     }
 
     /// The overturning boundary: between every two neighbouring cells (along a row or a
