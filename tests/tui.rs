@@ -627,7 +627,19 @@ fn edit_run_and_read_results_by_keys() {
 
 #[test]
 fn cancel_keeps_what_finished() {
-    let mut app = new_app();
+    // The default study at a tight tolerance: its sweep must outlast the few frames between
+    // starting and confirming the stop (at the default tolerance it can finish first).
+    let mut study = Study::builtin_default();
+    study.rtol = 1e-12;
+    let mut app = App::new(
+        study,
+        None,
+        Options {
+            deterministic: true,
+            jobs: Some(2),
+            out_root: scratch_dir(),
+        },
+    );
     key(&mut app, KeyCode::Char('r'));
     // Before the first tick nothing has been reported: a reproducible frame of a running sweep.
     assert!(app.is_running());
