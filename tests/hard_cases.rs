@@ -212,12 +212,25 @@ fn step_budget_is_a_clear_error_not_a_hang() {
 /// would never end without Zeno-safe rest detection. Every device must reach rest and close its
 /// energy balance; bare and sequential peaks converge under tightening tolerance.
 ///
-/// With the mechanistic clutch and tiny rocking (θ ~ 0.015 α) the re-engagement reset fires at
-/// zero crossings of δ̇ that are often grazing, so whether one happens is decided by tiny
-/// perturbations (engagement counts 56/59/62 at rtol 1e-8/1e-9/1e-10): the peak converges only
-/// once the tolerance resolves those grazings (1e-11 vs 1e-12 agree to 2.5e-4; 1e-10 is 2.4e-3
-/// and 1e-9 1.4% off).
-/// That is a property of the paper's reset rule, measured here so users know it.
+/// The mechanistic clutch, measured on Landers (R = 3 m, α = 0.25; `rocklab simulate
+/// --structure rigid --size 3 --alpha 0.25 --device mechanistic --sigma 0.5 --record landers
+/// --duration 10.5 --rtol R [--clutch-frequency-ratio 50]`), peak θ/α:
+///
+/// | rtol | default clutch, 25 p | 50 p (this test's clutch until the default changed) |
+/// |---|---|---|
+/// | 1e-5 (default) | 1.81121e-2 | 1.2174e-2 (−17 %) |
+/// | 1e-7 | 1.81102e-2 | 1.3503e-2 (−8 %) |
+/// | 1e-9 | 1.81109e-2 | 1.4524e-2 (−1.4 %) |
+/// | 1e-11 | 1.811092e-2 | 1.47327e-2 |
+/// | 1e-12 | 1.811092e-2 | 1.47291e-2 |
+///
+/// With the default clutch the peaks converge at the default tolerance (7e-5 off over 10.5 s,
+/// 1.4e-4 over the whole record). With the stiffer clutch the rocking is tiny (θ ~ 0.015 α)
+/// and the re-engagement reset fires at zero crossings of δ̇ that are often grazing, so
+/// whether one happens is decided by tiny perturbations (engagements 54/56/59/62 at rtol
+/// 1e-5/1e-8/1e-9/1e-10): the peak converges only once the tolerance resolves those
+/// grazings. That is a property of the paper's reset rule, not settled here (issue 17): both
+/// behaviours are asserted so a change to either shows.
 #[test]
 fn long_record_chattering_to_rest() {
     let scene = |device: Device, duration: f64| {
@@ -238,27 +251,57 @@ fn long_record_chattering_to_rest() {
         scene
     };
     let mechanistic = Device::Mechanistic(Clutch::paper_default(0.5));
+    let stiff = clutch(|c| c.stiffness = ClutchStiffness::FrequencyRatio(50.0));
     for device in [Device::None, Device::Sequential { sigma: 0.5 }] {
         let r = assert_stable("Landers, R = 3 m, α = 0.25", &scene(device, 80.0), 1e-3);
         assert!(r.counters.impacts > 100, "{:?}", r.counters);
         assert_eq!(r.end_reason, rocklab::model::EndReason::Rest);
     }
-    let early = scene(mechanistic.clone(), 10.5);
+    // The default clutch: converged at the default tolerance, over the strong motion and over
+    // the whole record, and closer at each tighter tolerance.
+    for duration in [10.5, 80.0] {
+        let s = scene(mechanistic.clone(), duration);
+        let reference = run_at(&s, 1e-11).peaks;
+        let error = |rtol: f64| {
+            let p = run_at(&s, rtol).peaks;
+            let rel = |a: f64, b: f64| (a - b).abs() / b;
+            rel(p.rotation, reference.rotation)
+                .max(rel(p.abs_acceleration_g, reference.abs_acceleration_g))
+        };
+        let errors = [
+            error(rocklab::scene::default_rtol()),
+            error(1e-8),
+            error(1e-10),
+        ];
+        println!("default clutch, {duration} s: peak errors at rtol 1e-5/1e-8/1e-10 {errors:?}");
+        assert!(errors[0] < 1e-3, "{duration} s: {errors:?}");
+        assert!(
+            errors[1] < errors[0] && errors[2] < errors[1],
+            "{duration} s: {errors:?}"
+        );
+    }
+    // The stiff clutch: converged only at the tightest tolerances, far off at the default.
+    let early = scene(stiff.clone(), 10.5);
     let (tight, tighter) = (run_at(&early, 1e-11), run_at(&early, 1e-12));
     let change = (tight.peaks.rotation - tighter.peaks.rotation).abs() / tighter.peaks.rotation;
     assert!(
         change < 1e-3,
         "mechanistic peak moved by {change:e} from 1e-11 to 1e-12"
     );
-    for rtol in [1e-6, 1e-9] {
-        let r = run_at(&scene(mechanistic.clone(), 80.0), rtol);
-        assert_eq!(r.end_reason, rocklab::model::EndReason::Rest);
-        assert!(r.end_time < 60.0 && r.counters.impacts > 100, "{r:?}");
-        assert!(
-            r.energy_residual < 1e3 * rtol,
-            "residual {}",
-            r.energy_residual
-        );
+    let loose = run_at(&early, rocklab::scene::default_rtol());
+    let off = (loose.peaks.rotation - tighter.peaks.rotation).abs() / tighter.peaks.rotation;
+    println!("50 p clutch, 10.5 s: peak off by {off:.2e} at the default rtol");
+    for device in [mechanistic, stiff] {
+        for rtol in [1e-6, 1e-9] {
+            let r = run_at(&scene(device.clone(), 80.0), rtol);
+            assert_eq!(r.end_reason, rocklab::model::EndReason::Rest);
+            assert!(r.end_time < 60.0 && r.counters.impacts > 100, "{r:?}");
+            assert!(
+                r.energy_residual < 1e3 * rtol,
+                "residual {}",
+                r.energy_residual
+            );
+        }
     }
 }
 
