@@ -216,20 +216,21 @@ fn step_budget_is_a_clear_error_not_a_hang() {
 /// --structure rigid --size 3 --alpha 0.25 --device mechanistic --sigma 0.5 --record landers
 /// --duration 10.5 --rtol R [--clutch-frequency-ratio 50]`), peak θ/α:
 ///
-/// | rtol | default clutch, 25 p | 50 p (this test's clutch until the default changed) |
+/// | rtol | default clutch, 25 p | 50 p |
 /// |---|---|---|
-/// | 1e-5 (default) | 1.81121e-2 | 1.2174e-2 (−17 %) |
-/// | 1e-7 | 1.81102e-2 | 1.3503e-2 (−8 %) |
-/// | 1e-9 | 1.81109e-2 | 1.4524e-2 (−1.4 %) |
-/// | 1e-11 | 1.811092e-2 | 1.47327e-2 |
-/// | 1e-12 | 1.811092e-2 | 1.47291e-2 |
+/// | 1e-5 (default) | 1.811401e-2 | 1.44456e-2 (−1.9 %; −17 % before the flywheel velocity scale) |
+/// | 1e-7 | 1.811097e-2 | 1.46550e-2 (−0.5 %) |
+/// | 1e-9 | 1.811092e-2 | 1.47298e-2 (+6e-5) |
+/// | 1e-11 | 1.811092e-2 | 1.47290e-2 |
+/// | 1e-12 | 1.811092e-2 | 1.47290e-2 |
 ///
-/// With the default clutch the peaks converge at the default tolerance (7e-5 off over 10.5 s,
-/// 1.4e-4 over the whole record). With the stiffer clutch the rocking is tiny (θ ~ 0.015 α)
-/// and the re-engagement reset fires at zero crossings of δ̇ that are often grazing, so
-/// whether one happens is decided by tiny perturbations (engagements 54/56/59/62 at rtol
-/// 1e-5/1e-8/1e-9/1e-10): the peak converges only once the tolerance resolves those
-/// grazings. That is a property of the paper's reset rule, not settled here (issue 17): both
+/// With the default clutch the peaks converge at the default tolerance (over 10.5 s and over
+/// the whole record). With the stiffer clutch the rocking is tiny (θ ~ 0.015 α) and the
+/// re-engagement reset fires at zero crossings of δ̇ that are often grazing, so whether one
+/// happens is decided by small perturbations (engagements 55/62/62 at rtol 1e-5/1e-7/1e-9):
+/// the peak converges from rtol 1e-9, and is 1.9 % off at the default. Resolving the free
+/// flywheels' velocities at the clutch-deflection scale (`RigidBody::tolerance_scales`) took
+/// that from 17 %; the rest is the paper's reset rule, not settled here (issue 17). Both
 /// behaviours are asserted so a change to either shows.
 #[test]
 fn long_record_chattering_to_rest() {
@@ -288,9 +289,18 @@ fn long_record_chattering_to_rest() {
         change < 1e-3,
         "mechanistic peak moved by {change:e} from 1e-11 to 1e-12"
     );
-    let loose = run_at(&early, rocklab::scene::default_rtol());
-    let off = (loose.peaks.rotation - tighter.peaks.rotation).abs() / tighter.peaks.rotation;
-    println!("50 p clutch, 10.5 s: peak off by {off:.2e} at the default rtol");
+    let off = |rtol: f64| {
+        let p = run_at(&early, rtol).peaks.rotation;
+        (p - tighter.peaks.rotation).abs() / tighter.peaks.rotation
+    };
+    let (at_default, at_1e9) = (off(rocklab::scene::default_rtol()), off(1e-9));
+    println!(
+        "50 p clutch, 10.5 s: peak off by {at_default:.2e} at the default rtol, {at_1e9:.1e} at 1e-9"
+    );
+    assert!(
+        at_1e9 < 1e-3 && at_default < 0.03,
+        "{at_default:e} {at_1e9:e}"
+    );
     for device in [mechanistic, stiff] {
         for rtol in [1e-6, 1e-9] {
             let r = run_at(&scene(device.clone(), 80.0), rtol);
