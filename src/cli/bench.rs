@@ -246,9 +246,9 @@ fn print_method_tables(args: &BenchArgs) -> anyhow::Result<()> {
             args.reference, DOP853_BELOW_RTOL
         );
         println!(
-            "| method | rtol | worst peak err | RHS calls | accepted | rejected | RHS/accepted | time (ms) | ns/RHS all-in | ns/RHS stages | all-in / stages | rotation only: all-in / stages | event calls/step |"
+            "| method | rtol | worst peak err | RHS calls | accepted | rejected | RHS/accepted | time (ms) | ns/RHS all-in | ns/RHS stages | all-in / stages | rotation only: all-in / stages | event calls/step | refine calls/event |"
         );
-        println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+        println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
         for method in [Method::Dp54, Method::Dop853] {
             for &rtol in &args.rtol {
                 let mut s = scene.clone();
@@ -264,7 +264,7 @@ fn print_method_tables(args: &BenchArgs) -> anyhow::Result<()> {
                 let errors = std::array::from_fn(|i| relative_error(got[i], want[i]));
                 let st = result.stats;
                 println!(
-                    "| {} | {:.0e} | {:.1e} | {} | {} | {} | {:.2} | {:.3} | {:.0} | {:.0} | {:.2} | {:.2} | {:.2} |",
+                    "| {} | {:.0e} | {:.1e} | {} | {} | {} | {:.2} | {:.3} | {:.0} | {:.0} | {:.2} | {:.2} | {:.2} | {:.1} |",
                     match method {
                         Method::Dop853 => "dop853",
                         _ => "dp54",
@@ -282,6 +282,7 @@ fn print_method_tables(args: &BenchArgs) -> anyhow::Result<()> {
                         / st.rhs_evals.max(1) as f64,
                     rot_ratio * stage_calls(method, &rot.stats) / rot.stats.rhs_evals.max(1) as f64,
                     st.event_calls as f64 / st.steps.max(1) as f64,
+                    st.refine_calls as f64 / st.events.max(1) as f64,
                 );
             }
         }

@@ -165,9 +165,12 @@ pub struct Stats {
     /// with `Options::time_stages` (for the bench; not persisted).
     #[serde(skip)]
     pub stage_nanos: u64,
-    /// Calls of the system's event functions (all paths; not persisted).
+    /// Calls of the system's event functions (all paths but root refinement; not persisted).
     #[serde(skip)]
     pub event_calls: u64,
+    /// Evaluations of one event function by root refinement (not persisted).
+    #[serde(skip)]
+    pub refine_calls: u64,
 }
 
 impl PartialEq for Stats {
@@ -957,12 +960,29 @@ impl<const N: usize> Integrator<N> {
                 if g_prev[i] == 0.0 {
                     continue; // undetermined sign: adopt the new one below
                 }
-                if sys.event_direction(i).triggers(g_prev[i], g_s[i]) {
-                    let start = (t_prev, g_prev[i], sample == 1 && self.sign_only[i]);
-                    let t_root = refine_root(sys, dense, i, start, t_s, g_s[i]);
-                    if best.is_none_or(|(_, tb)| t_root < tb) {
-                        best = Some((i, t_root));
+                let direction = sys.event_direction(i);
+                if !direction.triggers(g_prev[i], g_s[i]) {
+                    continue;
+                }
+                // Only a crossing before the earliest one found so far matters: one look at
+                // that time decides whether this function has crossed by then, and if so its
+                // bracket ends there (refining it over the whole interval cost ~15 calls).
+                let end = match best {
+                    None => (t_s, g_s[i]),
+                    Some((_, t_best)) => {
+                        let g_best = sys.event(i, t_best, &dense.state(t_best));
+                        self.stats.refine_calls += 1;
+                        if !direction.triggers(g_prev[i], g_best) {
+                            continue;
+                        }
+                        (t_best, g_best)
                     }
+                };
+                let start = (t_prev, g_prev[i], sample == 1 && self.sign_only[i]);
+                let (t_root, calls) = refine_root(sys, dense, i, start, end.0, end.1);
+                self.stats.refine_calls += calls;
+                if best.is_none_or(|(_, tb)| t_root < tb) {
+                    best = Some((i, t_root));
                 }
             }
             if best.is_some() {
@@ -1014,7 +1034,7 @@ fn no_root_inside((a, tracked): (f64, f64), da: f64, b: f64, db: f64) -> bool {
 
 /// Illinois (modified regula falsi) on the dense interpolant, from the bracket's start
 /// (a, g(a), whether g(a) is only a sign) to (b, g(b)). Returns the right end of the final
-/// bracket, where the function already has its post-crossing sign.
+/// bracket, where the function already has its post-crossing sign, and the evaluations made.
 fn refine_root<const N: usize, S: OdeSystem<N>>(
     sys: &S,
     dense: &Dense<N>,
@@ -1022,8 +1042,9 @@ fn refine_root<const N: usize, S: OdeSystem<N>>(
     (mut a, mut ga, sign_only): (f64, f64, bool),
     mut b: f64,
     mut gb: f64,
-) -> f64 {
+) -> (f64, u64) {
     let tol = 4.0 * f64::EPSILON * b.abs().max(dense.h.abs());
+    let mut calls = 0;
     // How many times in a row the same end was replaced (+: b, −: a). A start value that is
     // only a sign has no scale for a secant: bisect until it is replaced.
     let mut streak: i32 = if sign_only { 3 } else { 0 };
@@ -1048,6 +1069,7 @@ fn refine_root<const N: usize, S: OdeSystem<N>>(
             c = 0.5 * (a + b);
         }
         let gc = sys.event(index, c, &dense.state(c));
+        calls += 1;
         // Exactly on the surface counts as not yet across: the point returned is always one
         // whose value was seen on the post-crossing side. (Returning c + tol unseen, as this
         // did, could restart a step short of the crossing where the function is rounding
@@ -1068,7 +1090,7 @@ fn refine_root<const N: usize, S: OdeSystem<N>>(
             streak = streak.min(0) - 1;
         }
     }
-    b
+    (b, calls)
 }
 
 #[cfg(test)]
@@ -1431,8 +1453,9 @@ mod tests {
         // 0.01: the start's tracked value is the sign +1, four orders off the function's scale.
         let sys = EventOfTime(|t: f64| 1e-4 * t * (0.01 - t) / 0.01, Default::default());
         let g_end = (sys.0)(1.0);
-        let root = refine_root(&sys, &unit_step(), 0, (0.0, 1.0, true), 1.0, g_end);
+        let (root, calls) = refine_root(&sys, &unit_step(), 0, (0.0, 1.0, true), 1.0, g_end);
         assert!((root - 0.01).abs() < 1e-15 && (sys.0)(root) < 0.0, "{root}");
+        assert_eq!(calls, u64::from(sys.1.get()));
         // Illinois from (0, +1) took 28 evaluations here (40 in a chattering clutch scene);
         // bisecting until the start is replaced, then Illinois, takes 15.
         assert!(sys.1.get() <= 16, "{} evaluations", sys.1.get());
@@ -1454,7 +1477,7 @@ mod tests {
             },
             Default::default(),
         );
-        let root = refine_root(&sys, &unit_step(), 0, (0.0, -1.0, false), 1.0, 1.0);
+        let (root, _) = refine_root(&sys, &unit_step(), 0, (0.0, -1.0, false), 1.0, 1.0);
         assert!((0.6..0.6 + 1e-15).contains(&root), "{root}");
         assert_eq!((sys.0)(root), 1.0);
     }
