@@ -978,7 +978,9 @@ impl<const N: usize> Integrator<N> {
                         (t_best, g_best)
                     }
                 };
-                let start = (t_prev, g_prev[i], sample == 1 && self.sign_only[i]);
+                // (The flag is cleared where g_prev[i] is replaced by a sample, so it holds for
+                // a later sub-interval too when the function sat exactly on zero until then.)
+                let start = (t_prev, g_prev[i], self.sign_only[i]);
                 let (t_root, calls) = refine_root(sys, dense, i, start, end.0, end.1);
                 self.stats.refine_calls += calls;
                 if best.is_none_or(|(_, tb)| t_root < tb) {
@@ -1009,15 +1011,18 @@ impl<const N: usize> Integrator<N> {
 ///
 /// `a` is (value, tracked sign). A start exactly on zero (the function whose event was just
 /// applied) has c₀ = 0 and passes when g leaves zero with its tracked sign (s·da > 0) and
-/// stays on that side: the scan would see no sign change there either.
+/// stays on that side: the scan would see no sign change there either. An untracked zero
+/// (tracked 0) takes the side g leaves to, as the scan adopts whatever sign it samples next.
 fn no_root_inside((a, tracked): (f64, f64), da: f64, b: f64, db: f64) -> bool {
-    let s = if a == 0.0 {
+    let s = if a != 0.0 {
+        a.signum()
+    } else if tracked != 0.0 {
         tracked.signum()
     } else {
-        a.signum()
+        da.signum()
     };
-    // A strict common sign at the ends (NaN and an untracked zero fail here), and a zero
-    // start leaving on its side.
+    // A strict common sign at the ends (NaN fails here), and a zero start leaving on its side
+    // (da = 0 fails).
     let ends_agree = s * b > 0.0 && (a != 0.0 || s * da > 0.0);
     if !ends_agree {
         return false;
@@ -1504,6 +1509,10 @@ mod tests {
         assert!(no_root_inside((0.0, -1.0), -1.0, -0.5, 0.2));
         assert!(!no_root_inside((0.0, -1.0), 1.0, 1.0, 1.0));
         assert!(!no_root_inside((0.0, 1.0), 0.0, 1.0, 1.0));
+        // Untracked (the scan would adopt either side): clear leaving either way and staying.
+        assert!(no_root_inside((0.0, 0.0), -1.0, -1.0, -1.0));
+        assert!(no_root_inside((0.0, 0.0), 1.0, 1.0, 1.0));
+        assert!(!no_root_inside((0.0, 0.0), 0.0, 1.0, 1.0));
         // Leaving on its side but back across zero (τ(1 − τ)·4 − 0.1τ-ish: ends below zero).
         assert!(!no_root_inside((0.0, 1.0), 4.0, -0.1, -4.0));
         // Leaving on its side, then a dip that may cross before climbing back.
