@@ -983,7 +983,11 @@ impl<const N: usize> Integrator<N> {
                 let start = (t_prev, g_prev[i], self.sign_only[i]);
                 let (t_root, calls) = refine_root(sys, dense, i, start, end.0, end.1);
                 self.stats.refine_calls += calls;
-                if best.is_none_or(|(_, tb)| t_root < tb) {
+                // Roots within the refinement's resolution of each other are one time: the
+                // lower index keeps it, as when every function was refined over the same
+                // bracket (a bracket ending at t_best can return a point just short of it).
+                let resolution = 4.0 * f64::EPSILON * t_s.abs().max(dense.h.abs());
+                if best.is_none_or(|(_, tb)| t_root < tb - resolution) {
                     best = Some((i, t_root));
                 }
             }
