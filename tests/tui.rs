@@ -39,8 +39,13 @@ pub(crate) fn scratch_dir() -> PathBuf {
 
 /// An app whose runs write under `out_root` (as `out/` for the real workbench).
 pub(crate) fn new_app_in(out_root: PathBuf) -> App {
+    app_for(Study::builtin_default(), out_root)
+}
+
+/// A deterministic app on `study` running two jobs, its runs under `out_root`.
+fn app_for(study: Study, out_root: PathBuf) -> App {
     App::new(
-        Study::builtin_default(),
+        study,
         None,
         Options {
             deterministic: true,
@@ -327,15 +332,7 @@ fn scene_screen_draws_a_fixed_scene() {
 #[test]
 fn scene_screen_shows_the_whole_fig8_history() {
     let (study, point) = crate::util::fig12_study_and_fig8_point();
-    let mut app = App::new(
-        study,
-        None,
-        Options {
-            deterministic: true,
-            jobs: Some(2),
-            out_root: scratch_dir(),
-        },
-    );
+    let mut app = app_for(study, scratch_dir());
     app.scene.open(point);
     key(&mut app, KeyCode::Char('4'));
     assert_eq!(app.screen, Screen::Scene);
@@ -631,15 +628,7 @@ fn cancel_keeps_what_finished() {
     // starting and confirming the stop (at the default tolerance it can finish first).
     let mut study = Study::builtin_default();
     study.rtol = 1e-12;
-    let mut app = App::new(
-        study,
-        None,
-        Options {
-            deterministic: true,
-            jobs: Some(2),
-            out_root: scratch_dir(),
-        },
-    );
+    let mut app = app_for(study, scratch_dir());
     key(&mut app, KeyCode::Char('r'));
     // Before the first tick nothing has been reported: a reproducible frame of a running sweep.
     assert!(app.is_running());
