@@ -443,6 +443,40 @@ fn families() -> Vec<PulseShape> {
     ]
 }
 
+/// `Pulse::accel_bound` bounds |a_g| on any interval (the acceleration peak searches skip
+/// steps on it), and is tight to first order: on short intervals it is the larger end value
+/// plus at most the slope times the length, and the slope is within 3 % of the steepest.
+#[test]
+fn pulse_bound_holds_on_every_interval_and_is_tight_on_short_ones() {
+    let (a, w) = (-2.3, 5.0);
+    for shape in families() {
+        let p = Pulse::new(shape, a, w);
+        let n: usize = 20_000;
+        let dt = p.end() / n as f64;
+        let steepest = (0..n)
+            .map(|k| (p.accel((k + 1) as f64 * dt) - p.accel(k as f64 * dt)).abs() / dt)
+            .fold(0.0, f64::max);
+        for width in [1, 7, 50, 400, n] {
+            for k in (0..=n - width).step_by(97) {
+                let (t0, t1) = (k as f64 * dt, (k + width) as f64 * dt);
+                let bound = p.accel_bound(t0, t1);
+                let fine = (0..=64)
+                    .map(|j| p.accel(t0 + (t1 - t0) * j as f64 / 64.0).abs())
+                    .fold(0.0, f64::max);
+                assert!(bound >= fine, "{shape:?} on [{t0}, {t1}]: {bound} < {fine}");
+                let ends = p.accel(t0).abs().max(p.accel(t1).abs());
+                assert!(
+                    bound <= ends + 1.03 * steepest * (t1 - t0) / 2.0 + 1e-12,
+                    "{shape:?}"
+                );
+            }
+        }
+        assert!(
+            p.accel_bound(-2.0, -1.0) == 0.0 && p.accel_bound(p.end() + 1.0, p.end() + 2.0) == 0.0
+        );
+    }
+}
+
 #[test]
 fn every_family_has_zero_mean_and_the_requested_peak() {
     let (a, w) = (-2.3, 5.0);

@@ -83,6 +83,15 @@ impl Motion {
         }
     }
 
+    /// An upper bound of |a_g| over [t0, t1], cheaper than [`Motion::peak_abs`] for a pulse
+    /// (a record's peak is exact and cheap: the samples in the interval).
+    pub fn accel_bound(&self, t0: f64, t1: f64) -> f64 {
+        match self {
+            Motion::Pulse(p) => p.accel_bound(t0, t1),
+            Motion::Record(r) => r.peak_abs(t0, t1),
+        }
+    }
+
     /// Peak |a_g| over [t0, t1].
     pub fn peak_abs(&self, t0: f64, t1: f64) -> f64 {
         match self {

@@ -38,6 +38,8 @@ pub struct Pulse {
     pub omega: f64,
     /// max |unit shape| before normalisation (1 for sine, cosine and the symmetric Ricker).
     norm: f64,
+    /// An upper bound of |d(unit shape)/d(phase)| before normalisation ([`Pulse::accel_bound`]).
+    slope: f64,
 }
 
 impl Pulse {
@@ -52,12 +54,38 @@ impl Pulse {
                 max_abs(|s| mp_accel_shape(s, gamma, nu), -gamma * PI, gamma * PI)
             }
         };
+        // Maxima of |f'(phase)|, from f'' = 0: Ricker f = (1 − c²/2)e^(−c²/4),
+        // f' = c(c²/4 − 3/2)e^(−c²/4), largest at c² = 6 − √24 (0.9760); antisymmetric
+        // Ricker f = g(c/√3), g' = (6x² − x⁴ − 3)e^(−x²/2), largest at x = 0 (3/√3 = √3);
+        // MP: the phase-scan of its f' (the scan that finds `norm`; 1e-9 for its roundoff).
+        let slope = match shape {
+            PulseShape::Sine | PulseShape::Cosine => 1.0,
+            PulseShape::Ricker => 0.977,
+            PulseShape::AntisymmetricRicker => 3f64.sqrt(),
+            PulseShape::MavroeidisPapageorgiou { gamma, nu } => {
+                (1.0 + 1e-9) * max_abs(|s| mp_accel_slope(s, gamma, nu), -gamma * PI, gamma * PI)
+            }
+        };
         Pulse {
             shape,
             amplitude,
             omega,
             norm,
+            slope,
         }
+    }
+
+    /// An upper bound of |a_g| on [t0, t1], from the end values and the largest slope L:
+    /// |a(t)| ≤ min(|a(t0)| + L(t − t0), |a(t1)| + L(t1 − t)) ≤ (|a(t0)| + |a(t1)| + L h)/2,
+    /// and never above the peak A. Two evaluations of a_g, against a scan's dozens.
+    pub fn accel_bound(&self, t0: f64, t1: f64) -> f64 {
+        let peak = self.amplitude.abs();
+        if t1 < 0.0 || t0 > self.end() {
+            return 0.0;
+        }
+        let slope = peak * self.omega * self.slope / self.norm;
+        let lipschitz = 0.5 * (self.accel(t0).abs() + self.accel(t1).abs() + slope * (t1 - t0));
+        lipschitz.min(peak)
     }
 
     /// Mavroeidis–Papageorgiou pulse with prevailing period Tp (s) and peak ground velocity
@@ -130,6 +158,13 @@ fn mp_velocity_shape(s: f64, gamma: f64, nu: f64) -> f64 {
 /// dv/ds of [`mp_velocity_shape`].
 fn mp_accel_shape(s: f64, gamma: f64, nu: f64) -> f64 {
     -0.5 * ((s / gamma).sin() / gamma * (s + nu).cos() + (1.0 + (s / gamma).cos()) * (s + nu).sin())
+}
+
+/// d/ds of [`mp_accel_shape`].
+fn mp_accel_slope(s: f64, gamma: f64, nu: f64) -> f64 {
+    let (sg, cg) = (s / gamma).sin_cos();
+    let (sn, cn) = (s + nu).sin_cos();
+    -0.5 * ((1.0 + cg * (1.0 + 1.0 / (gamma * gamma))) * cn - 2.0 / gamma * sg * sn)
 }
 
 /// max |f| on [a, b] for a shape of the phase s (period 2π): the pulses' own scan.

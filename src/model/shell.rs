@@ -218,15 +218,16 @@ pub trait Body {
     );
     /// Rotation, deformation and drift peaks at one point.
     fn observe_point(&self, m: &Mode, measures: Measures, y: &[f64], peaks: &mut Peaks);
-    /// Upper bounds of |absolute acceleration|/g and of |θ̈|/p² over a step on which the
-    /// ground is at rest, given bounds of |y_i| (`value`) and of the interpolant's |ẏ_i|
-    /// (`rate`) over the step; None where the body has no cheap bound (the peak is then
-    /// searched).
-    fn quiet_acceleration_bounds(
+    /// Upper bounds of |absolute acceleration|/g and of |θ̈|/p² (as the peak searches read
+    /// them, from the interpolant) over a step, given bounds of |y_i| (`value`) and of the
+    /// interpolant's |ẏ_i| (`rate`) over the step and of |a_g| (`ground`); None where the
+    /// body has no cheap bound (the peak is then searched).
+    fn acceleration_bounds(
         &self,
         _m: &Mode,
         _value: impl Fn(usize) -> f64,
         _rate: impl Fn(usize) -> f64,
+        _ground: f64,
     ) -> (Option<f64>, Option<f64>) {
         (None, None)
     }
@@ -691,6 +692,11 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
         self.n_events
     }
 
+    /// Body and flywheel states; the energy accumulators after them are no event's input.
+    fn event_inputs(&self) -> usize {
+        self.mode.layout.accumulator(Accumulator::Input)
+    }
+
     fn event_direction(&self, index: usize) -> Direction {
         match self.events[index] {
             Ev::Impact => Direction::Falling,
@@ -893,15 +899,13 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
             .measures
             .abs_acceleration
             .then_some(self.peaks.abs_acceleration_g);
-        // The ground at rest over the whole step (a record's last sample may be non-zero).
-        let quiet = || {
-            dense.t0 >= self.mode.motion.end() && self.mode.motion.peak_abs(dense.t0, t_end) == 0.0
-        };
-        if (angular_floor.is_some() || abs_floor.is_some()) && quiet() {
-            let (abs_bound, angular_bound) = self.body.quiet_acceleration_bounds(
+        if angular_floor.is_some() || abs_floor.is_some() {
+            let ground = self.mode.motion.accel_bound(dense.t0, t_end);
+            let (abs_bound, angular_bound) = self.body.acceleration_bounds(
                 &self.mode,
                 |i| dense.bound(i),
                 |i| dense.rate_bound(i),
+                ground,
             );
             // refine_sampled leaves the peak unchanged when every sample is below this.
             let unreachable = |bound: Option<f64>, floor: f64| {

@@ -74,6 +74,11 @@ pub trait OdeSystem<const N: usize> {
         Direction::Either
     }
     fn events(&self, _t: f64, _y: &[f64; N], _g: &mut [f64]) {}
+    /// How many leading components of the state the event functions read (the rest, energy
+    /// accumulators say, are left unevaluated on the dense output in the event search).
+    fn event_inputs(&self) -> usize {
+        N
+    }
     /// Event function `index` alone at (t, y): what the root refinement reads. By default all
     /// of them are computed; a system whose functions cost more together overrides it.
     fn event(&self, index: usize, t: f64, y: &[f64; N]) -> f64 {
@@ -287,19 +292,28 @@ impl<const N: usize> Dense<N> {
 
     /// State at time t (t within the step).
     pub fn state(&self, t: f64) -> [f64; N] {
+        self.state_head(t, N)
+    }
+
+    /// The first `n` components of the state at time t; the rest hold the step's start values
+    /// (for readers of the leading components only, [`OdeSystem::event_inputs`]).
+    #[inline]
+    pub fn state_head(&self, t: f64, n: usize) -> [f64; N] {
         let th = self.tau(t);
         let th1 = 1.0 - th;
         let r = &self.r;
+        let mut y = r[0];
         if self.top == 4 {
-            std::array::from_fn(|i| {
-                r[0][i] + th * (r[1][i] + th1 * (r[2][i] + th * (r[3][i] + th1 * r[4][i])))
-            })
+            for i in 0..n.min(N) {
+                y[i] += th * (r[1][i] + th1 * (r[2][i] + th * (r[3][i] + th1 * r[4][i])));
+            }
         } else {
-            std::array::from_fn(|i| {
+            for i in 0..n.min(N) {
                 let inner = r[4][i] + th * (r[5][i] + th1 * (r[6][i] + th * r[7][i]));
-                r[0][i] + th * (r[1][i] + th1 * (r[2][i] + th * (r[3][i] + th1 * inner)))
-            })
+                y[i] += th * (r[1][i] + th1 * (r[2][i] + th * (r[3][i] + th1 * inner)));
+            }
         }
+        y
     }
 
     /// No |y_i(t)| of the interpolant on the step exceeds this. In the nested form
@@ -330,14 +344,27 @@ impl<const N: usize> Dense<N> {
     pub fn derivative(&self, t: f64) -> [f64; N] {
         let th = self.tau(t);
         let th1 = 1.0 - th;
+        let r = &self.r;
+        if self.top == 4 {
+            // v3 = r3 + (1−τ)r4, v2 = r2 + τv3, v1 = r1 + (1−τ)v2, y = r0 + τv1.
+            return std::array::from_fn(|i| {
+                let v3 = r[3][i] + th1 * r[4][i];
+                let dv3 = -r[4][i];
+                let v2 = r[2][i] + th * v3;
+                let dv2 = v3 + th * dv3;
+                let v1 = r[1][i] + th1 * v2;
+                let dv1 = -v2 + th1 * dv2;
+                (v1 + th * dv1) / self.h
+            });
+        }
         std::array::from_fn(|i| {
             // Inside out: v_k = r_k + m_k v_(k+1), m_k = τ for even k, 1 − τ for odd k.
-            let mut v = self.r[self.top][i];
+            let mut v = r[self.top][i];
             let mut dv = 0.0;
             for k in (0..self.top).rev() {
                 let (m, dm) = if k % 2 == 0 { (th, 1.0) } else { (th1, -1.0) };
                 dv = dm * v + m * dv;
-                v = self.r[k][i] + m * v;
+                v = r[k][i] + m * v;
             }
             dv / self.h
         })
@@ -951,7 +978,11 @@ impl<const N: usize> Integrator<N> {
             match at_end {
                 Some(g_end) if sample == EVENT_SAMPLES => g_s = *g_end,
                 _ => {
-                    sys.events(t_s, &dense.state(t_s), &mut g_s[..m]);
+                    sys.events(
+                        t_s,
+                        &dense.state_head(t_s, sys.event_inputs()),
+                        &mut g_s[..m],
+                    );
                     self.stats.event_calls += 1;
                 }
             }
@@ -970,7 +1001,8 @@ impl<const N: usize> Integrator<N> {
                 let end = match best {
                     None => (t_s, g_s[i]),
                     Some((_, t_best)) => {
-                        let g_best = sys.event(i, t_best, &dense.state(t_best));
+                        let g_best =
+                            sys.event(i, t_best, &dense.state_head(t_best, sys.event_inputs()));
                         self.stats.refine_calls += 1;
                         if !direction.triggers(g_prev[i], g_best) {
                             continue;
@@ -1077,7 +1109,7 @@ fn refine_root<const N: usize, S: OdeSystem<N>>(
         if !(c > a && c < b) {
             c = 0.5 * (a + b);
         }
-        let gc = sys.event(index, c, &dense.state(c));
+        let gc = sys.event(index, c, &dense.state_head(c, sys.event_inputs()));
         calls += 1;
         // Exactly on the surface counts as not yet across: the point returned is always one
         // whose value was seen on the post-crossing side. (Returning c + tol unseen, as this
