@@ -512,6 +512,14 @@ impl Scene {
                     damping,
                 } = coupling
                 {
+                    // A flywheel without inertia has no dynamics (its equation divides by
+                    // mr = σm): the spring-coupled inerter needs σ > 0.
+                    check(
+                        "sigma",
+                        *sigma,
+                        *sigma > 0.0,
+                        "must be > 0 for a flywheel coupling (σ = 0 is no inerter: device None)",
+                    )?;
                     positive("rho", *rho)?;
                     check_stiffness(*stiffness)?;
                     check_damping(*damping)?;

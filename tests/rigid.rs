@@ -507,3 +507,37 @@ fn auto_form_uses_slender_only_below_the_tolerance() {
         assert!(rel(a.peaks.rotation, e.peaks.rotation) < rtol.max(1e-6));
     }
 }
+
+/// A flywheel-coupled inerter with σ = 0 (a flywheel without inertia, whose equation divides
+/// by σm) is refused by name before it runs, for either damping form, instead of running on
+/// NaN (ξθ gave c̄ = 2ξθ√(0/0)).
+#[test]
+fn a_flywheel_coupling_without_inertia_is_refused_by_name() {
+    for damping in [Damping::XiTheta(0.02), Damping::CBar(1.0)] {
+        let scene = fig8(Device::Inerter {
+            sigma: 0.0,
+            coupling: Coupling::Flywheel {
+                stiffness: ClutchStiffness::FrequencyRatio(50.0),
+                rho: 0.05,
+                damping,
+            },
+        });
+        let err = scene.validate().unwrap_err();
+        assert_eq!(err.field, "sigma");
+        assert!(err.expected.contains("device None"), "{}", err.expected);
+        let library = rocklab::excitation::library::global().unwrap();
+        assert!(sim::run(&scene, library).is_err(), "{damping:?}");
+    }
+    // The rigid coupling and the sequential law stay valid at σ = 0 (Housner's block).
+    for device in [
+        Device::Inerter {
+            sigma: 0.0,
+            coupling: Coupling::Rigid,
+        },
+        Device::Sequential { sigma: 0.0 },
+    ] {
+        let r = run(&fig8(device));
+        let bare = run(&fig8(Device::None));
+        assert!(rel(r.peaks.rotation, bare.peaks.rotation) < 1e-6);
+    }
+}
