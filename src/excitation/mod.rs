@@ -78,7 +78,9 @@ impl Motion {
     /// First time ≥ t0 at which |a_g| exceeds `level`, if any.
     pub fn first_exceedance(&self, t0: f64, level: f64) -> Option<f64> {
         match self {
-            Motion::Pulse(p) => scan_exceedance(|t| p.accel(t), t0, p.end(), level, p.period()),
+            Motion::Pulse(p) => p
+                .first_exceedance_closed(t0, level)
+                .unwrap_or_else(|| scan_exceedance(|t| p.accel(t), t0, p.end(), level, p.period())),
             Motion::Record(r) => r.first_exceedance(t0, level),
         }
     }
@@ -95,7 +97,9 @@ impl Motion {
     /// Peak |a_g| over [t0, t1].
     pub fn peak_abs(&self, t0: f64, t1: f64) -> f64 {
         match self {
-            Motion::Pulse(p) => scan_peak(|t| p.accel(t), t0, t1.min(p.end()), p.period()),
+            Motion::Pulse(p) => p
+                .peak_abs_closed(t0, t1)
+                .unwrap_or_else(|| scan_peak(|t| p.accel(t), t0, t1.min(p.end()), p.period())),
             Motion::Record(r) => r.peak_abs(t0, t1),
         }
     }
@@ -213,4 +217,49 @@ fn scan_peak(a: impl Fn(f64) -> f64, t0: f64, t1: f64, period: f64) -> f64 {
         false
     });
     peak
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pulse::PulseShape;
+
+    /// The sine and cosine pulses' closed forms agree with the scans every other shape uses,
+    /// over start times, levels and intervals that cut arcs and crests anywhere.
+    #[test]
+    fn closed_forms_match_the_scans_for_sine_and_cosine() {
+        for shape in [PulseShape::Sine, PulseShape::Cosine] {
+            for amplitude in [2.7, -1.3] {
+                let p = Pulse::new(shape, amplitude, 3.1);
+                let (end, period) = (p.end(), p.period());
+                for i in 0..=60 {
+                    let t0 = end * (i as f64 / 50.0) - 0.1 * end;
+                    for j in 0..=20 {
+                        let level = amplitude.abs() * j as f64 / 19.5;
+                        let closed = p.first_exceedance_closed(t0, level).expect("closed form");
+                        let scanned =
+                            scan_exceedance(|t| p.accel(t), t0.max(0.0), end, level, period);
+                        match (closed, scanned) {
+                            (Some(c), Some(s)) => {
+                                assert!(
+                                    (c - s).abs() < 1e-12 * end,
+                                    "{shape:?} {t0} {level}: {c} vs {s}"
+                                );
+                                assert!(p.accel(c).abs() > level && c >= t0);
+                            }
+                            (None, None) => {}
+                            other => panic!("{shape:?} {t0} {level}: {other:?}"),
+                        }
+                        let t1 = t0 + end * j as f64 / 37.0;
+                        let closed = p.peak_abs_closed(t0, t1).unwrap();
+                        let scanned = scan_peak(|t| p.accel(t), t0.max(0.0), t1.min(end), period);
+                        assert!(
+                            (closed - scanned).abs() < 1e-12 * amplitude.abs(),
+                            "{shape:?} [{t0}, {t1}]: {closed} vs {scanned}"
+                        );
+                    }
+                }
+            }
+        }
+    }
 }

@@ -141,6 +141,63 @@ impl Pulse {
         self.amplitude * unit / self.norm
     }
 
+    /// For the sine and cosine pulses, the first time ≥ t0 at which |a_g| exceeds `level`,
+    /// in closed form (`Some(None)`: never); `None` for the other shapes, which are scanned.
+    /// |sin φ| > L on φ mod π ∈ (asin L, π − asin L), |cos φ| > L off [acos L, π − acos L]:
+    /// the answer is t0 itself or the first start of such an arc, moved up by ulps until
+    /// |a_g| > level there in floating point (a wake must find the ground past its level).
+    pub fn first_exceedance_closed(&self, t0: f64, level: f64) -> Option<Option<f64>> {
+        let first_arc = match self.shape {
+            PulseShape::Sine => (level / self.amplitude.abs()).asin(),
+            PulseShape::Cosine => PI - (level / self.amplitude.abs()).acos(),
+            _ => return None,
+        };
+        let (end, exceeds) = (self.end(), |t: f64| self.accel(t).abs() > level);
+        if t0 >= end || level >= self.amplitude.abs() {
+            return Some(None);
+        }
+        if exceeds(t0.max(0.0)) {
+            return Some(Some(t0.max(0.0)));
+        }
+        let phase0 = self.omega * t0.max(0.0);
+        // The arcs start at first_arc + kπ; the first at or after phase0.
+        let k = ((phase0 - first_arc) / PI).ceil().max(0.0);
+        let mut t = (first_arc + k * PI) / self.omega;
+        for _ in 0..64 {
+            if t > end {
+                return Some(None);
+            }
+            if exceeds(t) && t >= t0 {
+                return Some(Some(t));
+            }
+            t = t.next_up();
+        }
+        // Rounding of the arc's start beyond 64 ulps: not expected; the scan decides.
+        None
+    }
+
+    /// For the sine and cosine pulses, max |a_g| on [t0, t1] in closed form: the ends, or A
+    /// where a crest (sine: φ = π/2 + kπ, cosine: φ = kπ) lies inside; `None` for the others.
+    pub fn peak_abs_closed(&self, t0: f64, t1: f64) -> Option<f64> {
+        let crest0 = match self.shape {
+            PulseShape::Sine => 0.5 * PI,
+            PulseShape::Cosine => 0.0,
+            _ => return None,
+        };
+        let (t0, t1) = (t0.max(0.0), t1.min(self.end()));
+        if t1 <= t0 {
+            return Some(0.0); // as the scans: an empty interval has no peak
+        }
+        let ends = self.accel(t0).abs().max(self.accel(t1).abs());
+        let k = ((self.omega * t0 - crest0) / PI).ceil();
+        let crest = (crest0 + k * PI) / self.omega;
+        Some(if crest <= t1 {
+            ends.max(self.amplitude.abs())
+        } else {
+            ends
+        })
+    }
+
     pub fn next_breakpoint(&self, t: f64) -> Option<f64> {
         (t < self.end()).then(|| self.end())
     }
