@@ -883,11 +883,12 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
 
     /// The acceleration peaks are the largest of 4 + 1 samples per step, refined around the
     /// best one when it reaches the running peak ([`refine_sampled`]). The samples of both
-    /// share one state, one set of kinematics and one right-hand side. Once the ground has
-    /// stopped, a step whose bound ([`Body::quiet_acceleration_bounds`], from bounds of the
-    /// interpolant over the whole step) lies below the level at which the search could change
-    /// the peak is skipped: every sample, and every point the refinement visits, lies below
-    /// it too, so the result is the same as searching.
+    /// share one state, one set of kinematics and one right-hand side. A step whose bound
+    /// ([`Body::acceleration_bounds`], from bounds of the interpolant over the whole step and,
+    /// while the ground moves, of |a_g|: [`Motion::accel_bound`]) lies below the level at
+    /// which the search could change the peak is skipped: every sample, and every point the
+    /// refinement visits, lies below it too, so the result is the same as searching (for
+    /// |θ̈| up to the margin the rigid block's bound documents).
     fn observe_step(&mut self, dense: &Dense<N>, t_end: f64) {
         self.body
             .observe_step(&self.mode, self.measures, dense, t_end, &mut self.peaks);
