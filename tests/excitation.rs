@@ -475,6 +475,15 @@ fn pulse_bound_holds_on_every_interval_and_is_tight_on_short_ones() {
             p.accel_bound(-2.0, -1.0) == 0.0 && p.accel_bound(p.end() + 1.0, p.end() + 2.0) == 0.0
         );
     }
+    // Across the cosine's jumps at 0 and at its end (where the phase may round past 2π and
+    // a_g read 0), for frequencies where it does and does not.
+    for w in [3.1, 5.0, 7.3] {
+        let p = Pulse::new(PulseShape::Cosine, a, w);
+        let (end, h) = (p.end(), 1e-3 / w);
+        for (t0, t1) in [(-h, h), (0.0, h), (end - h, end), (end - h, end + h)] {
+            assert!(p.accel_bound(t0, t1) >= a.abs(), "ω {w} on [{t0}, {t1}]");
+        }
+    }
 }
 
 #[test]

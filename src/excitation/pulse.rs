@@ -83,6 +83,11 @@ impl Pulse {
         if t1 < 0.0 || t0 > self.end() {
             return 0.0;
         }
+        // The cosine jumps at both ends (and `accel` may read 0 or A at `end` by rounding of
+        // the phase): no Lipschitz bound across them.
+        if self.shape == PulseShape::Cosine && (t0 <= 0.0 || t1 >= self.end()) {
+            return peak;
+        }
         let slope = peak * self.omega * self.slope / self.norm;
         let lipschitz = 0.5 * (self.accel(t0).abs() + self.accel(t1).abs() + slope * (t1 - t0));
         lipschitz.min(peak)
@@ -161,8 +166,10 @@ impl Pulse {
         }
         let phase0 = self.omega * t0.max(0.0);
         // The arcs start at first_arc + kπ; the first at or after phase0.
-        let k = ((phase0 - first_arc) / PI).ceil().max(0.0);
-        let mut t = (first_arc + k * PI) / self.omega;
+        // (1e-9 back: t0 a few ulps into an arc whose start rounds past |a_g| ≤ level must
+        // not skip to the next arc.)
+        let k = ((phase0 - first_arc) / PI - 1e-9).ceil().max(0.0);
+        let mut t = ((first_arc + k * PI) / self.omega).max(t0);
         for _ in 0..64 {
             if t > end {
                 return Some(None);
