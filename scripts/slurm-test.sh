@@ -260,7 +260,9 @@ same_results() { # merged dir, single-run dir
 # ---------------------------------------------------------------- A: the README's command, untouched
 study=studies/fig24_records.ron
 say "A. single run of $study for reference"
+t0=$(date +%s%N)
 "$bin" run "$study" --out "$work/a-single" --quiet 2>&1 | tail -1 | sed 's/^/    /'
+single_ms=$((($(date +%s%N) - t0) / 1000000))
 [ -f "$work/a-single/results.csv" ] || fail "the single run wrote no results.csv"
 submit "$study" "$work/a" --tasks 4
 wait_for 600 "merge job $merge_id" job_ended "$merge_id"
@@ -273,12 +275,17 @@ done
 same_results "$work/a" "$work/a-single"
 
 # ---------------------------------------------------------------- B: a task stopped mid-run, resumed
-# fig24 with 6× the ωn points, so a task runs long enough to be caught mid-run.
+# fig24 with k× the ωn points, k sized from part A's single run so that a task runs about 30 s
+# here, long enough to be caught mid-run however fast rocklab gets (a fixed 6× once finished in
+# under 6 s and the test raced it).
+grow=$(((30000 + single_ms - 1) / (single_ms > 0 ? single_ms : 1)))
+grow=$((grow < 6 ? 6 : grow > 400 ? 400 : grow))
 big=$work/fig24_big.ron
-sed -E 's/(omega_n: *\(from: *[^,]+, *to: *[^,]+, *steps: *)[0-9]+/\1240/; s/name: *"fig24_records"/name: "fig24_big"/' \
+sed -E "s/(omega_n: *\(from: *[^,]+, *to: *[^,]+, *steps: *)[0-9]+/\1$((40 * grow))/; s/name: *\"fig24_records\"/name: \"fig24_big\"/" \
   "$study" >"$big"
 scenes=$("$bin" run "$big" --dry-run | sed -n 's/.*: \([0-9]*\) scenes in.*/\1/p')
 [ "${scenes:-0}" -ge 3000 ] || fail "could not enlarge $study for part B (got ${scenes:-no} scenes; its omega_n range changed?)"
+say "   part A's single run took $single_ms ms, so part B runs $grow× its ωn points"
 say "B. single run of the enlarged study ($scenes scenes) for reference"
 t0=$(date +%s)
 "$bin" run "$big" --out "$work/b-single" --quiet 2>&1 | tail -1 | sed 's/^/    /'
@@ -286,17 +293,15 @@ say "   (single run: $(($(date +%s) - t0)) s on $cpus CPUs)"
 submit "$big" "$work/b" --tasks 2
 victim="${array_id}_1"
 victim_log() { ls "$work"/b/slurm/logs/array-"${array_id}"_1.log 2>/dev/null; }
-# Mid-run: rocklab has reported progress past its first line, or has run for 6 s.
-running_since=""
+# Mid-run: the task's journal holds at least 5% of its shard (its first line is the header).
+victim_journal=$work/b/results.shard-1-of-2.journal
 has_progressed() {
   job_ended "$victim" && fail "task $victim ended ($(job_state "$victim")) before it could be stopped mid-run"
-  [ "$(job_state "$victim")" = RUNNING ] || return 1
-  running_since=${running_since:-$(date +%s)}
-  { [ -n "$(victim_log)" ] && grep -qE '^progress: [1-9][0-9]*/' "$(victim_log)"; } ||
-    [ $(($(date +%s) - running_since)) -ge 6 ]
+  [ "$(job_state "$victim")" = RUNNING ] && [ -f "$victim_journal" ] &&
+    [ $(($(wc -l <"$victim_journal") - 1)) -ge $((scenes / 2 / 20)) ]
 }
-wait_for 300 "task $victim to be running and past its first scenes" has_progressed
-say "task $victim is mid-run: $(grep '^progress:' "$(victim_log)" | tail -1 || true)"
+wait_for 300 "task $victim to be running with 5% of its scenes journalled" has_progressed
+say "task $victim is mid-run: $(($(wc -l <"$victim_journal") - 1)) of $((scenes / 2)) scenes journalled"
 say "\$ scancel --batch --signal=TERM $victim   (what --signal=B:TERM@60 sends before the time limit)"
 timeout 20 scancel --batch --signal=TERM "$victim" || fail "scancel failed"
 requeued() {
