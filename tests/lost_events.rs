@@ -193,7 +193,9 @@ fn resting_block_uplifts_at_the_first_exceedance() {
 
 /// Stepping over the record's samples is an accuracy option for the rocking phases; it must
 /// not change which uplifts happen. At a tight tolerance both policies find the same uplifts
-/// and peaks.
+/// and peaks. Tight means 1e-11 here: with 1 mm of play the step-over peak wanders by up to
+/// 8e-4 at rtol 1e-8 and 1.3e-4 at 1e-9 as event times move by rounding (a change of root
+/// finder moved it from 7e-6 to 1.3e-4 at 1e-9), and settles to 2e-6 at 1e-11.
 #[test]
 fn step_over_finds_the_uplifts_of_stop_at_samples() {
     let devices = [
@@ -206,9 +208,9 @@ fn step_over_finds_the_uplifts_of_stop_at_samples() {
         let stop = run(&superstition(
             device.clone(),
             KinkPolicy::StopAtSamples,
-            1e-9,
+            1e-11,
         ));
-        let over = run(&superstition(device, KinkPolicy::StepOver, 1e-9));
+        let over = run(&superstition(device, KinkPolicy::StepOver, 1e-11));
         assert_eq!(over.counters.uplifts, stop.counters.uplifts, "{name}");
         assert!(
             rel(over.peak_rotation_ratio, stop.peak_rotation_ratio) < 1e-4,

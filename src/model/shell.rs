@@ -765,6 +765,42 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
         true
     }
 
+    /// While rocking: the impact margin (pivot·θ) and a mechanistic clutch's functions, the
+    /// ones refined by the hundred (chattering impacts, clutch contacts and resets).
+    fn has_event_rate(&self, index: usize) -> bool {
+        self.mode.rocking()
+            && match self.events[index] {
+                Ev::Impact => true,
+                Ev::Clutch(_) => matches!(self.mode.dev, DeviceModel::Mechanistic(_)),
+                _ => false,
+            }
+    }
+
+    fn event_with_rate(
+        &self,
+        index: usize,
+        _t: f64,
+        y: &[f64; N],
+        dydt: &[f64; N],
+    ) -> Option<(f64, f64)> {
+        let m = &self.mode;
+        match (self.events[index], &m.dev) {
+            _ if !m.rocking() => None,
+            (Ev::Impact, _) => Some((m.pivot * y[B::THETA], m.pivot * dydt[B::THETA])),
+            (Ev::Clutch(e), DeviceModel::Mechanistic(c)) => {
+                let k = self.body.kin(m, y);
+                let (x, xdot) = self.body.x_xdot_kin(m, &k, y);
+                let xddot = self.body.xddot(m, &k, y, dydt);
+                let (fly, fly_dot) = (m.layout.flywheel_states(y), m.layout.flywheel_states(dydt));
+                Some((
+                    c.event_value(e, x, xdot, fly),
+                    c.event_rate(e, (x, xdot, xddot), fly, fly_dot),
+                ))
+            }
+            _ => None,
+        }
+    }
+
     /// One function alone: an impact or overturn margin reads θ only, without the
     /// kinematics every function that reads X needs.
     fn event(&self, index: usize, t: f64, y: &[f64; N]) -> f64 {
