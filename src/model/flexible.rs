@@ -160,7 +160,7 @@ impl Column {
     #[inline]
     fn kinematics(&self, m: &Mode, u: f64, theta: f64) -> Kinematics {
         let (sin, cos) = if m.rocking() {
-            theta.sin_cos()
+            libm::sincos(theta) // not glibc's: see RigidBody::sc
         } else {
             (0.0, 1.0)
         };

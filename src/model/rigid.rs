@@ -127,12 +127,16 @@ impl RigidBody {
         }
     }
 
-    /// S = sin(sα − θ), C = cos(sα − θ) (slender: S = sα − θ, C = 1).
+    /// S = sin(sα − θ), C = cos(sα − θ) (slender: S = sα − θ, C = 1). The body's sines and
+    /// cosines come from the `libm` crate (musl's algorithms, < 1 ulp like glibc's): glibc's
+    /// sincos saves and restores the SSE rounding mode on every call, which perf put at 14 % of
+    /// a mechanistic scene's time; with libm the scene ran 10 % faster (the bare block 7 %).
+    /// (glibc's sin stays on the pulses' phases, up to 2π, where libm's was slower.)
     #[inline]
     fn sc(&self, pivot: f64, theta: f64) -> (f64, f64) {
         let a = pivot * self.alpha - theta;
         match self.form {
-            Equations::Trigonometric => a.sin_cos(),
+            Equations::Trigonometric => libm::sincos(a),
             Equations::Slender => (a, 1.0),
         }
     }
@@ -171,7 +175,7 @@ impl RigidBody {
 
     fn drift_of(&self, theta: f64) -> f64 {
         let x = match self.form {
-            Equations::Trigonometric => self.r * (self.sin_a - (self.alpha - theta.abs()).sin()),
+            Equations::Trigonometric => self.r * (self.sin_a - libm::sin(self.alpha - theta.abs())),
             Equations::Slender => self.r * theta.abs(),
         };
         x / (self.r * self.cos_a)
@@ -407,7 +411,9 @@ impl Body for RigidBody {
         }
         let (theta, w, wdot) = (value(THETA), value(THETA_DOT), rate(THETA_DOT));
         let s_max = match self.form {
-            Equations::Trigonometric if self.alpha + theta < 0.5 * PI => (self.alpha + theta).sin(),
+            Equations::Trigonometric if self.alpha + theta < 0.5 * PI => {
+                libm::sin(self.alpha + theta)
+            }
             Equations::Trigonometric => 1.0,
             Equations::Slender => self.alpha + theta,
         };
