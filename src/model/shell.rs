@@ -767,13 +767,16 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
 
     /// While rocking: the impact margin (pivot·θ) and a mechanistic clutch's functions, the
     /// ones refined by the hundred (chattering impacts, clutch contacts and resets).
-    fn has_event_rate(&self, index: usize) -> bool {
-        self.mode.rocking()
-            && match self.events[index] {
-                Ev::Impact => true,
-                Ev::Clutch(_) => matches!(self.mode.dev, DeviceModel::Mechanistic(_)),
-                _ => false,
+    /// (The impact margin reads θ alone.)
+    fn event_rate_inputs(&self, index: usize) -> usize {
+        match (self.events[index], &self.mode.dev) {
+            _ if !self.mode.rocking() => 0,
+            (Ev::Impact, _) => B::THETA + 1,
+            (Ev::Clutch(_), DeviceModel::Mechanistic(_)) => {
+                self.mode.layout.accumulator(Accumulator::Input)
             }
+            _ => 0,
+        }
     }
 
     fn event_with_rate(

@@ -97,10 +97,11 @@ pub trait OdeSystem<const N: usize> {
     fn max_step(&self) -> f64 {
         f64::INFINITY
     }
-    /// Whether [`OdeSystem::event_with_rate`] answers for function `index` in the current
-    /// phase (root refinement then reads the interpolant's rate too).
-    fn has_event_rate(&self, _index: usize) -> bool {
-        false
+    /// How many leading state components [`OdeSystem::event_with_rate`] reads for function
+    /// `index` in the current phase; 0 where it does not answer (root refinement then reads
+    /// values alone).
+    fn event_rate_inputs(&self, _index: usize) -> usize {
+        0
     }
     /// Event function `index` and its time rate at (t, y) moving at `dydt`, in closed form;
     /// `None` where there is none (the refinement then bisects that iteration).
@@ -1114,10 +1115,10 @@ fn refine_root<const N: usize, S: OdeSystem<N>>(
 ) -> (f64, u64) {
     let tol = 4.0 * f64::EPSILON * b.abs().max(dense.h.abs());
     let mut calls = 0;
-    if sys.has_event_rate(index) {
+    let n = sys.event_rate_inputs(index);
+    if n > 0 {
         // The function and its rate along the interpolant (the chain rule through the
         // interpolant's own derivative, so Newton converges on the interpolant's root).
-        let n = sys.event_inputs();
         let with_rate = |t: f64| {
             let y = dense.state_head(t, n);
             sys.event_with_rate(index, t, &y, &dense.derivative_head(t, n))
@@ -1593,8 +1594,8 @@ mod tests {
             self.2.set(self.2.get() + 1);
             g[0] = (self.0)(y[0]);
         }
-        fn has_event_rate(&self, _index: usize) -> bool {
-            true
+        fn event_rate_inputs(&self, _index: usize) -> usize {
+            1
         }
         fn event_with_rate(
             &self,
