@@ -530,12 +530,20 @@ impl<const N: usize> Integrator<N> {
     /// undetermined and adopts the sign of its first sub-sample, so no crossing is reported at
     /// the restart point itself. (A generic probe along y + δ·f is not used: where the rate is
     /// also ~0, e.g. a reset at a velocity crossing, its sign is decided by roundoff.)
+    /// Where the system has the rates in closed form they come with the values, for the first
+    /// step's screen (one call of the kinematics per restart instead of two).
     fn reset_event_signs<S: OdeSystem<N>>(&mut self, sys: &S) {
         let m = sys.event_count();
-        sys.events(self.t, &self.y, &mut self.g[..m]);
+        let mut rates = [0.0; MAX_EVENTS];
+        self.rates_valid =
+            sys.events_with_rates(self.t, &self.y, &self.f, &mut self.g[..m], &mut rates[..m]);
+        if self.rates_valid {
+            self.g_rate = rates;
+        } else {
+            sys.events(self.t, &self.y, &mut self.g[..m]);
+        }
         self.stats.event_calls += 1;
         self.g_val = self.g;
-        self.rates_valid = false;
         self.force_scan = false;
         for i in 0..m {
             self.sign_only[i] = self.g[i] == 0.0;
