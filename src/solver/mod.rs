@@ -653,14 +653,17 @@ impl<const N: usize> Integrator<N> {
                 }
                 continue;
             }
-            let expo = 1.0 / self.opts.method.order();
+            // The step factors' powers in single precision: a factor needs no 16 digits, and
+            // f32 powf cost the bare Fig. 8 scene 5 % less time than f64's (glibc).
+            let expo = 1.0 / self.opts.method.order() as f32;
+            let pow = |x: f64, e: f32| f64::from((x as f32).powf(e));
             if err <= 1.0 {
                 let fac = match self.opts.method {
                     // PI controller (β = 0.04), as in DOPRI5.
-                    Method::Dp54 => (err.powf(expo - 0.75 * 0.04) * self.err_old.powf(-0.04) / 0.9)
+                    Method::Dp54 => (pow(err, expo - 0.75 * 0.04) * pow(self.err_old, -0.04) / 0.9)
                         .clamp(0.1, 5.0),
                     // As in DOP853 (β = 0, step ratio within [1/3, 6]).
-                    Method::Dop853 => (err.powf(expo) / 0.9).clamp(1.0 / 6.0, 3.0),
+                    Method::Dop853 => (pow(err, expo) / 0.9).clamp(1.0 / 6.0, 3.0),
                 };
                 self.err_old = err.max(1e-4);
                 let h_new = h / fac;
@@ -699,7 +702,7 @@ impl<const N: usize> Integrator<N> {
                 Method::Dp54 => 10.0,
                 Method::Dop853 => 3.0,
             };
-            self.h = h / (err.powf(expo) / 0.9).min(shrink);
+            self.h = h / (pow(err, expo) / 0.9).min(shrink);
         }
     }
 
