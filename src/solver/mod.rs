@@ -646,6 +646,9 @@ impl<const N: usize> Integrator<N> {
             if !err.is_finite() || y1.iter().any(|v| !v.is_finite()) {
                 // Treat as a failed step; shrink hard. A genuinely non-finite solution ends
                 // in StepTooSmall, reported by the caller with its time.
+                if let Some(clock) = clock {
+                    self.stats.stage_nanos += clock.elapsed().as_nanos() as u64;
+                }
                 self.stats.rejected += 1;
                 self.h = h * 0.1;
                 if self.h < 1e-14 * self.t.abs().max(1.0) {
@@ -1218,6 +1221,7 @@ fn newton_root(
     let mut calls = 0;
     let mut c = b - fb * (b - a) / (fb - fa);
     let mut step = b - a;
+    let (mut last_zero, mut on_zeros) = (false, false);
     for _ in 0..200 {
         if b - a <= tol {
             break;
@@ -1236,10 +1240,18 @@ fn newton_root(
         }
         // The Newton step must land in the bracket (its ends included: the clamp above then
         // steps tol/2 in) and be at most half the last step (rtsafe's test, stricter: rtsafe
-        // compares with the step before the last).
+        // compares with the step before the last). A point exactly on the surface counts as
+        // not yet across, and Newton's zero step from it probes tol/2 further, which closes
+        // the bracket at an isolated root; on a stretch of zeros it would creep by tol/2 a
+        // probe, so once two probes in a row were 0, zeros are bisected.
+        on_zeros |= fc == 0.0 && last_zero;
+        last_zero = fc == 0.0;
         let newton = -fc / rate;
         let next = c + newton;
-        if (a..=b).contains(&next) && 2.0 * newton.abs() <= step.abs() {
+        let newton_ok = !(on_zeros && fc == 0.0)
+            && (a..=b).contains(&next)
+            && 2.0 * newton.abs() <= step.abs();
+        if newton_ok {
             (step, c) = (newton, next);
         } else {
             (step, c) = (0.5 * (b - a), 0.5 * (a + b));
@@ -1649,6 +1661,25 @@ mod tests {
         let values = EventOfTime(g, Default::default());
         let (_, illinois) = refine_root(&values, &unit_step(), 0, (0.0, -0.3, false), 1.0, 0.7);
         assert!(calls <= 7 && calls < illinois, "{calls} against {illinois}");
+    }
+
+    #[test]
+    fn newton_refinement_leaves_a_stretch_of_exact_zeros_with_a_rate() {
+        // Exactly 0 on [0.25, 0.75) while the rate reads 1 (a function on its surface whose
+        // closed-form rate is not zero): zero Newton steps must hand over to bisection.
+        let g = |t: f64| {
+            if t < 0.25 {
+                -1.0
+            } else if t < 0.75 {
+                0.0
+            } else {
+                1.0
+            }
+        };
+        let sys = EventWithRate(g, |_| Some(1.0), <_>::default());
+        let (root, calls) = refine_root(&sys, &unit_step(), 0, (0.0, -1.0, false), 1.0, 1.0);
+        assert!((0.75..0.75 + 1e-15).contains(&root), "{root}");
+        assert!(calls < 70, "{calls} evaluations");
     }
 
     #[test]
