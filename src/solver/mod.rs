@@ -1248,9 +1248,8 @@ fn newton_root(
         last_zero = fc == 0.0;
         let newton = -fc / rate;
         let next = c + newton;
-        let newton_ok = !(on_zeros && fc == 0.0)
-            && (a..=b).contains(&next)
-            && 2.0 * newton.abs() <= step.abs();
+        let newton_ok =
+            !(on_zeros && fc == 0.0) && (a..=b).contains(&next) && 2.0 * newton.abs() <= step.abs();
         if newton_ok {
             (step, c) = (newton, next);
         } else {
