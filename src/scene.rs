@@ -420,6 +420,32 @@ pub enum Amplitude {
     AlphaRatio(f64),
 }
 
+impl Excitation {
+    /// The same ground motion with every acceleration multiplied by `factor`: a pulse's peak,
+    /// an MP pulse's PGV, a record's scale (or its target PGA / PGV).
+    pub fn scaled(&self, factor: f64) -> Excitation {
+        let mut e = self.clone();
+        match &mut e {
+            Excitation::Pulse { amplitude, .. } => {
+                *amplitude = match *amplitude {
+                    Amplitude::G(a) => Amplitude::G(a * factor),
+                    Amplitude::TanAlphaRatio(r) => Amplitude::TanAlphaRatio(r * factor),
+                    Amplitude::AlphaRatio(r) => Amplitude::AlphaRatio(r * factor),
+                }
+            }
+            Excitation::MpPulse { pgv, .. } => *pgv *= factor,
+            Excitation::Record { scale, .. } => {
+                *scale = match *scale {
+                    RecordScale::Factor(k) => RecordScale::Factor(k * factor),
+                    RecordScale::Pga(target) => RecordScale::Pga(target * factor),
+                    RecordScale::Pgv(target) => RecordScale::Pgv(target * factor),
+                }
+            }
+        }
+        e
+    }
+}
+
 impl Amplitude {
     /// A in m/s².
     pub fn absolute(&self, alpha: f64) -> f64 {

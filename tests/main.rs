@@ -8,6 +8,7 @@ mod angular_acceleration;
 mod checkpoint;
 mod cli_simulate;
 mod compare;
+mod conditioning;
 mod exact_contact;
 mod excitation;
 mod figures;

@@ -2,6 +2,7 @@
 
 pub mod bench;
 mod bench_quantities;
+pub mod check;
 pub mod compare;
 pub mod paper;
 pub mod plot;
@@ -47,6 +48,8 @@ pub enum Command {
     Status(status::StatusArgs),
     /// Side-by-side spectra of two device variants and their ratio per point.
     Compare(compare::CompareArgs),
+    /// Which scenes of a results file are converged, not converged, or ill-conditioned.
+    Check(check::CheckArgs),
     /// The paper's results-section claims rerun against rocklab: the PAPER.md table.
     Paper(paper::PaperArgs),
     /// Figures from a results file: spectra, overturning maps, a scene's histories.
@@ -175,6 +178,7 @@ pub fn main() -> ExitCode {
         Some(Command::Slurm(args)) => slurm::run(&args),
         Some(Command::Status(args)) => status::run(&args),
         Some(Command::Compare(args)) => compare::run(&args),
+        Some(Command::Check(args)) => check::run(&args),
         Some(Command::Plot(args)) => plot::run(&args),
         Some(Command::Paper(args)) => paper::run(&args),
         Some(Command::Table(args)) => table::run(&args),

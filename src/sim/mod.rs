@@ -20,6 +20,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 use thiserror::Error;
 
+pub mod check;
 mod history;
 
 /// Accepted + rejected steps allowed per scene before it is reported as failed.

@@ -1,0 +1,180 @@
+//! `rocklab check`: which scenes of a results file are converged, not converged at their
+//! tolerance, or ill-conditioned ([`crate::sim::check`] on each, in parallel), so a jagged
+//! spectrum can be told apart from an under-resolved one.
+
+use super::UsageError;
+use crate::report;
+use crate::sim::check::{Check, Verdict, check};
+use crate::sweep::SceneOutcome;
+use rayon::prelude::*;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct CheckArgs {
+    /// Results file (results.json) or the directory holding it.
+    pub results: PathBuf,
+    /// Only these scenes: indices and ranges, `3,7,10-20` (default: every finished scene).
+    #[arg(long, value_delimiter = ',', value_parser = parse_range)]
+    pub scenes: Option<Vec<(usize, usize)>>,
+    /// Write one row per scene and quantity here (default: check.csv beside the results).
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// Scenes listed in the summary, worst condition first.
+    #[arg(long, default_value_t = 10)]
+    pub worst: usize,
+}
+
+/// `7` or `10-20` (inclusive).
+fn parse_range(text: &str) -> Result<(usize, usize), String> {
+    let t = text.trim();
+    let bad = || format!("`{t}`: give scene indices and ranges, e.g. 3,7,10-20");
+    let (a, b) = t.split_once('-').unwrap_or((t, t));
+    let (a, b): (usize, usize) = (
+        a.trim().parse().map_err(|_| bad())?,
+        b.trim().parse().map_err(|_| bad())?,
+    );
+    if a > b {
+        return Err(bad());
+    }
+    Ok((a, b))
+}
+
+pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
+    let path = super::compare::resolve_results(&args.results);
+    let results = report::load_results(&path)?;
+    let chosen = |i: usize| {
+        args.scenes
+            .as_ref()
+            .is_none_or(|r| r.iter().any(|&(a, b)| (a..=b).contains(&i)))
+    };
+    let outcomes: Vec<&SceneOutcome> = results
+        .outcomes
+        .iter()
+        .filter(|o| o.result.is_ok() && chosen(o.point.index))
+        .collect();
+    if outcomes.is_empty() {
+        return Err(UsageError::new(format!(
+            "{}: no finished scene {}",
+            path.display(),
+            if args.scenes.is_some() {
+                "matches --scenes"
+            } else {
+                "to check"
+            }
+        ))
+        .into());
+    }
+    let library = crate::excitation::library::global()?;
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let bar = indicatif::ProgressBar::new(outcomes.len() as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} scenes checked")
+                .expect("valid template"),
+        );
+        bar
+    });
+    let checks: Vec<(&SceneOutcome, Result<Check, String>)> = outcomes
+        .par_iter()
+        .map(|o| {
+            let result = o.result.as_ref().expect("finished scenes only");
+            let bounds = crate::sim::Bounds {
+                measures: result.measured,
+                ..Default::default()
+            };
+            let c = crate::sweep::guarded(|| check(&o.point.scene, result, library, bounds))
+                .map_err(|e| e.to_string());
+            if let Some(bar) = &bar {
+                bar.inc(1);
+            }
+            (*o, c)
+        })
+        .collect();
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    let csv_path = args
+        .csv
+        .clone()
+        .unwrap_or_else(|| path.with_file_name("check.csv"));
+    let mut w = csv::Writer::from_path(&csv_path)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", csv_path.display()))?;
+    w.write_record([
+        "scene",
+        "verdict",
+        "rtol",
+        "reference_rtol",
+        "quantity",
+        "value",
+        "reference",
+        "change",
+        "condition",
+    ])?;
+    let (mut counts, mut failed) = ([0usize; 3], Vec::new());
+    for (o, c) in &checks {
+        let c = match c {
+            Ok(c) => c,
+            Err(e) => {
+                failed.push(format!("scene {}: {e}", o.point.index));
+                continue;
+            }
+        };
+        counts[c.verdict as usize] += 1;
+        for p in &c.peaks {
+            w.write_record([
+                o.point.index.to_string(),
+                c.verdict.name().to_string(),
+                format!("{:e}", c.rtol),
+                format!("{:e}", c.reference_rtol),
+                p.quantity.to_string(),
+                format!("{:e}", p.value),
+                format!("{:e}", p.reference),
+                format!("{:e}", p.change),
+                format!("{:e}", p.condition),
+            ])?;
+        }
+    }
+    w.flush()?;
+    println!(
+        "{} scene{} checked: {} converged, {} not converged at their rtol (tighten it), {} \
+         ill-conditioned (a change of {:e} in the excitation moves a peak by > 1e-3){}",
+        checks.len(),
+        if checks.len() == 1 { "" } else { "s" },
+        counts[Verdict::Converged as usize],
+        counts[Verdict::NotConverged as usize],
+        counts[Verdict::IllConditioned as usize],
+        crate::sim::check::INPUT_CHANGE,
+        if failed.is_empty() {
+            String::new()
+        } else {
+            format!(", {} failed", failed.len())
+        }
+    );
+    let mut worst: Vec<(&SceneOutcome, &Check)> = checks
+        .iter()
+        .filter_map(|(o, c)| c.as_ref().ok().map(|c| (*o, c)))
+        .filter(|(_, c)| c.verdict != Verdict::Converged)
+        .collect();
+    let condition = |c: &Check| c.peaks.iter().map(|p| p.condition).fold(0.0, f64::max);
+    worst.sort_by(|a, b| condition(b.1).total_cmp(&condition(a.1)));
+    for (o, c) in worst.iter().take(args.worst) {
+        let change = c.peaks.iter().map(|p| p.change).fold(0.0, f64::max);
+        println!(
+            "  {}: {}, κ {:.1e}, off by {change:.1e} at rtol {:e}{}",
+            report::scene_title(o.point.index, &o.point.group, &o.point.coords),
+            c.verdict.name().replace('_', " "),
+            condition(c),
+            c.rtol,
+            if c.overturn_flips {
+                ", on the overturning boundary"
+            } else {
+                ""
+            }
+        );
+    }
+    for f in &failed {
+        eprintln!("  {f}");
+    }
+    println!("per scene and quantity: {}", csv_path.display());
+    Ok(())
+}

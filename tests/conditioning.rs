@@ -1,0 +1,253 @@
+//! `sim::check` (`simulate --check`): converged, not converged, or ill-conditioned, on cases
+//! whose answer is known.
+
+use crate::util::rocklab;
+use rocklab::presets::{flexible_fig14, rigid_fig8};
+use rocklab::scene::*;
+use rocklab::sim::check::{Verdict, check};
+use rocklab::sim::{self, Bounds};
+
+fn checked(scene: &Scene) -> rocklab::sim::check::Check {
+    let library = rocklab::excitation::library::global().unwrap();
+    let result = sim::run(scene, library).unwrap();
+    check(scene, &result, library, Bounds::default()).unwrap()
+}
+
+fn condition(c: &rocklab::sim::check::Check, quantity: &str) -> f64 {
+    c.peaks
+        .iter()
+        .find(|p| p.quantity == quantity)
+        .unwrap_or_else(|| panic!("{quantity} not checked: {c:?}"))
+        .condition
+}
+
+/// Below uplift the flexible structure is a linear oscillator: its peaks are proportional to
+/// the amplitude (κ = 1 exactly) and it never rotates (κ = 0).
+#[test]
+fn a_linear_response_has_condition_one() {
+    let mut scene = flexible_fig14(Device::None);
+    scene.excitation = scene.excitation.scaled(0.2);
+    let c = checked(&scene);
+    assert_eq!(c.verdict, Verdict::Converged, "{}", c.report());
+    assert_eq!(condition(&c, "peak_rotation"), 0.0);
+    for q in ["peak_deformation", "peak_drift", "peak_abs_acceleration_g"] {
+        let k = condition(&c, q);
+        assert!((k - 1.0).abs() < 1e-3, "{q}: κ = {k}");
+    }
+}
+
+/// The pulse scenes of the paper are well-conditioned and converged at the default rtol.
+#[test]
+fn the_paper_scenes_are_converged() {
+    for scene in [
+        rigid_fig8(Device::None),
+        rigid_fig8(Device::Mechanistic(Clutch::paper_default(0.5))),
+        flexible_fig14(Device::Sequential { sigma: 0.5 }),
+    ] {
+        let c = checked(&scene);
+        assert_eq!(c.verdict, Verdict::Converged, "{}", c.report());
+        assert!(
+            c.peaks
+                .iter()
+                .all(|p| p.condition < 10.0 && p.change < 1e-3),
+            "{}",
+            c.report()
+        );
+    }
+}
+
+/// A loose tolerance on a well-conditioned scene: not converged, and the check says to tighten.
+#[test]
+fn a_loose_tolerance_is_not_converged() {
+    let mut scene = rigid_fig8(Device::Mechanistic(Clutch::paper_default(0.5)));
+    scene.rtol = 1e-2;
+    let c = checked(&scene);
+    assert_eq!(c.verdict, Verdict::NotConverged, "{}", c.report());
+    assert!(c.report().contains("a tighter --rtol fixes it"));
+}
+
+/// On the overturning boundary (found by bisection on the amplitude to 1e-9) a change of 1e-7
+/// in the amplitude flips the outcome; a scene at the default rtol that survives there while
+/// the reference overturns is reported too.
+#[test]
+fn the_overturning_boundary_is_ill_conditioned() {
+    let library = rocklab::excitation::library::global().unwrap();
+    let at = |ratio: f64| {
+        let mut s = rigid_fig8(Device::None);
+        s.excitation = Excitation::Pulse {
+            shape: rocklab::excitation::PulseShape::Sine,
+            amplitude: Amplitude::AlphaRatio(ratio),
+            frequency: Frequency::Ratio(2.0),
+        };
+        s
+    };
+    // Bisected at the check's reference tolerance, whose runs it compares.
+    let overturns = |ratio: f64| {
+        let mut s = at(ratio);
+        s.rtol = 1e-8;
+        sim::run(&s, library).unwrap().overturned
+    };
+    let (mut low, mut high) = (1.0, 4.0);
+    assert!(!overturns(low) && overturns(high));
+    while high / low - 1.0 > 1e-9 {
+        let mid = 0.5 * (low + high);
+        if overturns(mid) {
+            high = mid
+        } else {
+            low = mid
+        }
+    }
+    let c = checked(&at(0.5 * (low + high)));
+    assert!(c.overturn_flips, "{}", c.report());
+    assert_eq!(c.verdict, Verdict::IllConditioned);
+    assert!(c.report().contains("overturning boundary"));
+}
+
+/// `simulate --check --json` carries the check; the text form prints the verdict.
+#[test]
+fn simulate_prints_the_check() {
+    let args = [
+        "simulate",
+        "--alpha",
+        "10deg",
+        "--p",
+        "2",
+        "--device",
+        "mechanistic",
+        "--sigma",
+        "0.5",
+        "--amplitude-alpha",
+        "1.5",
+        "--frequency-ratio",
+        "4",
+        "--duration",
+        "10",
+        "--check",
+    ];
+    let out = rocklab(&[&args[..], &["--json"]].concat());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["check"]["verdict"], "converged");
+    assert_eq!(v["check"]["reference_rtol"].as_f64(), Some(1e-8));
+    let rotation = &v["check"]["peaks"][0];
+    assert_eq!(rotation["quantity"], "peak_rotation");
+    assert_eq!(rotation["value"], v["peak_rotation"]);
+    let out = rocklab(&args);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("verdict: converged"), "{text}");
+}
+
+/// `rocklab check` over a results file: the hard case's 50 p clutch is ill-conditioned, the
+/// default 25 p clutch converged, one CSV row per scene and quantity.
+#[test]
+fn check_flags_the_ill_conditioned_scenes_of_a_results_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("hard.ron");
+    std::fs::write(
+        &study,
+        r#"(
+    version: 1,
+    name: "hard",
+    description: "tests/hard_cases.rs::long_record_chattering_to_rest, 25 p and 50 p",
+    structure: rigid(size: [3.0], alpha: 0.25),
+    devices: [mechanistic(sigma: 0.5, clutch_frequency_ratio: [25.0, 50.0], cbar: 1.0)],
+    excitation: record(names: ["landers"], scale: 1.0),
+    quantities: [peak_rotation_ratio, peak_abs_acceleration],
+    spectrum: size,
+    duration: 10.5,
+)"#,
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let o = rocklab(&[
+        "run",
+        study.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = rocklab(&["check", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("2 scenes checked: 1 converged, 0 not converged")
+            && text.contains("1 ill-conditioned"),
+        "{text}"
+    );
+    let csv = std::fs::read_to_string(out.join("check.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 4, "{csv}");
+    let row = |scene: &str, q: &str| {
+        rows.iter()
+            .find(|r| r[0] == scene && r[4] == q)
+            .unwrap_or_else(|| panic!("{scene} {q}: {csv}"))
+    };
+    assert_eq!(row("0", "peak_rotation")[1], "converged");
+    let stiff = row("1", "peak_rotation");
+    assert_eq!(stiff[1], "ill_conditioned");
+    assert!(stiff[8].parse::<f64>().unwrap() > 1e4, "{csv}");
+    // Selecting scenes, and a selection that matches none.
+    let o = rocklab(&["check", out.to_str().unwrap(), "--scenes", "0"]);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("1 scene checked: 1 converged"));
+    let o = rocklab(&["check", out.to_str().unwrap(), "--scenes", "7-9"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no finished scene matches --scenes"));
+}
+
+/// Scaling an excitation scales its ground acceleration at every instant, whatever its form.
+#[test]
+fn scaled_excitations_scale_the_ground_acceleration() {
+    let library = rocklab::excitation::library::global().unwrap();
+    let record = |scale| Excitation::Record {
+        name: "landers".into(),
+        scale,
+        baseline: false,
+        kinks: Default::default(),
+    };
+    let pulse = |amplitude| Excitation::Pulse {
+        shape: rocklab::excitation::PulseShape::Sine,
+        amplitude,
+        frequency: Frequency::Ratio(3.0),
+    };
+    for excitation in [
+        pulse(Amplitude::G(0.3)),
+        pulse(Amplitude::AlphaRatio(1.5)),
+        pulse(Amplitude::TanAlphaRatio(1.5)),
+        Excitation::MpPulse {
+            tp: 1.0,
+            pgv: 0.5,
+            gamma: 2.0,
+            nu: 0.3,
+        },
+        record(RecordScale::Factor(-1.5)),
+        record(RecordScale::Pga(0.4)),
+        record(RecordScale::Pgv(0.6)),
+    ] {
+        let mut scene = rigid_fig8(Device::None);
+        scene.excitation = excitation.clone();
+        let base = sim::motion_for(&scene, library).unwrap();
+        scene.excitation = excitation.scaled(1.25);
+        let scaled = sim::motion_for(&scene, library).unwrap();
+        let times = [0.1, 0.37, 0.55, 0.8];
+        assert!(
+            times.iter().any(|&t| base.accel(t) != 0.0),
+            "{excitation:?}"
+        );
+        for t in times {
+            let (a, b) = (base.accel(t), scaled.accel(t));
+            assert!(
+                (b - 1.25 * a).abs() <= 1e-14 * a.abs(),
+                "{excitation:?} t={t}: {a} {b}"
+            );
+        }
+    }
+}
