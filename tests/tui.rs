@@ -354,6 +354,44 @@ fn scene_screen_shows_the_whole_fig8_history() {
     snap("scene_fig8_full_80x24", screen);
 }
 
+/// `c` on the Scene screen checks the scene: the Fig. 8 bare block converged; the same point
+/// with the hard case's scene (50 p clutch under Landers) ill-conditioned.
+#[test]
+fn scene_screen_checks_the_scene() {
+    let (study, point) = crate::util::fig12_study_and_fig8_point();
+    let mut app = app_for(study, scratch_dir());
+    app.scene.open(point.clone());
+    key(&mut app, KeyCode::Char('4'));
+    key(&mut app, KeyCode::Char('c'));
+    assert!(app.wait_idle(Duration::from_secs(60)), "the check runs");
+    let screen = text(&render(&app, Theme::COLOR, SMALL));
+    assert!(screen.contains("check: converged  "), "{screen}");
+    assert!(screen.contains("at rtol 1e-5 (reference 1e-8)"), "{screen}");
+    assert!(screen.lines().all(|l| l.chars().count() <= 80));
+
+    let mut hard = point;
+    let mut clutch = rocklab::scene::Clutch::paper_default(0.5);
+    clutch.stiffness = rocklab::scene::ClutchStiffness::FrequencyRatio(50.0);
+    hard.scene.device = rocklab::scene::Device::Mechanistic(clutch);
+    hard.scene.structure = rocklab::scene::Structure::Rigid(rocklab::scene::RigidBlock {
+        size: 3.0,
+        alpha: 0.25,
+        mass: 1.0,
+        form: rocklab::scene::Form::Exact,
+    });
+    hard.scene.excitation = rocklab::presets::record("landers");
+    hard.scene.duration = 10.5;
+    app.scene.open(hard);
+    key(&mut app, KeyCode::Char('c'));
+    assert!(app.wait_idle(Duration::from_secs(60)), "the check runs");
+    let screen = text(&render(&app, Theme::COLOR, SMALL));
+    assert!(screen.contains("check: ill-conditioned"), "{screen}");
+    assert!(
+        screen.contains("a 1e-7 change of the excitation moves it"),
+        "{screen}"
+    );
+}
+
 #[test]
 fn study_screen_shows_the_default_study_and_its_scene_count() {
     let mut app = new_app();

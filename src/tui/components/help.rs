@@ -62,7 +62,7 @@ impl Help {
                 "open the scene under the cursor / write results",
             ),
             h("Scene"),
-            k("Esc", "back to results"),
+            k("Esc  c", "back to results / check convergence"),
         ];
         let height = lines.len() as u16;
         popup(

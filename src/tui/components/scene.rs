@@ -1,5 +1,7 @@
 //! The Scene screen: one scene of the results rerun with its histories on a background job,
-//! its verdict, and charts of rotation, flywheels, clutch forces and energies.
+//! its verdict, and charts of rotation, flywheels, clutch forces and energies; on request
+//! (`c`) the scene's check (`sim::check`: converged, not converged or ill-conditioned) on a
+//! second job.
 
 use super::super::app::Screen;
 use super::super::job::{AsyncSingleJob, JobEvent};
@@ -7,6 +9,7 @@ use super::super::theme::Theme;
 use super::super::widgets::chart::draw_chart;
 use super::super::widgets::{Hint, fmt_coords, fmt_num};
 use super::{Action, Component, Shared};
+use crate::sim::check::{Check, Verdict};
 use crate::sim::{self, History, SceneResult};
 use crate::study::ScenePoint;
 use crossterm::event::{KeyCode, KeyEvent};
@@ -21,9 +24,17 @@ pub enum SceneState {
     Failed(String),
 }
 
+pub enum CheckState {
+    Running,
+    Done(Box<Check>),
+    Failed(String),
+}
+
 pub struct SceneView {
     pub point: ScenePoint,
     pub state: SceneState,
+    /// The scene's check, once asked for.
+    pub check: Option<CheckState>,
 }
 
 type SceneOutput = Result<(SceneResult, History), String>;
@@ -33,6 +44,7 @@ pub struct SceneScreen {
     /// The scene on screen (None before the first).
     pub view: Option<SceneView>,
     job: AsyncSingleJob<(), SceneOutput>,
+    check_job: AsyncSingleJob<(), Result<Check, String>>,
 }
 
 impl SceneScreen {
@@ -45,24 +57,47 @@ impl SceneScreen {
             sim::run_history(&sim::history_scene(&scene), library, &sim::Sampling::Auto)
                 .map_err(|e| e.to_string())
         });
+        self.check_job.abandon();
         self.view = Some(SceneView {
             point,
             state: SceneState::Running,
+            check: None,
         });
+    }
+
+    /// Check the scene on screen: its own run at its tolerance, then the reference and the
+    /// scaled runs of `sim::check`.
+    pub fn start_check(&mut self) {
+        let Some(view) = &mut self.view else {
+            return;
+        };
+        let scene = view.point.scene.clone();
+        self.check_job.spawn(move |_, cancel| {
+            let library = crate::excitation::library::global().map_err(|e| e.to_string())?;
+            let bounds = sim::Bounds {
+                cancel: Some(cancel),
+                ..Default::default()
+            };
+            let result = sim::run_bounded(&scene, library, bounds).map_err(|e| e.to_string())?;
+            sim::check::check(&scene, &result, library, bounds).map_err(|e| e.to_string())
+        });
+        view.check = Some(CheckState::Running);
     }
 
     /// Show a scene computed elsewhere (no rerun): results opened from a file, or tests that
     /// draw fixed data.
     pub fn show(&mut self, point: ScenePoint, result: SceneResult, history: History) {
         self.job.abandon();
+        self.check_job.abandon();
         self.view = Some(SceneView {
             point,
             state: SceneState::Done(Box::new(result), history),
+            check: None,
         });
     }
 
     pub fn is_running(&self) -> bool {
-        self.job.is_busy()
+        self.job.is_busy() || self.check_job.is_busy()
     }
 
     /// True if the scene finished (or failed) since the last poll.
@@ -82,6 +117,18 @@ impl SceneScreen {
                 changed = true;
             }
         }
+        for event in self.check_job.poll() {
+            let state = match event {
+                JobEvent::Progress(()) => continue,
+                JobEvent::Done(Ok(check)) => CheckState::Done(Box::new(check)),
+                JobEvent::Done(Err(e)) => CheckState::Failed(e),
+                JobEvent::Lost => CheckState::Failed("the check stopped".into()),
+            };
+            if let Some(view) = &mut self.view {
+                view.check = Some(state);
+                changed = true;
+            }
+        }
         changed
     }
 }
@@ -91,12 +138,16 @@ impl Component for SceneScreen {
         match key.code {
             KeyCode::Esc | KeyCode::Backspace => Action::Show(Screen::Results),
             KeyCode::Char('r') => Action::StartRun,
+            KeyCode::Char('c') => {
+                self.start_check();
+                Action::None
+            }
             _ => Action::None,
         }
     }
 
     fn hints(&self, _: &Shared) -> Vec<Hint> {
-        vec![("Esc", "back")]
+        vec![("Esc", "back"), ("c", "check")]
     }
 
     fn draw(&self, shared: &Shared, theme: Theme, frame: &mut Frame, area: Rect) {
@@ -110,8 +161,10 @@ impl Component for SceneScreen {
             );
             return;
         };
+        // The check's line may wrap once at 80 columns.
+        let head_rows = if view.check.is_some() { 4 } else { 2 };
         let [head, body] =
-            Layout::vertical([Constraint::Length(2), Constraint::Min(1)]).areas(area);
+            Layout::vertical([Constraint::Length(head_rows), Constraint::Min(1)]).areas(area);
         let mut lines = vec![Line::from(vec![
             Span::styled(view.point.group.clone(), theme.title()),
             Span::raw(format!("  {}", fmt_coords(&view.point.coords))),
@@ -143,11 +196,70 @@ impl Component for SceneScreen {
                 lines.push(Line::raw(text));
             }
         }
+        match &view.check {
+            None => {}
+            Some(CheckState::Running) => lines.push(Line::styled("checking…", theme.warn())),
+            Some(CheckState::Failed(e)) => {
+                lines.push(Line::styled(format!("check failed: {e}"), theme.error()))
+            }
+            Some(CheckState::Done(c)) => lines.push(check_line(c, theme)),
+        }
         frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), head);
         if let SceneState::Done(_, history) = &view.state {
             draw_histories(history, theme, frame, body);
         }
     }
+}
+
+/// The check in one line: the verdict, the worst change against the reference and the worst
+/// condition number, and what to do.
+fn check_line(c: &Check, theme: Theme) -> Line<'static> {
+    let worst = |f: fn(&sim::check::PeakCheck) -> f64| {
+        c.peaks
+            .iter()
+            .reduce(|w, p| if f(p) > f(w) { p } else { w })
+            .map_or(("", 0.0), |p| (p.quantity, f(p)))
+    };
+    let (changed, change) = worst(|p| p.change);
+    let (sensitive, kappa) = worst(|p| p.condition);
+    let short = |q: &'static str| q.trim_start_matches("peak_");
+    let measured = format!(
+        "{} off by {change:.1e} at rtol {:e} (reference {:e}), κ {} ({})",
+        short(changed),
+        c.rtol,
+        c.reference_rtol,
+        if kappa < 100.0 {
+            format!("{kappa:.1}")
+        } else {
+            format!("{kappa:.1e}")
+        },
+        short(sensitive)
+    );
+    let (verdict, advice, style) = match c.verdict {
+        Verdict::Converged => ("converged", String::new(), theme.ok()),
+        Verdict::NotConverged => (
+            "not converged",
+            " — a tighter rtol fixes it".to_string(),
+            theme.warn(),
+        ),
+        Verdict::IllConditioned if c.overturn_flips => (
+            "ill-conditioned",
+            " — on the overturning boundary".to_string(),
+            theme.error(),
+        ),
+        Verdict::IllConditioned => (
+            "ill-conditioned",
+            format!(
+                " — a 1e-7 change of the excitation moves it; reproducible from rtol ≲ {:e}",
+                c.suggested_rtol()
+            ),
+            theme.error(),
+        ),
+    };
+    Line::from(vec![
+        Span::styled(format!("check: {verdict}"), style),
+        Span::raw(format!("  {measured}{advice}")),
+    ])
 }
 
 /// One chart: title, unit of its values, and (legend name, values) of each series.
