@@ -301,6 +301,13 @@ fn long_record_chattering_to_rest() {
         at_1e9 < 1e-3 && at_default < 0.03,
         "{at_default:e} {at_1e9:e}"
     );
+    // Converging as the tolerance tightens, by more than a decade per two decades of rtol.
+    let errors = [1e-7, 1e-9, 1e-11].map(off);
+    println!("50 p clutch, 10.5 s: peak off at rtol 1e-7/1e-9/1e-11 {errors:?}");
+    assert!(
+        errors[0] > 10.0 * errors[1] && errors[1] > 10.0 * errors[2],
+        "{errors:?}"
+    );
     // Why: the problem, not the integrator. Before the main pulse the block rocks at θ ~ 1e-4
     // rad with impacts every 5–10 ms, and there perturbations grow by ~1e5: at the reference
     // tolerance a change of 1e-7 in the record's amplitude moves this peak by ~1 %, so no
