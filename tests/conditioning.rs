@@ -251,3 +251,55 @@ fn scaled_excitations_scale_the_ground_acceleration() {
         }
     }
 }
+
+/// Just below the uplift threshold (A = g tan α) the block does not rock, and 1e-7 more
+/// amplitude makes it: the rotation appears, κ is infinite (null in JSON), and the check
+/// gives no tolerance advice.
+#[test]
+fn a_peak_that_appears_has_infinite_condition() {
+    let mut scene = rigid_fig8(Device::None);
+    scene.excitation = Excitation::Pulse {
+        shape: rocklab::excitation::PulseShape::Sine,
+        amplitude: Amplitude::TanAlphaRatio(1.0 - 5e-8),
+        frequency: Frequency::Ratio(5.0),
+    };
+    let c = checked(&scene);
+    assert_eq!(c.peaks[0].reference, 0.0);
+    assert_eq!(condition(&c, "peak_rotation"), f64::INFINITY);
+    // The acceleration follows the ground's: linear.
+    assert!((condition(&c, "peak_abs_acceleration_g") - 1.0).abs() < 1e-3);
+    assert_eq!(c.verdict, Verdict::IllConditioned);
+    assert_eq!(c.suggested_rtol(), None);
+    assert!(c.report().contains("appears or vanishes"), "{}", c.report());
+    let json = serde_json::to_value(&c).unwrap();
+    assert_eq!(json["peaks"][0]["condition"], serde_json::Value::Null);
+}
+
+/// A check that cannot be made is refused before the scene runs; scene ranges are checked.
+#[test]
+fn impossible_checks_are_refused_up_front() {
+    let o = rocklab(&[
+        "simulate",
+        "--size",
+        "1",
+        "--alpha",
+        "0.2",
+        "--amplitude-ratio",
+        "1.5",
+        "--frequency",
+        "5",
+        "--rtol",
+        "1e-12",
+        "--check",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains("--check: rtol 1e-12 leaves no tighter reference"),
+        "{stderr}"
+    );
+    assert!(o.stdout.is_empty(), "nothing ran");
+    let o = rocklab(&["check", "out/none", "--scenes", "5-2"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("a range runs from low to high, e.g. 2-5"));
+}

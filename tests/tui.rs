@@ -387,7 +387,7 @@ fn scene_screen_checks_the_scene() {
     let screen = text(&render(&app, Theme::COLOR, SMALL));
     assert!(screen.contains("check: ill-conditioned"), "{screen}");
     assert!(
-        screen.contains("a 1e-7 change of the excitation moves it"),
+        screen.contains("a 1e-7 change of the inputs moves it"),
         "{screen}"
     );
 }

@@ -35,7 +35,9 @@ fn parse_range(text: &str) -> Result<(usize, usize), String> {
         b.trim().parse().map_err(|_| bad())?,
     );
     if a > b {
-        return Err(bad());
+        return Err(format!(
+            "`{t}`: a range runs from low to high, e.g. {b}-{a}"
+        ));
     }
     Ok((a, b))
 }
@@ -48,23 +50,54 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
             .as_ref()
             .is_none_or(|r| r.iter().any(|&(a, b)| (a..=b).contains(&i)))
     };
-    let outcomes: Vec<&SceneOutcome> = results
+    let (outcomes, failed_in_run): (Vec<&SceneOutcome>, Vec<&SceneOutcome>) = results
         .outcomes
         .iter()
-        .filter(|o| o.result.is_ok() && chosen(o.point.index))
-        .collect();
+        .filter(|o| chosen(o.point.index))
+        .partition(|o| o.result.is_ok());
+    // Scenes that failed in the run have no result to check; say so rather than skip them.
+    let failed_note = match failed_in_run.len() {
+        0 => String::new(),
+        n => {
+            let mut shown: Vec<String> = failed_in_run
+                .iter()
+                .take(10)
+                .map(|o| o.point.index.to_string())
+                .collect();
+            if n > 10 {
+                shown.push("…".into());
+            }
+            format!(
+                "{n} selected scene{} failed in the run and cannot be checked: {}",
+                if n == 1 { "" } else { "s" },
+                shown.join(", ")
+            )
+        }
+    };
     if outcomes.is_empty() {
         return Err(UsageError::new(format!(
-            "{}: no finished scene {}",
+            "{}: no finished scene {}{}",
             path.display(),
             if args.scenes.is_some() {
                 "matches --scenes"
             } else {
                 "to check"
+            },
+            if failed_note.is_empty() {
+                String::new()
+            } else {
+                format!(" ({failed_note})")
             }
         ))
         .into());
     }
+    let csv_path = args
+        .csv
+        .clone()
+        .unwrap_or_else(|| path.with_file_name("check.csv"));
+    // Opened before the work, so a bad path costs nothing.
+    let mut w = csv::Writer::from_path(&csv_path)
+        .map_err(|e| UsageError::new(format!("--csv {}: {e}", csv_path.display())))?;
     let library = crate::excitation::library::global()?;
     let bar = std::io::stderr().is_terminal().then(|| {
         let bar = indicatif::ProgressBar::new(outcomes.len() as u64);
@@ -93,12 +126,6 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    let csv_path = args
-        .csv
-        .clone()
-        .unwrap_or_else(|| path.with_file_name("check.csv"));
-    let mut w = csv::Writer::from_path(&csv_path)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", csv_path.display()))?;
     w.write_record([
         "scene",
         "verdict",
@@ -137,7 +164,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
     w.flush()?;
     println!(
         "{} scene{} checked: {} converged, {} not converged at their rtol (tighten it), {} \
-         ill-conditioned (a change of {:e} in the excitation moves a peak by > 1e-3){}",
+         ill-conditioned (a change of {:e} in the inputs moves a peak by > 1e-3){}",
         checks.len(),
         if checks.len() == 1 { "" } else { "s" },
         counts[Verdict::Converged as usize],
@@ -147,7 +174,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
         if failed.is_empty() {
             String::new()
         } else {
-            format!(", {} failed", failed.len())
+            format!(", {} checks failed", failed.len())
         }
     );
     let mut worst: Vec<(&SceneOutcome, &Check)> = checks
@@ -155,7 +182,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
         .filter_map(|(o, c)| c.as_ref().ok().map(|c| (*o, c)))
         .filter(|(_, c)| c.verdict != Verdict::Converged)
         .collect();
-    let condition = |c: &Check| c.peaks.iter().map(|p| p.condition).fold(0.0, f64::max);
+    let condition = |c: &Check| c.worst_condition();
     worst.sort_by(|a, b| condition(b.1).total_cmp(&condition(a.1)));
     for (o, c) in worst.iter().take(args.worst) {
         let change = c.peaks.iter().map(|p| p.change).fold(0.0, f64::max);
@@ -174,6 +201,9 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
     }
     for f in &failed {
         eprintln!("  {f}");
+    }
+    if !failed_note.is_empty() {
+        println!("{failed_note}");
     }
     println!("per scene and quantity: {}", csv_path.display());
     Ok(())

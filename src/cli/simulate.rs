@@ -665,6 +665,11 @@ impl SimulateArgs {
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let measures = args.measures()?;
     let scene = args.scene()?;
+    if args.check {
+        // Before the run: a check that cannot be made should not cost the scene first.
+        sim::check::reference_rtol(scene.rtol)
+            .map_err(|e| UsageError::new(format!("--check: {e}")))?;
+    }
     let library = library::global()?;
     let bounds = sim::Bounds {
         measures,

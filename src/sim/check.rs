@@ -3,7 +3,8 @@
 //! the tolerance), or the peak is ill-conditioned, so sensitive to its input that a change in
 //! the excitation's 7th digit moves it visibly (no tolerance helps much, and the record's own
 //! precision does not fix the answer). [`check`] tells them apart by rerunning the scene at a
-//! tolerance 1000× tighter and, there, with the excitation scaled by 1 ± [`INPUT_CHANGE`].
+//! tolerance 1000× tighter and, there, with its inputs (the excitation's amplitude and the
+//! initial rotation) scaled by 1 ± [`INPUT_CHANGE`].
 //!
 //! The measured case: a rigid block (R = 3 m, α = 0.25) with a 50 p mechanistic clutch under
 //! Landers rocks at θ ~ 1e-4 rad with impacts every 5–10 ms before the main pulse, and there
@@ -35,12 +36,25 @@ pub struct PeakCheck {
     pub value: f64,
     /// At the reference tolerance.
     pub reference: f64,
-    /// |value − reference| / |reference|.
+    /// |value − reference| / |reference| (infinite, `null` in JSON, if only the reference
+    /// is 0).
+    #[serde(serialize_with = "finite_or_null")]
     pub change: f64,
-    /// Relative change of the reference peak per relative change of the excitation
-    /// (the larger of the two sides): 1 for a linear response, 0 where the peak does not
-    /// depend on the amplitude, infinite where it appears or vanishes.
+    /// Relative change of the reference peak per relative change of the inputs (the larger
+    /// of the two sides): 1 for a linear response, 0 where the peak does not depend on them,
+    /// infinite (`null` in JSON) where it appears or vanishes (the reference is 0 and a
+    /// scaled run's is not, e.g. an uplift that barely happens).
+    #[serde(serialize_with = "finite_or_null")]
     pub condition: f64,
+}
+
+/// JSON has no infinity: a non-finite number is written as `null`.
+fn finite_or_null<S: serde::Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+    if v.is_finite() {
+        s.serialize_f64(*v)
+    } else {
+        s.serialize_none()
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -110,44 +124,63 @@ fn relative(value: f64, reference: f64) -> f64 {
     if d == 0.0 { 0.0 } else { d / reference.abs() }
 }
 
+/// The tolerance a scene at `rtol` is checked against, or why there is none.
+pub fn reference_rtol(rtol: f64) -> Result<f64, String> {
+    let reference = rtol * TIGHTENING;
+    if reference >= 1e-14 {
+        Ok(reference)
+    } else {
+        Err(format!(
+            "rtol {rtol:e} leaves no tighter reference for the check (rtol × {TIGHTENING:e} \
+             must be ≥ 1e-14; check at rtol ≥ 1e-11)"
+        ))
+    }
+}
+
 /// Run `scene` as given (`result`, already computed by the caller), at its tolerance × 1e-3,
-/// and there with the excitation scaled by 1 ± 1e-7; see the module doc.
+/// and there with its inputs scaled by 1 ± 1e-7; see the module doc.
 pub fn check(
     scene: &Scene,
     result: &SceneResult,
     library: &Library,
     bounds: super::Bounds,
 ) -> Result<Check, SimError> {
-    let reference_rtol = scene.rtol * TIGHTENING;
-    if reference_rtol < 1e-14 {
-        return Err(SimError::Invalid(format!(
-            "--check: rtol {:e} leaves no tighter reference (its × {TIGHTENING:e} must be ≥ 1e-14)",
-            scene.rtol
-        )));
-    }
+    let reference_rtol = reference_rtol(scene.rtol).map_err(SimError::Invalid)?;
     let at = |factor: f64| {
         let mut s = scene.clone();
         s.rtol = reference_rtol;
         s.excitation = scene.excitation.scaled(factor);
+        // An initial rotation within 1e-7 of α stays put rather than start beyond it.
+        if (scene.initial_rotation * factor).abs() < scene.structure.alpha() {
+            s.initial_rotation = scene.initial_rotation * factor;
+        }
         run_bounded(&s, library, bounds)
     };
     let rigid = matches!(scene.structure, crate::scene::Structure::Rigid(_));
     let reference = at(1.0)?;
     let scaled = [at(1.0 + INPUT_CHANGE)?, at(1.0 - INPUT_CHANGE)?];
+    // Matched by name; a peak missing from a run (it cannot be: the runs measure the same
+    // quantities) would read NaN and count as ill-conditioned rather than vanish.
+    let peak = |r: &SceneResult, quantity: &str| {
+        peaks_of(r, rigid)
+            .into_iter()
+            .find(|(n, _)| *n == quantity)
+            .map_or(f64::NAN, |(_, v)| v)
+    };
     let peaks: Vec<PeakCheck> = peaks_of(result, rigid)
         .into_iter()
-        .zip(peaks_of(&reference, rigid))
-        .map(|((quantity, value), (_, reference_value))| {
+        .map(|(quantity, value)| {
+            let reference_value = peak(&reference, quantity);
             let condition = scaled
                 .iter()
-                .map(|s| {
-                    let v = peaks_of(s, rigid)
-                        .into_iter()
-                        .find(|(n, _)| *n == quantity)
-                        .map_or(f64::NAN, |(_, v)| v);
-                    relative(v, reference_value) / INPUT_CHANGE
-                })
-                .fold(0.0, f64::max);
+                .map(|s| relative(peak(s, quantity), reference_value) / INPUT_CHANGE)
+                .fold(0.0, |worst: f64, c| {
+                    if worst.is_nan() || c.is_nan() {
+                        f64::NAN
+                    } else {
+                        worst.max(c)
+                    }
+                });
             PeakCheck {
                 quantity,
                 value,
@@ -186,19 +219,46 @@ pub fn check(
 impl Check {
     /// The rule of thumb for a reproducible value: the integrator's local errors act like
     /// input changes of about rtol, so rtol ≲ 1e-3 / κ (rounded down to a decade, at most
-    /// the scene's and at least 1e-13). On the measured 50 p case (κ = 1.2e5) it says 1e-9,
+    /// the scene's and at least 1e-11). On the measured 50 p case (κ = 1.2e5) it says 1e-9,
     /// where the peak is 4.5e-5 off (5e-3 at 1e-7).
-    pub fn suggested_rtol(&self) -> f64 {
-        let worst = self.peaks.iter().map(|p| p.condition).fold(1.0, f64::max);
-        let rtol = 10f64.powf((CONVERGED / worst).log10().floor());
-        rtol.clamp(1e-13, self.rtol)
+    /// None where a peak's κ is not finite (it appears or vanishes: no tolerance settles
+    /// that).
+    pub fn suggested_rtol(&self) -> Option<f64> {
+        let worst = self.worst_condition();
+        if !worst.is_finite() {
+            return None;
+        }
+        let rtol = 10f64.powf((CONVERGED / worst.max(1.0)).log10().floor());
+        Some(rtol.clamp(1e-11, self.rtol))
+    }
+
+    /// The largest condition number (NaN or infinite if any is).
+    pub fn worst_condition(&self) -> f64 {
+        self.worst_peak().condition
+    }
+
+    /// The peak with the largest κ; the first of those within 5 % of it (the rotation
+    /// before the drift it nearly equals).
+    pub fn worst_peak(&self) -> &PeakCheck {
+        let key = |p: &PeakCheck| {
+            if p.condition.is_nan() {
+                f64::INFINITY
+            } else {
+                p.condition
+            }
+        };
+        let top = self.peaks.iter().map(key).fold(0.0, f64::max);
+        self.peaks
+            .iter()
+            .find(|p| key(p) >= top / 1.05)
+            .expect("the rotation is always checked")
     }
 
     /// The lines `simulate --check` prints.
     pub fn report(&self) -> String {
         let mut out = format!(
             "check: rtol {:e} against {:e}; condition κ = relative peak change per relative \
-             change of the excitation (× 1 ± {:e}, at {:e})\n",
+             change of the inputs (× 1 ± {:e}, at {:e})\n",
             self.rtol, self.reference_rtol, self.input_change, self.reference_rtol
         );
         out += &format!(
@@ -211,12 +271,7 @@ impl Check {
                 p.quantity, p.value, p.reference, p.change, p.condition
             );
         }
-        // The first of the worst (the rotation on a tie with the drift).
-        let worst = self
-            .peaks
-            .iter()
-            .reduce(|w, p| if p.condition > w.condition { p } else { w })
-            .expect("the rotation is always checked");
+        let worst = self.worst_peak();
         if self.overturned != self.reference_overturned {
             out += &format!(
                 "  overturned: {} at rtol {:e}, {} at {:e}\n",
@@ -237,16 +292,23 @@ impl Check {
                  of {:e} in the excitation flips it)\n",
                 self.input_change
             ),
-            Verdict::IllConditioned => format!(
-                "verdict: ill-conditioned: a change of {:e} in the excitation's amplitude (a \
-                 record's 7th digit) moves the {} by {:.1e}, so its value is no more certain \
-                 than that; to reproduce it anyway, rtol ≲ 1e-3 / κ (here {:.0e}) is the rule \
-                 of thumb\n",
-                self.input_change,
-                worst.quantity,
-                worst.condition * self.input_change,
-                self.suggested_rtol()
-            ),
+            Verdict::IllConditioned => match self.suggested_rtol() {
+                Some(rtol) => format!(
+                    "verdict: ill-conditioned: a change of {:e} in the inputs (a record's 7th \
+                     digit) moves the {} by {:.1e}, so its value is no more certain than that; \
+                     to reproduce it anyway, rtol ≲ 1e-3 / κ (here {rtol:.0e}) is the rule of \
+                     thumb\n",
+                    self.input_change,
+                    worst.quantity,
+                    worst.condition * self.input_change,
+                ),
+                None => format!(
+                    "verdict: ill-conditioned: the {} appears or vanishes under a change of \
+                     {:e} in the inputs (a threshold: an uplift that barely happens); no \
+                     tolerance settles it\n",
+                    worst.quantity, self.input_change,
+                ),
+            },
         };
         out
     }

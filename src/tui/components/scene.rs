@@ -214,18 +214,18 @@ impl Component for SceneScreen {
 /// The check in one line: the verdict, the worst change against the reference and the worst
 /// condition number, and what to do.
 fn check_line(c: &Check, theme: Theme) -> Line<'static> {
-    let worst = |f: fn(&sim::check::PeakCheck) -> f64| {
-        c.peaks
-            .iter()
-            .reduce(|w, p| if f(p) > f(w) { p } else { w })
-            .map_or(("", 0.0), |p| (p.quantity, f(p)))
-    };
-    let (changed, change) = worst(|p| p.change);
-    let (sensitive, kappa) = worst(|p| p.condition);
+    let changed = c
+        .peaks
+        .iter()
+        .reduce(|w, p| if p.change > w.change { p } else { w })
+        .expect("the rotation is always checked");
+    let sensitive = c.worst_peak();
     let short = |q: &'static str| q.trim_start_matches("peak_");
+    let kappa = sensitive.condition;
     let measured = format!(
-        "{} off by {change:.1e} at rtol {:e} (reference {:e}), κ {} ({})",
-        short(changed),
+        "{} off by {:.1e} at rtol {:e} (reference {:e}), κ {} ({})",
+        short(changed.quantity),
+        changed.change,
         c.rtol,
         c.reference_rtol,
         if kappa < 100.0 {
@@ -233,7 +233,7 @@ fn check_line(c: &Check, theme: Theme) -> Line<'static> {
         } else {
             format!("{kappa:.1e}")
         },
-        short(sensitive)
+        short(sensitive.quantity)
     );
     let (verdict, advice, style) = match c.verdict {
         Verdict::Converged => ("converged", String::new(), theme.ok()),
@@ -249,10 +249,12 @@ fn check_line(c: &Check, theme: Theme) -> Line<'static> {
         ),
         Verdict::IllConditioned => (
             "ill-conditioned",
-            format!(
-                " — a 1e-7 change of the excitation moves it; reproducible from rtol ≲ {:e}",
-                c.suggested_rtol()
-            ),
+            match c.suggested_rtol() {
+                Some(rtol) => format!(
+                    " — a 1e-7 change of the inputs moves it; reproducible from rtol ≲ {rtol:e}"
+                ),
+                None => " — it appears or vanishes under a 1e-7 change of the inputs".into(),
+            },
             theme.error(),
         ),
     };
