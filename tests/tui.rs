@@ -365,8 +365,11 @@ fn scene_screen_checks_the_scene() {
     key(&mut app, KeyCode::Char('c'));
     assert!(app.wait_idle(Duration::from_secs(60)), "the check runs");
     let screen = text(&render(&app, Theme::COLOR, SMALL));
-    assert!(screen.contains("check: converged  "), "{screen}");
-    assert!(screen.contains("at rtol 1e-5 (reference 1e-8)"), "{screen}");
+    assert!(
+        screen.contains("check: converged · worst rel. change"),
+        "{screen}"
+    );
+    assert!(screen.contains("rtol 1e-5 vs 1e-8"), "{screen}");
     assert!(screen.lines().all(|l| l.chars().count() <= 80));
 
     let mut hard = point;

@@ -20,14 +20,22 @@ pub struct CheckArgs {
     /// Write one row per scene and quantity here (default: check.csv beside the results).
     #[arg(long)]
     pub csv: Option<PathBuf>,
-    /// Scenes listed in the summary, worst condition first.
+    /// At most this many of the scenes that are not converged or ill-conditioned are listed
+    /// in the summary, the largest κ first.
     #[arg(long, default_value_t = 10)]
     pub worst: usize,
+    /// Wall-clock limit of each of a scene's check runs in seconds (0: none), as for `run`: at
+    /// a 1000× tighter rtol a scene takes longer than it did in the sweep.
+    #[arg(long, default_value_t = 600.0, value_parser = super::run::parse_seconds)]
+    pub scene_time_limit: f64,
 }
 
 /// `7` or `10-20` (inclusive).
 fn parse_range(text: &str) -> Result<(usize, usize), String> {
     let t = text.trim();
+    if t.is_empty() {
+        return Err("an empty entry: give scene indices and ranges, e.g. 3,7,10-20".into());
+    }
     let bad = || format!("`{t}`: give scene indices and ranges, e.g. 3,7,10-20");
     let (a, b) = t.split_once('-').unwrap_or((t, t));
     let (a, b): (usize, usize) = (
@@ -74,14 +82,18 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
             )
         }
     };
+    let indices = match (results.outcomes.first(), results.outcomes.last()) {
+        (Some(a), Some(b)) => format!("indices {}…{}", a.point.index, b.point.index),
+        _ => "none".to_string(),
+    };
     if outcomes.is_empty() {
         return Err(UsageError::new(format!(
             "{}: no finished scene {}{}",
             path.display(),
             if args.scenes.is_some() {
-                "matches --scenes"
+                format!("matches --scenes (scenes in the file: {indices})")
             } else {
-                "to check"
+                "to check".to_string()
             },
             if failed_note.is_empty() {
                 String::new()
@@ -90,6 +102,12 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
             }
         ))
         .into());
+    }
+    if let (Some(ranges), Some(last)) = (&args.scenes, results.outcomes.last()) {
+        let last = last.point.index;
+        if ranges.iter().any(|&(_, b)| b > last) {
+            eprintln!("note: --scenes reaches past the last scene in the file ({indices})");
+        }
     }
     let csv_path = args
         .csv
@@ -113,6 +131,8 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
             let result = o.result.as_ref().expect("finished scenes only");
             let bounds = crate::sim::Bounds {
                 measures: result.measured,
+                time_limit: (args.scene_time_limit > 0.0)
+                    .then(|| std::time::Duration::from_secs_f64(args.scene_time_limit)),
                 ..Default::default()
             };
             let c = crate::sweep::guarded(|| check(&o.point.scene, result, library, bounds))

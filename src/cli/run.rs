@@ -64,7 +64,7 @@ pub struct MergeArgs {
     pub quiet: bool,
 }
 
-fn parse_seconds(s: &str) -> Result<f64, String> {
+pub(super) fn parse_seconds(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
         Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
         _ => Err(format!("invalid time `{s}`: expected seconds ≥ 0")),

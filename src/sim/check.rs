@@ -48,6 +48,27 @@ pub struct PeakCheck {
     pub condition: f64,
 }
 
+/// κ as the check prints it: 3.7 below 100, 1.2e5 above.
+pub fn fmt_condition(k: f64) -> String {
+    if k < 100.0 {
+        format!("{k:.1}")
+    } else {
+        format!("{k:.1e}")
+    }
+}
+
+/// A peak's name for people: `rotation`, `abs. accel.`, ….
+pub fn short_name(quantity: &str) -> &'static str {
+    match quantity {
+        "peak_rotation" => "rotation",
+        "peak_deformation" => "deformation",
+        "peak_drift" => "drift",
+        "peak_abs_acceleration_g" => "abs. accel.",
+        "peak_angular_acceleration_p2" => "θ̈",
+        _ => "peak",
+    }
+}
+
 /// JSON has no infinity: a non-finite number is written as `null`.
 fn finite_or_null<S: serde::Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
     if v.is_finite() {
@@ -267,8 +288,12 @@ impl Check {
         );
         for p in &self.peaks {
             out += &format!(
-                "  {:<30} {:>14.6e} {:>14.6e} {:>10.1e} {:>10.1e}\n",
-                p.quantity, p.value, p.reference, p.change, p.condition
+                "  {:<30} {:>14.6e} {:>14.6e} {:>10.1e} {:>10}\n",
+                p.quantity,
+                p.value,
+                p.reference,
+                p.change,
+                fmt_condition(p.condition)
             );
         }
         let worst = self.worst_peak();

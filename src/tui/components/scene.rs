@@ -9,7 +9,7 @@ use super::super::theme::Theme;
 use super::super::widgets::chart::draw_chart;
 use super::super::widgets::{Hint, fmt_coords, fmt_num};
 use super::{Action, Component, Shared};
-use crate::sim::check::{Check, Verdict};
+use crate::sim::check::{Check, Verdict, fmt_condition, short_name};
 use crate::sim::{self, History, SceneResult};
 use crate::study::ScenePoint;
 use crossterm::event::{KeyCode, KeyEvent};
@@ -161,10 +161,7 @@ impl Component for SceneScreen {
             );
             return;
         };
-        // The check's line may wrap once at 80 columns.
-        let head_rows = if view.check.is_some() { 4 } else { 2 };
-        let [head, body] =
-            Layout::vertical([Constraint::Length(head_rows), Constraint::Min(1)]).areas(area);
+
         let mut lines = vec![Line::from(vec![
             Span::styled(view.point.group.clone(), theme.title()),
             Span::raw(format!("  {}", fmt_coords(&view.point.coords))),
@@ -204,6 +201,19 @@ impl Component for SceneScreen {
             }
             Some(CheckState::Done(c)) => lines.push(check_line(c, theme)),
         }
+        // As many rows as the lines take wrapped (a word wrap can take a little more than
+        // width / columns: one spare row when anything wraps), at most half the screen.
+        let columns = area.width.max(1) as usize;
+        let wrapped: usize = lines
+            .iter()
+            .map(|l| l.width().max(1).div_ceil(columns))
+            .sum();
+        let head_rows = (wrapped + usize::from(wrapped > lines.len())) as u16;
+        let [head, body] = Layout::vertical([
+            Constraint::Length(head_rows.min(area.height / 2)),
+            Constraint::Min(1),
+        ])
+        .areas(area);
         frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), head);
         if let SceneState::Done(_, history) = &view.state {
             draw_histories(history, theme, frame, body);
@@ -220,47 +230,41 @@ fn check_line(c: &Check, theme: Theme) -> Line<'static> {
         .reduce(|w, p| if p.change > w.change { p } else { w })
         .expect("the rotation is always checked");
     let sensitive = c.worst_peak();
-    let short = |q: &'static str| q.trim_start_matches("peak_");
-    let kappa = sensitive.condition;
     let measured = format!(
-        "{} off by {:.1e} at rtol {:e} (reference {:e}), κ {} ({})",
-        short(changed.quantity),
+        " · worst rel. change {:.1e} ({}) · max κ {} ({}) · rtol {:e} vs {:e}",
         changed.change,
+        short_name(changed.quantity),
+        fmt_condition(sensitive.condition),
+        short_name(sensitive.quantity),
         c.rtol,
         c.reference_rtol,
-        if kappa < 100.0 {
-            format!("{kappa:.1}")
-        } else {
-            format!("{kappa:.1e}")
-        },
-        short(sensitive.quantity)
     );
     let (verdict, advice, style) = match c.verdict {
         Verdict::Converged => ("converged", String::new(), theme.ok()),
         Verdict::NotConverged => (
             "not converged",
-            " — a tighter rtol fixes it".to_string(),
+            " · a tighter rtol fixes it".to_string(),
             theme.warn(),
         ),
         Verdict::IllConditioned if c.overturn_flips => (
             "ill-conditioned",
-            " — on the overturning boundary".to_string(),
+            " · on the overturning boundary".to_string(),
             theme.error(),
         ),
         Verdict::IllConditioned => (
             "ill-conditioned",
             match c.suggested_rtol() {
                 Some(rtol) => format!(
-                    " — a 1e-7 change of the inputs moves it; reproducible from rtol ≲ {rtol:e}"
+                    " · a 1e-7 change of the inputs moves it; reproducible from rtol ≲ {rtol:e}"
                 ),
-                None => " — it appears or vanishes under a 1e-7 change of the inputs".into(),
+                None => " · it appears or vanishes under a 1e-7 change of the inputs".into(),
             },
             theme.error(),
         ),
     };
     Line::from(vec![
         Span::styled(format!("check: {verdict}"), style),
-        Span::raw(format!("  {measured}{advice}")),
+        Span::raw(format!("{measured}{advice}")),
     ])
 }
 
