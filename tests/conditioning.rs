@@ -253,8 +253,8 @@ fn scaled_excitations_scale_the_ground_acceleration() {
 }
 
 /// Just below the uplift threshold (A = g tan α) the block does not rock, and 1e-7 more
-/// amplitude makes it: the rotation appears, κ is infinite (null in JSON), and the check
-/// gives no tolerance advice.
+/// amplitude makes it: the rotation appears (κ infinite, null in JSON) but stays far below
+/// 1e-3 α, so it is negligible and the verdict rests on the other peaks.
 #[test]
 fn a_peak_that_appears_has_infinite_condition() {
     let mut scene = rigid_fig8(Device::None);
@@ -264,15 +264,52 @@ fn a_peak_that_appears_has_infinite_condition() {
         frequency: Frequency::Ratio(5.0),
     };
     let c = checked(&scene);
-    assert_eq!(c.peaks[0].reference, 0.0);
-    assert_eq!(condition(&c, "peak_rotation"), f64::INFINITY);
+    let rotation = &c.peaks[0];
+    assert_eq!(rotation.reference, 0.0);
+    assert_eq!(rotation.condition, f64::INFINITY);
+    assert!(rotation.negligible, "{}", c.report());
     // The acceleration follows the ground's: linear.
     assert!((condition(&c, "peak_abs_acceleration_g") - 1.0).abs() < 1e-3);
-    assert_eq!(c.verdict, Verdict::IllConditioned);
-    assert_eq!(c.suggested_rtol(), None);
-    assert!(c.report().contains("appears or vanishes"), "{}", c.report());
+    assert_eq!(c.verdict, Verdict::Converged, "{}", c.report());
+    assert!(c.report().contains("negligible (< 1e-3 α), not judged"));
     let json = serde_json::to_value(&c).unwrap();
     assert_eq!(json["peaks"][0]["condition"], serde_json::Value::Null);
+    assert_eq!(json["peaks"][0]["negligible"], true);
+    // Were that peak not negligible, no tolerance would settle it.
+    let mut not_negligible = c.clone();
+    not_negligible.peaks[0].negligible = false;
+    not_negligible.verdict = Verdict::IllConditioned;
+    assert_eq!(not_negligible.suggested_rtol(), None);
+    assert!(not_negligible.report().contains("appears or vanishes"));
+}
+
+/// A flexible Fig. 14 structure that barely lifts off (ωg/p = 14.5: θ = 2e-6 rad, 1e-5 α):
+/// its rotation moves by ~50 % with the tolerance, by 1e-6 rad, and is negligible; the
+/// deformation, converged, decides.
+#[test]
+fn a_barely_rocking_peak_is_negligible() {
+    let mut scene = flexible_fig14(Device::Mechanistic(Clutch::paper_default(0.5)));
+    scene.excitation = Excitation::Pulse {
+        shape: rocklab::excitation::PulseShape::Sine,
+        amplitude: Amplitude::TanAlphaRatio(1.5),
+        frequency: Frequency::Ratio(14.5),
+    };
+    let c = checked(&scene);
+    let rotation = &c.peaks[0];
+    assert!(
+        rotation.negligible && rotation.change > 0.1,
+        "{}",
+        c.report()
+    );
+    assert!(rotation.reference < 1e-5 * 0.2 * 10.0, "{}", c.report());
+    assert!(
+        !c.peaks
+            .iter()
+            .find(|p| p.quantity == "peak_deformation")
+            .unwrap()
+            .negligible
+    );
+    assert_eq!(c.verdict, Verdict::Converged, "{}", c.report());
 }
 
 /// A check that cannot be made is refused before the scene runs; scene ranges are checked.

@@ -17,7 +17,9 @@ pub struct CheckArgs {
     /// Only these scenes: indices and ranges, `3,7,10-20` (default: every finished scene).
     #[arg(long, value_delimiter = ',', value_parser = parse_range)]
     pub scenes: Option<Vec<(usize, usize)>>,
-    /// Write one row per scene and quantity here (default: check.csv beside the results).
+    /// Write one row per scene and quantity here (default: check.csv beside the results):
+    /// scene, verdict, rtol, reference_rtol, quantity, value, reference, change, condition,
+    /// negligible.
     #[arg(long)]
     pub csv: Option<PathBuf>,
     /// At most this many of the scenes that are not converged or ill-conditioned are listed
@@ -156,6 +158,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
         "reference",
         "change",
         "condition",
+        "negligible",
     ])?;
     let (mut counts, mut failed) = ([0usize; 3], Vec::new());
     for (o, c) in &checks {
@@ -178,6 +181,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
                 format!("{:e}", p.reference),
                 format!("{:e}", p.change),
                 format!("{:e}", p.condition),
+                p.negligible.to_string(),
             ])?;
         }
     }
