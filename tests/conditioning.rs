@@ -67,8 +67,7 @@ fn a_loose_tolerance_is_not_converged() {
 }
 
 /// On the overturning boundary (found by bisection on the amplitude to 1e-9) a change of 1e-7
-/// in the amplitude flips the outcome; a scene at the default rtol that survives there while
-/// the reference overturns is reported too.
+/// in the amplitude flips the outcome.
 #[test]
 fn the_overturning_boundary_is_ill_conditioned() {
     let library = rocklab::excitation::library::global().unwrap();
@@ -339,4 +338,29 @@ fn impossible_checks_are_refused_up_front() {
     let o = rocklab(&["check", "out/none", "--scenes", "5-2"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("a range runs from low to high, e.g. 2-5"));
+}
+
+/// Rotation alone, and no uplift: every peak is negligible, and the check says so.
+#[test]
+fn a_check_of_negligible_peaks_only_says_so() {
+    let o = rocklab(&[
+        "simulate",
+        "--size",
+        "1",
+        "--alpha",
+        "0.2",
+        "--amplitude-ratio",
+        "0.5",
+        "--frequency",
+        "5",
+        "--quantities",
+        "peak_rotation",
+        "--check",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("verdict: converged: every peak is negligible"),
+        "{text}"
+    );
 }

@@ -18,8 +18,8 @@ pub struct CheckArgs {
     #[arg(long, value_delimiter = ',', value_parser = parse_range)]
     pub scenes: Option<Vec<(usize, usize)>>,
     /// Write one row per scene and quantity here (default: check.csv beside the results):
-    /// scene, verdict, rtol, reference_rtol, quantity, value, reference, change, condition,
-    /// negligible.
+    /// scene, verdict, rtol, reference_rtol, quantity, value, reference, change, condition (κ),
+    /// negligible, overturn_flips.
     #[arg(long)]
     pub csv: Option<PathBuf>,
     /// At most this many of the scenes that are not converged or ill-conditioned are listed
@@ -159,6 +159,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
         "change",
         "condition",
         "negligible",
+        "overturn_flips",
     ])?;
     let (mut counts, mut failed) = ([0usize; 3], Vec::new());
     for (o, c) in &checks {
@@ -182,6 +183,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
                 format!("{:e}", p.change),
                 format!("{:e}", p.condition),
                 p.negligible.to_string(),
+                c.overturn_flips.to_string(),
             ])?;
         }
     }
@@ -209,12 +211,12 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
     let condition = |c: &Check| c.worst_condition();
     worst.sort_by(|a, b| condition(b.1).total_cmp(&condition(a.1)));
     for (o, c) in worst.iter().take(args.worst) {
-        let change = c.peaks.iter().map(|p| p.change).fold(0.0, f64::max);
+        let change = c.worst_change().map_or(0.0, |p| p.change);
         println!(
-            "  {}: {}, κ {:.1e}, off by {change:.1e} at rtol {:e}{}",
+            "  {}: {}, κ {}, off by {change:.1e} at rtol {:e}{}",
             report::scene_title(o.point.index, &o.point.group, &o.point.coords),
-            c.verdict.name().replace('_', " "),
-            condition(c),
+            c.verdict.label(),
+            crate::sim::check::fmt_condition(condition(c)),
             c.rtol,
             if c.overturn_flips {
                 ", on the overturning boundary"

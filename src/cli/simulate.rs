@@ -222,10 +222,10 @@ pub struct SimulateArgs {
     /// Print exactly one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
-    /// Also run the scene at a 1000× tighter rtol, and there with the excitation scaled by
-    /// 1 ± 1e-7, and say whether its peaks are converged, not yet converged (tighten --rtol)
-    /// or ill-conditioned (a change in the input's 7th digit moves them); about 3–15× the
-    /// scene's own time.
+    /// Also run the scene at a 1000× tighter rtol, and there with its inputs (excitation
+    /// amplitude, θ0) scaled by 1 ± 1e-7, and say whether its peaks are converged, not yet
+    /// converged (tighten --rtol) or ill-conditioned (a relative change of 1e-7 in the inputs
+    /// moves them); about 3–15× the scene's own time.
     #[arg(long)]
     pub check: bool,
 }
@@ -679,10 +679,10 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         let sampling = args.dt.clone().unwrap_or(sim::Sampling::Auto);
         let sampling = args.history.is_some().then_some(&sampling);
         let (result, history) = sim::run_sampled(&scene, library, sampling, bounds)?;
-        let check = match args.check {
-            true => Some(sim::check::check(&scene, &result, library, bounds)?),
-            false => None,
-        };
+        let check = args
+            .check
+            .then(|| sim::check::check(&scene, &result, library, bounds))
+            .transpose()?;
         Ok((result, history, check))
     })
     .map_err(|e| match e {

@@ -224,21 +224,18 @@ impl Component for SceneScreen {
 /// The check in one line: the verdict, the worst change against the reference and the worst
 /// condition number, and what to do.
 fn check_line(c: &Check, theme: Theme) -> Line<'static> {
-    let changed = c
-        .peaks
-        .iter()
-        .reduce(|w, p| if p.change > w.change { p } else { w })
-        .expect("the rotation is always checked");
-    let sensitive = c.worst_peak();
-    let measured = format!(
-        " · worst rel. change {:.1e} ({}) · max κ {} ({}) · rtol {:e} vs {:e}",
-        changed.change,
-        short_name(changed.quantity),
-        fmt_condition(sensitive.condition),
-        short_name(sensitive.quantity),
-        c.rtol,
-        c.reference_rtol,
-    );
+    let measured = match (c.worst_change(), c.worst_peak()) {
+        (Some(changed), Some(sensitive)) => format!(
+            " · worst rel. change {:.1e} ({}) · max κ {} ({}) · rtol {:e} vs {:e}",
+            changed.change,
+            short_name(changed.quantity),
+            fmt_condition(sensitive.condition),
+            short_name(sensitive.quantity),
+            c.rtol,
+            c.reference_rtol,
+        ),
+        _ => " · every peak negligible (the structure barely rocks)".to_string(),
+    };
     let (verdict, advice, style) = match c.verdict {
         Verdict::Converged => ("converged", String::new(), theme.ok()),
         Verdict::NotConverged => (
