@@ -311,23 +311,26 @@ fn a_barely_rocking_peak_is_negligible() {
     assert_eq!(c.verdict, Verdict::Converged, "{}", c.report());
 }
 
-/// A check that cannot be made is refused before the scene runs; scene ranges are checked.
-#[test]
-fn impossible_checks_are_refused_up_front() {
-    let o = rocklab(&[
+/// `simulate --check` of a small bare block (R = 1 m, α = 0.2, one-sine at 5 rad/s) with
+/// `extra` flags.
+fn small_block_check(extra: &[&str]) -> std::process::Output {
+    let base = [
         "simulate",
         "--size",
         "1",
         "--alpha",
         "0.2",
-        "--amplitude-ratio",
-        "1.5",
         "--frequency",
         "5",
-        "--rtol",
-        "1e-12",
         "--check",
-    ]);
+    ];
+    rocklab(&[&base[..], extra].concat())
+}
+
+/// A check that cannot be made is refused before the scene runs; scene ranges are checked.
+#[test]
+fn impossible_checks_are_refused_up_front() {
+    let o = small_block_check(&["--amplitude-ratio", "1.5", "--rtol", "1e-12"]);
     assert_eq!(o.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(
@@ -343,20 +346,7 @@ fn impossible_checks_are_refused_up_front() {
 /// Rotation alone, and no uplift: every peak is negligible, and the check says so.
 #[test]
 fn a_check_of_negligible_peaks_only_says_so() {
-    let o = rocklab(&[
-        "simulate",
-        "--size",
-        "1",
-        "--alpha",
-        "0.2",
-        "--amplitude-ratio",
-        "0.5",
-        "--frequency",
-        "5",
-        "--quantities",
-        "peak_rotation",
-        "--check",
-    ]);
+    let o = small_block_check(&["--amplitude-ratio", "0.5", "--quantities", "peak_rotation"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(
