@@ -952,6 +952,53 @@ fn results_open_from_a_directory_or_file() {
     assert_eq!((results.outcomes.len(), at), (24, dir));
 }
 
+/// A `check.csv` beside opened results (`rocklab check`) puts each point's verdict and κ in
+/// the spectra's cursor readout; negligible rows do not count toward κ.
+#[test]
+fn results_show_their_check_at_the_cursor() {
+    let root = tempfile::tempdir().unwrap();
+    let dir = root.path().join("x");
+    std::fs::create_dir_all(&dir).unwrap();
+    let results = partial_results();
+    rocklab::report::save_results(&dir.join("results.json"), &results).unwrap();
+    let mut csv = String::from(
+        "scene,verdict,rtol,reference_rtol,quantity,value,reference,change,condition,negligible,overturn_flips\n",
+    );
+    for o in &results.outcomes {
+        let i = o.point.index;
+        csv += &format!("{i},ill_conditioned,1e-5,1e-8,peak_rotation,1,1,0,3.2e6,false,false\n");
+        csv += &format!("{i},ill_conditioned,1e-5,1e-8,peak_drift,1,1,0,9.9e9,true,false\n");
+    }
+    std::fs::write(dir.join("check.csv"), csv).unwrap();
+    let mut app = new_app();
+    key(&mut app, KeyCode::Char('o'));
+    typed(&mut app, dir.to_str().unwrap());
+    key(&mut app, Enter);
+    assert_eq!(app.screen, Screen::Results, "{:?}", app.message);
+    let message = format!("{:?}", app.message);
+    assert!(
+        message.contains("check.csv: 24 scenes checked"),
+        "{message}"
+    );
+    let screen = text(&render(&app, Theme::COLOR, LARGE));
+    assert!(
+        screen.contains("check: ill-conditioned (κ 3.2e6)"),
+        "{screen}"
+    );
+    assert!(!screen.contains("9.9e9"), "{screen}");
+    // A malformed file is said, not silently dropped.
+    std::fs::write(dir.join("check.csv"), "scene,verdict\nx,y\n").unwrap();
+    key(&mut app, KeyCode::Char('1'));
+    key(&mut app, KeyCode::Char('o'));
+    typed(&mut app, dir.to_str().unwrap());
+    key(&mut app, Enter);
+    assert!(
+        format!("{:?}", app.message).contains("not read"),
+        "{:?}",
+        app.message
+    );
+}
+
 /// The Run screen of a study with more variants than rows scrolls: g/G, PgUp/PgDn, ↑↓.
 #[test]
 fn the_run_screen_scrolls() {

@@ -261,8 +261,13 @@ impl App {
         let n = results.outcomes.len();
         self.show_results(results, cancelled);
         self.screen = Screen::Results;
+        let checks = match self.shared.results.as_mut().map(|r| r.load_checks(&dir)) {
+            Some(Ok(0)) | None => String::new(),
+            Some(Ok(m)) => format!("; check.csv: {m} scenes checked"),
+            Some(Err(e)) => format!("; not read: {e}"),
+        };
         self.say(format!(
-            "opened {n} scenes of results in {}/",
+            "opened {n} scenes of results in {}/{checks}",
             dir.display()
         ));
     }

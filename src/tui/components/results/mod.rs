@@ -47,6 +47,26 @@ pub struct Results {
     pub quantities: Vec<Quantity>,
     /// The sweep was cancelled: the results are partial.
     pub cancelled: bool,
+    /// Scene index → its check, from a `check.csv` (`rocklab check`) beside the results.
+    pub checks: std::collections::HashMap<usize, SceneCheck>,
+}
+
+/// One scene's line of `check.csv`, as the readout shows it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneCheck {
+    /// `converged`, `not_converged` or `ill_conditioned`.
+    pub verdict: String,
+    /// The largest κ of the judged peaks.
+    pub condition: f64,
+}
+
+/// The columns of `check.csv` the readout needs (the others are ignored).
+#[derive(serde::Deserialize)]
+struct CheckRow {
+    scene: usize,
+    verdict: String,
+    condition: f64,
+    negligible: bool,
 }
 
 impl Results {
@@ -127,7 +147,38 @@ impl Results {
             maps,
             quantities,
             cancelled,
+            checks: Default::default(),
         }
+    }
+
+    /// Read `dir/check.csv` if there is one: the number of scenes it checks, or why it could
+    /// not be read.
+    pub fn load_checks(&mut self, dir: &std::path::Path) -> Result<usize, String> {
+        let path = dir.join("check.csv");
+        if !path.exists() {
+            return Ok(0);
+        }
+        let fail = |e: csv::Error| format!("{}: {e}", path.display());
+        let mut reader = csv::Reader::from_path(&path).map_err(fail)?;
+        let mut checks = std::collections::HashMap::<usize, SceneCheck>::new();
+        for row in reader.deserialize::<CheckRow>() {
+            let row = row.map_err(fail)?;
+            let entry = checks.entry(row.scene).or_insert(SceneCheck {
+                verdict: row.verdict,
+                condition: 0.0,
+            });
+            if !row.negligible {
+                entry.condition = entry.condition.max(row.condition);
+            }
+        }
+        self.checks = checks;
+        Ok(self.checks.len())
+    }
+
+    /// The scene of a spectrum's point `x` (none for a point of no scene).
+    pub fn scene_at(&self, spectrum: &Spectrum, x: usize) -> Option<usize> {
+        let outcome = spectrum.outcomes.get(x)?;
+        Some(self.padded.outcomes.get(*outcome)?.point.index)
     }
 
     /// The marks of one of `spectra` (none if it is not one of them).

@@ -165,8 +165,23 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
             .unwrap_or(Mark::Overturned)
             .describe()
     };
+    // The point's check, if `rocklab check` wrote one beside the results.
+    let checked = data
+        .scene_at(sel, view.x)
+        .and_then(|i| data.checks.get(&i))
+        .map_or(String::new(), |c| {
+            format!(
+                "  check: {} (κ {})",
+                match c.verdict.as_str() {
+                    "ill_conditioned" => "ill-conditioned",
+                    "not_converged" => "not converged",
+                    other => other,
+                },
+                crate::sim::check::fmt_condition(c.condition)
+            )
+        });
     let readout = format!(
-        "{} = {}  {}: {}",
+        "{} = {}  {}: {}{checked}",
         sel.axis,
         at.map_or("–".into(), fmt_num),
         sel.label,
