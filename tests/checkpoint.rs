@@ -62,7 +62,7 @@ fn reference() -> &'static [SceneOutcome] {
         let dir = tempfile::tempdir().unwrap();
         let study = write_study(dir.path());
         let out = dir.path().join("out");
-        let o = rocklab(&["run", &study, "--out", out.to_str().unwrap(), "--quiet"]);
+        let o = crate::util::run_into(&study, &out);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let all = outcomes(&out.join("results.json"));
         assert_eq!(all.len(), SCENES);
@@ -333,7 +333,7 @@ fn two_runs_cannot_write_one_directory() {
     let out = dir.path().join("out");
     let mut first = spawn_run(&study, &out, &["--jobs", "1"]);
     wait_for_lines(&mut first, &out.join("results.journal"), 2);
-    let second = rocklab(&["run", &study, "--out", out.to_str().unwrap(), "--quiet"]);
+    let second = crate::util::run_into(&study, &out);
     let err = String::from_utf8_lossy(&second.stderr);
     assert!(!second.status.success());
     assert!(
@@ -410,7 +410,7 @@ fn is_root() -> bool {
 
 /// The run fails at once, before any scene, saying which directory and why.
 fn refused_before_the_first_scene(study: &str, out: &Path, why: &str) {
-    let o = rocklab(&["run", study, "--out", out.to_str().unwrap(), "--quiet"]);
+    let o = crate::util::run_into(study, out);
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success());
     assert!(

@@ -2,7 +2,7 @@
 
 use crate::util::rocklab;
 
-const BASE: &[&str] = &[
+pub(crate) const BASE: &[&str] = &[
     "simulate",
     "--alpha",
     "0.17453292519943295",
@@ -16,7 +16,7 @@ const BASE: &[&str] = &[
     "10",
 ];
 
-fn with(extra: &[&str]) -> Vec<&'static str> {
+pub(crate) fn with(extra: &[&str]) -> Vec<&'static str> {
     let mut v: Vec<&str> = BASE.to_vec();
     // Leak is fine in a test: the strings live for the process.
     v.extend(

@@ -105,24 +105,8 @@ fn the_overturning_boundary_is_ill_conditioned() {
 /// `simulate --check --json` carries the check; the text form prints the verdict.
 #[test]
 fn simulate_prints_the_check() {
-    let args = [
-        "simulate",
-        "--alpha",
-        "10deg",
-        "--p",
-        "2",
-        "--device",
-        "mechanistic",
-        "--sigma",
-        "0.5",
-        "--amplitude-alpha",
-        "1.5",
-        "--frequency-ratio",
-        "4",
-        "--duration",
-        "10",
-        "--check",
-    ];
+    // The Fig. 8 mechanistic scene (cli_simulate's base scene).
+    let args = crate::cli_simulate::with(&["--device", "mechanistic", "--sigma", "0.5", "--check"]);
     let out = rocklab(&[&args[..], &["--json"]].concat());
     assert!(
         out.status.success(),
@@ -162,13 +146,7 @@ fn check_flags_the_ill_conditioned_scenes_of_a_results_file() {
     )
     .unwrap();
     let out = dir.path().join("out");
-    let o = rocklab(&[
-        "run",
-        study.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--quiet",
-    ]);
+    let o = crate::util::run_into(study.to_str().unwrap(), &out);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let o = rocklab(&["check", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

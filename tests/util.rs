@@ -14,6 +14,11 @@ pub fn rocklab(args: &[&str]) -> Output {
     rocklab_command(args).output().expect("rocklab runs")
 }
 
+/// `rocklab run STUDY --out OUT --quiet`.
+pub fn run_into(study: &str, out: &std::path::Path) -> Output {
+    rocklab(&["run", study, "--out", out.to_str().unwrap(), "--quiet"])
+}
+
 /// Load and run a study file with all cores; panics with the study's error if it fails to load.
 pub fn run_study_file(path: &std::path::Path) -> rocklab::sweep::SweepResults {
     let study = rocklab::study::Study::load(path).unwrap_or_else(|e| panic!("{e}"));
