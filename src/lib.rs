@@ -7,6 +7,7 @@ pub mod cli;
 pub mod excitation;
 pub mod fsutil;
 pub mod model;
+pub mod numfmt;
 pub mod paper;
 pub mod presets;
 pub mod report;

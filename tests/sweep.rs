@@ -321,7 +321,7 @@ fn spectra_and_maps_are_the_scene_results_rearranged() {
                     == format!(
                         "{} A/(g·tanα)={}",
                         o.point.group,
-                        rocklab::study::fmt_num(y)
+                        rocklab::numfmt::fmt_num(y)
                     )
             })
             .unwrap();

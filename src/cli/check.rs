@@ -216,7 +216,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
             "  {}: {}, κ {}, off by {change:.1e} at rtol {:e}{}",
             report::scene_title(o.point.index, &o.point.group, &o.point.coords),
             c.verdict.label(),
-            crate::sim::check::fmt_condition(condition(c)),
+            crate::numfmt::fmt_condition(condition(c)),
             c.rtol,
             if c.overturn_flips {
                 ", on the overturning boundary"

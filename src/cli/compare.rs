@@ -3,10 +3,10 @@
 //! statistics per pair, record-suite statistics and overturning maps side by side.
 
 use super::UsageError;
+use crate::numfmt::fmt_num;
 use crate::report::compare::{self, MapComparison, PairStats, PointPair, SpectrumPair, SuitePair};
 use crate::report::select::Selector;
 use crate::report::{self, PointState, Quantity};
-use crate::study::fmt_num;
 use clap::{Args, ValueEnum};
 use serde::Serialize;
 use std::fmt::Write as _;

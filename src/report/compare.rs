@@ -373,15 +373,15 @@ pub fn map_text(m: &MapComparison) -> String {
     let _ = writeln!(s, "  {}", legend.join(", "));
     for (iy, row) in m.cells.iter().enumerate().rev() {
         let line: String = row.iter().map(|c| c.glyph()).collect();
-        let _ = writeln!(s, "  {:>8} {line}", crate::study::fmt_num(m.ys[iy]));
+        let _ = writeln!(s, "  {:>8} {line}", crate::numfmt::fmt_num(m.ys[iy]));
     }
     if let (Some(lo), Some(hi)) = (m.xs.first(), m.xs.last()) {
         let _ = writeln!(
             s,
             "  {:>8} {} … {}",
             "",
-            crate::study::fmt_num(*lo),
-            crate::study::fmt_num(*hi)
+            crate::numfmt::fmt_num(*lo),
+            crate::numfmt::fmt_num(*hi)
         );
     }
     s

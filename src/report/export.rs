@@ -2,7 +2,7 @@
 //! its result, spectra, maps) and a plain-text summary with sparklines.
 
 use super::aggregate::{OverturningMap, Spectrum, maps, quantities, sparkline, spectra};
-use crate::study::fmt_num;
+use crate::numfmt::{fmt_num, fmt_sig};
 use crate::sweep::SweepResults;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -500,14 +500,6 @@ fn plot_note(series: usize, has_maps: bool) -> String {
         "figures: `rocklab plot DIR --png FIGS` draws {spectra}{maps}; results.csv has every \
          scene (`rocklab table DIR --wide`: one column per quantity)"
     )
-}
-
-fn fmt_sig(v: f64) -> String {
-    if v != 0.0 && (v.abs() < 1e-3 || v.abs() >= 1e5) {
-        format!("{v:.3e}")
-    } else {
-        format!("{v:.4}")
-    }
 }
 
 /// The record's name, or the pulse's shape: the categorical part of the excitation.

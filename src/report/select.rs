@@ -4,7 +4,8 @@
 //! label text.
 
 use super::aggregate::Group;
-use crate::study::{DeviceKind, Values, fmt_digits};
+use crate::numfmt::fmt_digits;
+use crate::study::{DeviceKind, Values};
 use std::fmt::Write as _;
 
 /// A selector that is malformed or matches nothing; the message says what there is instead.

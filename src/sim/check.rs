@@ -19,6 +19,7 @@
 
 use super::{SceneResult, SimError, run_bounded};
 use crate::excitation::Library;
+use crate::numfmt::fmt_condition;
 use crate::scene::Scene;
 use serde::Serialize;
 
@@ -69,15 +70,6 @@ pub struct PeakCheck {
 /// A number to rank by, NaN ranked as infinite.
 fn key(v: f64) -> f64 {
     if v.is_nan() { f64::INFINITY } else { v }
-}
-
-/// κ as the check prints it: 3.7 below 100, 1.2e5 above.
-pub fn fmt_condition(k: f64) -> String {
-    if k < 100.0 {
-        format!("{k:.1}")
-    } else {
-        format!("{k:.1e}")
-    }
 }
 
 /// A peak's name for people: `rotation`, `abs. accel.`, ….

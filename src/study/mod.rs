@@ -16,9 +16,7 @@ mod values;
 pub mod writer;
 
 pub use error::StudyError;
-pub use expand::{
-    DeviceKind, Layout, Parameter, Part, VariantLayout, device_label, fmt_digits, fmt_num,
-};
+pub use expand::{DeviceKind, Layout, Parameter, Part, VariantLayout, device_label};
 pub use quantity::Quantity;
 pub use strict::{ANGLE_FIELDS, parse_angle};
 pub use values::Values;

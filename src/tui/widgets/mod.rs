@@ -106,19 +106,7 @@ pub fn scroll_offset(cursor: usize, len: usize, height: usize) -> usize {
 // ----- text -----
 
 /// Numbers read as in study labels and reports: one formatter for the whole program.
-pub use crate::study::fmt_num;
-
-pub fn fmt_duration(s: f64) -> String {
-    if s < 1.0 {
-        "< 1 s".into()
-    } else if s < 60.0 {
-        format!("{s:.0} s")
-    } else if s < 3600.0 {
-        format!("{:.0} min {:.0} s", (s / 60.0).floor(), s % 60.0)
-    } else {
-        format!("{:.1} h", s / 3600.0)
-    }
-}
+pub use crate::numfmt::{fmt_duration, fmt_num};
 
 /// `name=value name=value …` of a scene's coordinates.
 pub fn fmt_coords(coords: &[(String, f64)]) -> String {

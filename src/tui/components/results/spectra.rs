@@ -177,7 +177,7 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
                     "not_converged" => "not converged",
                     other => other,
                 },
-                crate::sim::check::fmt_condition(c.condition)
+                crate::numfmt::fmt_condition(c.condition)
             )
         });
     let readout = format!(

@@ -1,0 +1,517 @@
+//! The shape of a study's expansion: per device variant its parameter grids (structure,
+//! device, excitation), the expansion indices it covers, and the labels of its groups.
+
+use super::super::{
+    AmplitudeAxis, Axis, DeviceVariant, ExcitationFamily, FrequencyAxis, MapAxes, StructureFamily,
+    Study, StudyError, Values,
+};
+use crate::numfmt::fmt_digits;
+use crate::scene::{ClutchStiffness, Damping};
+use serde::{Deserialize, Serialize};
+
+/// Studies larger than this are almost certainly a typo in a range.
+pub const MAX_SCENES: usize = 1_000_000;
+
+/// Where a parameter sits in the study file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Part {
+    Structure,
+    Device,
+    Excitation,
+}
+
+/// The kind of a device variant, named as in study files (`none` is the bare structure).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DeviceKind {
+    None,
+    Inerter,
+    Sequential,
+    Mechanistic,
+}
+
+impl DeviceKind {
+    pub const ALL: [DeviceKind; 4] = [
+        DeviceKind::None,
+        DeviceKind::Inerter,
+        DeviceKind::Sequential,
+        DeviceKind::Mechanistic,
+    ];
+
+    pub fn of(device: &DeviceVariant) -> DeviceKind {
+        match device {
+            DeviceVariant::None => DeviceKind::None,
+            DeviceVariant::Inerter { .. } => DeviceKind::Inerter,
+            DeviceVariant::Sequential { .. } => DeviceKind::Sequential,
+            DeviceVariant::Mechanistic { .. } => DeviceKind::Mechanistic,
+        }
+    }
+
+    /// The name in study files (`none`), as `Device::name` gives it for scenes.
+    pub fn name(self) -> &'static str {
+        match self {
+            DeviceKind::None => "none",
+            DeviceKind::Inerter => "inerter",
+            DeviceKind::Sequential => "sequential",
+            DeviceKind::Mechanistic => "mechanistic",
+        }
+    }
+
+    /// A kind by its study-file name, or `bare` for `none`.
+    pub fn from_name(name: &str) -> Option<DeviceKind> {
+        match name {
+            "bare" => Some(DeviceKind::None),
+            _ => DeviceKind::ALL.into_iter().find(|k| k.name() == name),
+        }
+    }
+}
+
+/// One grid parameter of a device variant's expansion.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Parameter {
+    /// Study field name (also the key used to build the scene), e.g. `k_theta`, `record`.
+    pub id: &'static str,
+    pub part: Part,
+    /// Path of the field in the study file, for messages.
+    pub path: String,
+    /// Axis label in coordinates and groups (paper notation).
+    pub label: String,
+    pub axis: Option<Axis>,
+    /// The values in expansion order (exact, as the study gives them).
+    pub values: Vec<f64>,
+    /// Names for a categorical parameter (records); values are then indices.
+    pub names: Option<Vec<String>>,
+    /// What is wrong with the list or range itself, if anything.
+    shape_error: Option<(String, &'static str)>,
+}
+
+impl Parameter {
+    fn new(
+        id: &'static str,
+        part: Part,
+        path: String,
+        label: &str,
+        axis: Option<Axis>,
+        v: &Values,
+    ) -> Self {
+        Parameter {
+            id,
+            part,
+            path,
+            label: label.to_string(),
+            axis,
+            // A malformed range is reported, never expanded (it may be astronomically long).
+            values: if v.shape_error().is_some() {
+                vec![]
+            } else {
+                v.expand()
+            },
+            names: None,
+            shape_error: v.shape_error(),
+        }
+    }
+
+    /// Whether the study gives this parameter more than one value.
+    pub fn varies(&self) -> bool {
+        self.values.len() > 1
+    }
+}
+
+/// The shape of a study's expansion, known without running or loading anything: per device
+/// variant its parameters (last varies fastest) and the range of expansion indices it covers.
+/// A scene's index alone then says every parameter value that defines it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layout {
+    pub variants: Vec<VariantLayout>,
+    /// Significant digits per parameter id in labels: the fewest (at least 4) that tell
+    /// every value of that parameter in the study apart.
+    digits: Vec<(&'static str, usize)>,
+    spectrum: Axis,
+    map: Option<MapAxes>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct VariantLayout {
+    pub kind: DeviceKind,
+    /// The variant's label: its `label: "…"` or its kind (`bare` for none).
+    pub label: String,
+    pub params: Vec<Parameter>,
+    /// Expansion index of the variant's first scene, and its scene count.
+    pub first: usize,
+    pub count: usize,
+}
+
+impl Layout {
+    /// The layout of a valid study's expansion (records are not loaded).
+    pub fn of(study: &Study) -> Result<Layout, StudyError> {
+        let mut variants = Vec::new();
+        let mut first = 0usize;
+        for (d, device) in study.devices.iter().enumerate() {
+            let mut params = structure_params(&study.structure);
+            params.extend(device_params(device, d)?);
+            params.extend(excitation_params(&study.excitation)?);
+            for p in &params {
+                if let Some((message, hint)) = &p.shape_error {
+                    return Err(StudyError::field(p.path.clone(), message.clone(), hint));
+                }
+            }
+            let count: usize = params
+                .iter()
+                .map(|p| p.values.len())
+                .try_fold(1usize, |acc, n| acc.checked_mul(n))
+                .unwrap_or(usize::MAX);
+            if first.saturating_add(count) > MAX_SCENES {
+                return Err(StudyError::field(
+                    "devices",
+                    format!("the study expands to more than {MAX_SCENES} scenes"),
+                    "shorten a range or list; every list multiplies the scene count",
+                ));
+            }
+            variants.push(VariantLayout {
+                kind: DeviceKind::of(device),
+                label: device_label(device),
+                params,
+                first,
+                count,
+            });
+            first += count;
+        }
+        let mut layout = Layout {
+            variants,
+            digits: Vec::new(),
+            spectrum: study.spectrum,
+            map: study.map,
+        };
+        layout.digits = label_digits(&layout.variants);
+        Ok(layout)
+    }
+
+    /// Total number of scenes.
+    pub fn len(&self) -> usize {
+        self.variants.last().map_or(0, |v| v.first + v.count)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The variant and the position in each of its parameters' values of the scene with
+    /// expansion index `index`.
+    pub fn locate(&self, index: usize) -> Option<(usize, Vec<usize>)> {
+        let v = self
+            .variants
+            .iter()
+            .position(|v| (v.first..v.first + v.count).contains(&index))?;
+        let variant = &self.variants[v];
+        let mut rest = index - variant.first;
+        let mut at = vec![0; variant.params.len()];
+        for (i, p) in variant.params.iter().enumerate().rev() {
+            at[i] = rest % p.values.len();
+            rest /= p.values.len();
+        }
+        Some((v, at))
+    }
+
+    /// A value of a parameter as labels show it: the record's name, or the number with as
+    /// many digits as tell the study's values of this parameter apart.
+    pub fn value_text(&self, p: &Parameter, i: usize) -> String {
+        match &p.names {
+            Some(names) => names[i].clone(),
+            None => {
+                let digits = self
+                    .digits
+                    .iter()
+                    .find(|(id, _)| *id == p.id)
+                    .map_or(MIN_LABEL_DIGITS, |(_, d)| *d);
+                fmt_digits(p.values[i], digits)
+            }
+        }
+    }
+
+    /// Label of the scenes of `variant` at `at`, leaving out parameters on the `free` axes
+    /// (a spectrum's x, a map's x and y): the device, then the parameters that vary in the
+    /// study (device grid first, then structure, then excitation), then ` · record`.
+    pub fn label(&self, variant: usize, at: &[usize], free: &[Axis]) -> String {
+        self.label_with(variant, at, free, true)
+    }
+
+    /// [`Layout::label`] without the record: the label of a variant's record suite.
+    pub fn suite_label(&self, variant: usize, at: &[usize], free: &[Axis]) -> String {
+        self.label_with(variant, at, free, false)
+    }
+
+    fn label_with(&self, variant: usize, at: &[usize], free: &[Axis], with_record: bool) -> String {
+        let v = &self.variants[variant];
+        let mut text = v.label.clone();
+        let mut record = None;
+        for part in [Part::Device, Part::Structure, Part::Excitation] {
+            for (p, &i) in v.params.iter().zip(at).filter(|(p, _)| p.part == part) {
+                if p.axis.is_some_and(|a| free.contains(&a)) {
+                    continue;
+                }
+                if p.names.is_some() {
+                    record = Some(self.value_text(p, i));
+                } else if p.varies() {
+                    text = format!("{text} {}={}", p.label, self.value_text(p, i));
+                }
+            }
+        }
+        if let Some(r) = record.filter(|_| with_record) {
+            text = format!("{text} · {r}");
+        }
+        text
+    }
+
+    /// The axes a scene's group leaves free: the spectrum axis and the map's axes.
+    pub fn point_axes(&self) -> Vec<Axis> {
+        let mut axes = vec![self.spectrum];
+        if let Some(m) = self.map {
+            axes.extend([m.x, m.y]);
+        }
+        axes
+    }
+}
+
+/// Fewest significant digits a label shows.
+const MIN_LABEL_DIGITS: usize = 4;
+
+/// Per parameter id, the fewest significant digits (at least 4) that keep every distinct
+/// value of that parameter in the study distinct in labels.
+fn label_digits(variants: &[VariantLayout]) -> Vec<(&'static str, usize)> {
+    let mut values: Vec<(&'static str, Vec<f64>)> = Vec::new();
+    for p in variants.iter().flat_map(|v| &v.params) {
+        if p.names.is_some() {
+            continue;
+        }
+        let entry = match values.iter_mut().find(|(id, _)| *id == p.id) {
+            Some(e) => e,
+            None => {
+                values.push((p.id, Vec::new()));
+                values.last_mut().expect("just pushed")
+            }
+        };
+        for v in &p.values {
+            if !entry.1.contains(v) {
+                entry.1.push(*v);
+            }
+        }
+    }
+    values
+        .into_iter()
+        .map(|(id, vs)| {
+            let digits = (MIN_LABEL_DIGITS..=17)
+                .find(|&d| {
+                    let mut texts: Vec<String> = vs.iter().map(|v| fmt_digits(*v, d)).collect();
+                    texts.sort();
+                    texts.dedup();
+                    texts.len() == vs.len()
+                })
+                .unwrap_or(17);
+            (id, digits)
+        })
+        .collect()
+}
+
+fn structure_params(s: &StructureFamily) -> Vec<Parameter> {
+    let f = |id, label, axis, v: &Values| {
+        Parameter::new(
+            id,
+            Part::Structure,
+            format!("structure.{id}"),
+            label,
+            axis,
+            v,
+        )
+    };
+    match s {
+        StructureFamily::Rigid {
+            size,
+            p,
+            alpha,
+            mass,
+            ..
+        } => {
+            let mut out = Vec::new();
+            if let Some(size) = size {
+                out.push(f("size", "R", Some(Axis::Size), size));
+            }
+            if let Some(p) = p {
+                out.push(f("p", "p", Some(Axis::P), p));
+            }
+            out.push(f("alpha", "α", Some(Axis::Alpha), alpha));
+            out.push(f("mass", "m", None, mass));
+            out
+        }
+        StructureFamily::Flexible {
+            r0,
+            alpha,
+            xi,
+            omega_n,
+            omega_ratio,
+            mass,
+        } => {
+            let mut out = vec![
+                f("r0", "R0", Some(Axis::R0), r0),
+                f("alpha", "α", Some(Axis::Alpha), alpha),
+                f("xi", "ξ", Some(Axis::Xi), xi),
+            ];
+            if let Some(w) = omega_n {
+                out.push(f("omega_n", "ωn", Some(Axis::OmegaN), w));
+            }
+            if let Some(r) = omega_ratio {
+                out.push(f("omega_ratio", "ωn/p", Some(Axis::OmegaRatio), r));
+            }
+            out.push(f("mass", "m", None, mass));
+            out
+        }
+    }
+}
+
+fn device_params(device: &DeviceVariant, d: usize) -> Result<Vec<Parameter>, StudyError> {
+    let f = |id, label, v: &Values| {
+        Parameter::new(
+            id,
+            Part::Device,
+            format!("devices[{d}].{id}"),
+            label,
+            None,
+            v,
+        )
+    };
+    Ok(match device {
+        DeviceVariant::None => vec![],
+        DeviceVariant::Inerter { sigma, .. } | DeviceVariant::Sequential { sigma, .. } => {
+            vec![f("sigma", "σ", sigma)]
+        }
+        DeviceVariant::Mechanistic {
+            sigma,
+            k_theta,
+            clutch_frequency_ratio,
+            cbar,
+            xi_theta,
+            friction,
+            eta,
+            play,
+            epsilon,
+            rho,
+            ..
+        } => {
+            if k_theta.is_some() && clutch_frequency_ratio.is_some() {
+                return Err(StudyError::field(
+                    format!("devices[{d}].k_theta"),
+                    "give at most one of `k_theta` and `clutch_frequency_ratio`",
+                    "kθ in N·m/rad, or the clutch frequency √(k/mr) as a multiple of p",
+                ));
+            }
+            if cbar.is_some() && xi_theta.is_some() {
+                return Err(StudyError::field(
+                    format!("devices[{d}].cbar"),
+                    "give at most one of `cbar` and `xi_theta`",
+                    "c̄ = c/J in 1/s, or the damping ratio ξθ = c/(2√(kθ J))",
+                ));
+            }
+            let mut out = vec![f("sigma", "σ", sigma)];
+            match (k_theta, clutch_frequency_ratio) {
+                (Some(k), _) => out.push(f("k_theta", "kθ", k)),
+                (None, Some(r)) => out.push(f("clutch_frequency_ratio", "ωc/p", r)),
+                (None, None) => out.push(f(
+                    "clutch_frequency_ratio",
+                    "ωc/p",
+                    &Values::One(match ClutchStiffness::default() {
+                        ClutchStiffness::FrequencyRatio(r) | ClutchStiffness::KTheta(r) => r,
+                    }),
+                )),
+            }
+            match (cbar, xi_theta) {
+                (_, Some(x)) => out.push(f("xi_theta", "ξθ", x)),
+                (Some(c), None) => out.push(f("cbar", "c̄", c)),
+                (None, None) => out.push(f(
+                    "cbar",
+                    "c̄",
+                    &Values::One(match Damping::default() {
+                        Damping::CBar(c) | Damping::XiTheta(c) => c,
+                    }),
+                )),
+            }
+            out.extend([
+                f("friction", "fμ", friction),
+                f("eta", "η", eta),
+                f("play", "up", play),
+                f("epsilon", "ε", epsilon),
+                f("rho", "ρ", rho),
+            ]);
+            out
+        }
+    })
+}
+
+fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Parameter>, StudyError> {
+    Ok(match e {
+        ExcitationFamily::Pulse {
+            amplitude,
+            frequency,
+            ..
+        } => {
+            let (alabel, avalues) = match amplitude {
+                AmplitudeAxis::G(v) => ("A/g", v),
+                AmplitudeAxis::TanAlphaRatio(v) => ("A/(g·tanα)", v),
+                AmplitudeAxis::AlphaRatio(v) => ("A/(g·α)", v),
+            };
+            let (flabel, fvalues) = match frequency {
+                FrequencyAxis::RadPerSec(v) => ("ωg", v),
+                FrequencyAxis::Ratio(v) => ("ωg/p", v),
+            };
+            vec![
+                Parameter::new(
+                    "amplitude",
+                    Part::Excitation,
+                    "excitation.amplitude".into(),
+                    alabel,
+                    Some(Axis::Amplitude),
+                    avalues,
+                ),
+                Parameter::new(
+                    "frequency",
+                    Part::Excitation,
+                    "excitation.frequency".into(),
+                    flabel,
+                    Some(Axis::Frequency),
+                    fvalues,
+                ),
+            ]
+        }
+        ExcitationFamily::Record { names, scale, .. } => {
+            let mut record = Parameter::new(
+                "record",
+                Part::Excitation,
+                "excitation.names".into(),
+                "record",
+                None,
+                &Values::List((0..names.len()).map(|i| i as f64).collect()),
+            );
+            record.names = Some(names.clone());
+            vec![
+                record,
+                Parameter::new(
+                    "scale",
+                    Part::Excitation,
+                    "excitation.scale".into(),
+                    "scale",
+                    Some(Axis::Scale),
+                    scale,
+                ),
+            ]
+        }
+    })
+}
+
+pub fn device_label(device: &DeviceVariant) -> String {
+    let (label, default) = match device {
+        DeviceVariant::None => (None, "bare"),
+        DeviceVariant::Inerter { label, .. } => (label.as_ref(), "inerter"),
+        DeviceVariant::Sequential { label, .. } => (label.as_ref(), "sequential"),
+        DeviceVariant::Mechanistic { label, .. } => (label.as_ref(), "mechanistic"),
+    };
+    label.cloned().unwrap_or_else(|| default.to_string())
+}

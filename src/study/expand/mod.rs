@@ -1,0 +1,227 @@
+//! Expansion of a study into scenes: the cartesian product of every parameter grid, one
+//! device variant at a time; the last parameter (the excitation's frequency or the record
+//! scale) varies fastest. The grids and the labels they give groups are in `layout.rs`, the
+//! checks that run before anything expands in `validate.rs`.
+
+mod layout;
+mod validate;
+
+pub use layout::{DeviceKind, Layout, Parameter, Part, VariantLayout, device_label};
+
+use super::{
+    AmplitudeAxis, Axis, DeviceVariant, ExcitationFamily, FrequencyAxis, RecordScaling, ScenePoint,
+    StructureFamily, Study, StudyError, scene_key,
+};
+use crate::scene::{
+    Amplitude, Clutch, ClutchStiffness, Damping, Device, Excitation, FlexibleStructure, Frequency,
+    RecordScale, RigidBlock, Scene, Structure,
+};
+use validate::{check_axes, check_records, check_top_level, invalid_scene};
+
+pub fn validate(study: &Study) -> Result<(), StudyError> {
+    expand(study).map(|_| ())
+}
+
+pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
+    check_top_level(study)?;
+    check_records(study)?;
+    let layout = Layout::of(study)?;
+    let free = layout.point_axes();
+    let mut points = Vec::with_capacity(layout.len());
+    for (d, (device, variant)) in study.devices.iter().zip(&layout.variants).enumerate() {
+        let params = &variant.params;
+        check_axes(study, params)?;
+        let mut odometer = vec![0usize; params.len()];
+        loop {
+            let value = |id: &str| {
+                params
+                    .iter()
+                    .zip(&odometer)
+                    .find(|(p, _)| p.id == id)
+                    .map(|(p, &i)| p.values[i])
+            };
+            let scene = Scene {
+                structure: build_structure(&study.structure, &value),
+                device: build_device(device, &value),
+                impact: study.impact,
+                excitation: build_excitation(&study.excitation, params, &odometer)?,
+                duration: study.duration,
+                rtol: study.rtol,
+                initial_rotation: 0.0,
+                stop_when_settled: study.stop_when_settled,
+                closed_form_contact: study.closed_form_contact,
+                method: study.method,
+            };
+            scene
+                .validate()
+                .map_err(|e| invalid_scene(e, study, params, d))?;
+            points.push(ScenePoint {
+                index: points.len(),
+                key: scene_key(&scene),
+                scene,
+                group: layout.label(d, &odometer, &free),
+                coords: coords(study, params, &odometer),
+            });
+            if !advance(&mut odometer, params) {
+                break;
+            }
+        }
+    }
+    Ok(points)
+}
+
+/// Step the odometer (last parameter fastest); false when it wraps around.
+fn advance(odometer: &mut [usize], params: &[Parameter]) -> bool {
+    for i in (0..params.len()).rev() {
+        odometer[i] += 1;
+        if odometer[i] < params[i].values.len() {
+            return true;
+        }
+        odometer[i] = 0;
+    }
+    false
+}
+
+fn build_structure(s: &StructureFamily, value: &dyn Fn(&str) -> Option<f64>) -> Structure {
+    let get = |id: &str| value(id).unwrap_or(f64::NAN);
+    match s {
+        StructureFamily::Rigid { form, .. } => {
+            let size = value("size").unwrap_or_else(|| {
+                // p = √(3g/4R)  ⇒  R = 3g/(4p²)
+                let p = get("p");
+                3.0 * crate::excitation::G / (4.0 * p * p)
+            });
+            Structure::Rigid(RigidBlock {
+                size,
+                alpha: get("alpha"),
+                mass: get("mass"),
+                form: *form,
+            })
+        }
+        StructureFamily::Flexible { .. } => {
+            let r0 = get("r0");
+            let omega_n = value("omega_n").unwrap_or_else(|| {
+                // ωn = (ωn/p)·p with p = √(g/R0)
+                get("omega_ratio") * (crate::excitation::G / r0).sqrt()
+            });
+            Structure::Flexible(FlexibleStructure {
+                r0,
+                alpha: get("alpha"),
+                mass: get("mass"),
+                xi: get("xi"),
+                omega_n,
+            })
+        }
+    }
+}
+
+fn build_device(d: &DeviceVariant, value: &dyn Fn(&str) -> Option<f64>) -> Device {
+    let get = |id: &str| value(id).unwrap_or(f64::NAN);
+    match d {
+        DeviceVariant::None => Device::None,
+        DeviceVariant::Inerter { coupling, .. } => Device::Inerter {
+            sigma: get("sigma"),
+            coupling: coupling.clone(),
+        },
+        DeviceVariant::Sequential { .. } => Device::Sequential {
+            sigma: get("sigma"),
+        },
+        DeviceVariant::Mechanistic { reset, .. } => Device::Mechanistic(Clutch {
+            sigma: get("sigma"),
+            stiffness: match value("k_theta") {
+                Some(k) => ClutchStiffness::KTheta(k),
+                None => ClutchStiffness::FrequencyRatio(get("clutch_frequency_ratio")),
+            },
+            rho: get("rho"),
+            epsilon: get("epsilon"),
+            damping: match value("xi_theta") {
+                Some(x) => Damping::XiTheta(x),
+                None => Damping::CBar(get("cbar")),
+            },
+            friction: get("friction"),
+            eta: get("eta"),
+            play: get("play"),
+            reset: *reset,
+        }),
+    }
+}
+
+fn build_excitation(
+    e: &ExcitationFamily,
+    params: &[Parameter],
+    odometer: &[usize],
+) -> Result<Excitation, StudyError> {
+    let value = |id: &str| {
+        params
+            .iter()
+            .zip(odometer)
+            .find(|(p, _)| p.id == id)
+            .map(|(p, &i)| p.values[i])
+            .unwrap_or(f64::NAN)
+    };
+    match e {
+        ExcitationFamily::Pulse {
+            shape,
+            amplitude,
+            frequency,
+        } => {
+            let a = value("amplitude");
+            let w = value("frequency");
+            Ok(Excitation::Pulse {
+                shape: *shape,
+                amplitude: match amplitude {
+                    AmplitudeAxis::G(_) => Amplitude::G(a),
+                    AmplitudeAxis::TanAlphaRatio(_) => Amplitude::TanAlphaRatio(a),
+                    AmplitudeAxis::AlphaRatio(_) => Amplitude::AlphaRatio(a),
+                },
+                frequency: match frequency {
+                    FrequencyAxis::RadPerSec(_) => Frequency::RadPerSec(w),
+                    FrequencyAxis::Ratio(_) => Frequency::Ratio(w),
+                },
+            })
+        }
+        ExcitationFamily::Record {
+            names,
+            scale_to,
+            baseline,
+            kinks,
+            ..
+        } => {
+            let index = value("record") as usize;
+            let scale = value("scale");
+            Ok(Excitation::Record {
+                name: names[index].clone(),
+                scale: match scale_to {
+                    RecordScaling::Factor => RecordScale::Factor(scale),
+                    RecordScaling::Pga => RecordScale::Pga(scale),
+                    RecordScaling::Pgv => RecordScale::Pgv(scale),
+                },
+                baseline: *baseline,
+                kinks: *kinks,
+            })
+        }
+    }
+}
+
+/// Coordinates of the point at `odometer`: the spectrum axis first, then the map's axes,
+/// then the other varying parameters (records are named in the group, not here).
+fn coords(study: &Study, params: &[Parameter], odometer: &[usize]) -> Vec<(String, f64)> {
+    let map_axes: Vec<Axis> = study.map.map(|m| vec![m.x, m.y]).unwrap_or_default();
+    let mut first: Vec<(String, f64)> = Vec::new();
+    let mut rest: Vec<(String, f64)> = Vec::new();
+    for (p, &i) in params.iter().zip(odometer) {
+        if p.names.is_some() {
+            continue;
+        }
+        let v = p.values[i];
+        if p.axis == Some(study.spectrum) {
+            first.insert(0, (p.label.clone(), v));
+        } else if p.axis.is_some_and(|a| map_axes.contains(&a)) {
+            first.push((p.label.clone(), v));
+        } else if p.varies() {
+            rest.push((p.label.clone(), v));
+        }
+    }
+    first.extend(rest);
+    first
+}

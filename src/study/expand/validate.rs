@@ -1,0 +1,240 @@
+//! Checks of a study before it expands: the top-level fields, the spectrum and map axes,
+//! the records, and a scene's own validation pointed back at the study field.
+
+use super::super::{Axis, ExcitationFamily, StructureFamily, Study, StudyError, VERSION};
+use super::{Parameter, device_label};
+
+pub(super) fn check_top_level(study: &Study) -> Result<(), StudyError> {
+    if study.version != VERSION {
+        return Err(StudyError::field(
+            "version",
+            format!("schema version {} is not supported", study.version),
+            &format!("this build reads `version: {VERSION}`"),
+        ));
+    }
+    if study.name.trim().is_empty() {
+        return Err(StudyError::field(
+            "name",
+            "empty name",
+            "the name labels the results",
+        ));
+    }
+    if study.devices.is_empty() {
+        return Err(StudyError::field(
+            "devices",
+            "no device variants",
+            "list at least one, e.g. devices: [none]",
+        ));
+    }
+    if study.quantities.is_empty() {
+        return Err(StudyError::field(
+            "quantities",
+            "no response quantities",
+            "e.g. quantities: [peak_rotation_ratio]",
+        ));
+    }
+    let labels: Vec<String> = study.devices.iter().map(device_label).collect();
+    for (i, label) in labels.iter().enumerate() {
+        if labels[..i].contains(label) {
+            return Err(StudyError::field(
+                format!("devices[{i}]"),
+                format!("two device variants are both labelled `{label}`"),
+                "give one a `label: \"…\"` so their spectra stay apart",
+            ));
+        }
+    }
+    if !(study.duration.is_finite() && study.duration > 0.0) {
+        return Err(StudyError::field(
+            "duration",
+            format!("{} is not a duration", study.duration),
+            "simulated time per scene in seconds, > 0",
+        ));
+    }
+    if !(1e-14..=0.1).contains(&study.rtol) {
+        return Err(StudyError::field(
+            "rtol",
+            format!("{} is out of range", study.rtol),
+            "relative tolerance must be in [1e-14, 0.1]; 1e-5 is the default",
+        ));
+    }
+    if let Some(map) = study.map
+        && map.x == map.y
+    {
+        return Err(StudyError::field(
+            "map",
+            "the map's x and y axes are the same",
+            "e.g. map: (x: frequency, y: amplitude)",
+        ));
+    }
+    if let Some(levels) = study.map.and_then(|m| m.refine_levels())
+        && !(1..=8).contains(&levels)
+    {
+        return Err(StudyError::field(
+            "map.refine.levels",
+            format!("{levels} refinement levels are out of range"),
+            "1 to 8: the coarse lattice steps 2^levels grid values, e.g. refine: (levels: 2)",
+        ));
+    }
+    match &study.structure {
+        StructureFamily::Rigid { size, p, .. } if size.is_some() == p.is_some() => {
+            return Err(StudyError::field(
+                "structure.size",
+                "give exactly one of `size` (R, m) and `p` (rad/s)",
+                "p = √(3g/4R); e.g. rigid(p: 2.0, alpha: 0.1745)",
+            ));
+        }
+        StructureFamily::Flexible {
+            omega_n,
+            omega_ratio,
+            ..
+        } if omega_n.is_some() == omega_ratio.is_some() => {
+            return Err(StudyError::field(
+                "structure.omega_n",
+                "give exactly one of `omega_n` (rad/s) and `omega_ratio` (ωn/p)",
+                "e.g. flexible(r0: 10.0, alpha: 0.2, xi: 0.02, omega_ratio: 8.0)",
+            ));
+        }
+        _ => {}
+    }
+    if let ExcitationFamily::Record { names, .. } = &study.excitation
+        && names.is_empty()
+    {
+        return Err(StudyError::field(
+            "excitation.names",
+            "no records",
+            "list record names from `rocklab records`",
+        ));
+    }
+    Ok(())
+}
+
+/// The spectrum and map axes must be parameters of the study; all values well formed.
+pub(super) fn check_axes(study: &Study, params: &[Parameter]) -> Result<(), StudyError> {
+    let has = |axis: Axis| params.iter().any(|p| p.axis == Some(axis));
+    if !has(study.spectrum) {
+        return Err(StudyError::field(
+            "spectrum",
+            format!(
+                "the spectrum axis `{}` is not a parameter of this study",
+                axis_name(study.spectrum)
+            ),
+            "pulse studies use `frequency`; record studies an axis of the structure, e.g. `omega_n`",
+        ));
+    }
+    if let Some(map) = study.map {
+        for axis in [map.x, map.y] {
+            if !has(axis) {
+                return Err(StudyError::field(
+                    "map",
+                    format!(
+                        "the map axis `{}` is not a parameter of this study",
+                        axis_name(axis)
+                    ),
+                    "e.g. map: (x: frequency, y: amplitude) with lists or ranges for both",
+                ));
+            }
+        }
+    }
+    let all_values = params.iter().map(|p| (p.path.as_str(), &p.values));
+    for (path, values) in all_values {
+        if let Some(v) = values.iter().find(|v| !v.is_finite()) {
+            return Err(StudyError::field(
+                path,
+                format!("{v} is not a finite number"),
+                "",
+            ));
+        }
+    }
+    // A value given twice would run the same scenes twice under one label.
+    for p in params {
+        if let Some(names) = &p.names {
+            if let Some((i, name)) = names
+                .iter()
+                .enumerate()
+                .find(|(i, n)| names[..*i].contains(n))
+            {
+                return Err(StudyError::field(
+                    format!("{}[{i}]", p.path),
+                    format!("record `{name}` is listed twice"),
+                    "list each record once",
+                ));
+            }
+        } else if let Some(v) = p
+            .values
+            .iter()
+            .enumerate()
+            .find(|(i, v)| p.values[..*i].contains(v))
+            .map(|(_, v)| *v)
+        {
+            return Err(StudyError::field(
+                p.path.clone(),
+                format!("the value {v} is given twice"),
+                "each value of a list or range must be distinct (a range needs from ≠ to)",
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn axis_name(axis: Axis) -> String {
+    ron::to_string(&axis).unwrap_or_default()
+}
+
+/// Every record the study names must be in the library (loading it also parses it once for
+/// the whole sweep).
+pub(super) fn check_records(study: &Study) -> Result<(), StudyError> {
+    if let ExcitationFamily::Record {
+        names, baseline, ..
+    } = &study.excitation
+    {
+        let library = crate::excitation::library::global().map_err(|e| {
+            StudyError::field(
+                "excitation.names",
+                format!("the record library cannot be opened: {e}"),
+                "set ROCKLAB_RECORDS to the records directory, or run from the repository",
+            )
+        })?;
+        for (i, name) in names.iter().enumerate() {
+            library.load(name, *baseline).map_err(|e| {
+                StudyError::field(
+                    format!("excitation.names[{i}]"),
+                    e.to_string(),
+                    "`rocklab records` lists the library's record names",
+                )
+            })?;
+        }
+    }
+    Ok(())
+}
+
+/// A scene-level validation failure, pointed at the study field that produced it.
+pub(super) fn invalid_scene(
+    e: crate::scene::Invalid,
+    study: &Study,
+    params: &[Parameter],
+    d: usize,
+) -> StudyError {
+    let path = match e.field {
+        "duration" | "rtol" => e.field.to_string(),
+        "restitution" | "width" => "impact".to_string(),
+        "amplitude" | "frequency" => format!("excitation.{}", e.field),
+        // Scene::validate names the flexible R0 `size`.
+        "size" => match &study.structure {
+            StructureFamily::Flexible { .. } => "structure.r0".into(),
+            StructureFamily::Rigid { p: Some(_), .. } => "structure.p".into(),
+            StructureFamily::Rigid { .. } => "structure.size".into(),
+        },
+        f if params
+            .iter()
+            .any(|p| p.id == f && p.path.starts_with("structure")) =>
+        {
+            format!("structure.{f}")
+        }
+        f => format!("devices[{d}].{f}"),
+    };
+    StudyError::field(
+        path,
+        format!("{} = {}: {}", e.field, e.value, e.expected),
+        "physically invalid values are rejected before anything runs",
+    )
+}
