@@ -5,6 +5,7 @@ mod aggregate;
 pub mod compare;
 mod export;
 mod figure;
+pub mod fragility;
 mod plot;
 pub mod select;
 

@@ -1,0 +1,102 @@
+//! fragility.csv (one row per variant × damage state, with the ratio to the bare variant) and
+//! fragility.json (the whole report, read back by `rocklab plot` and the TUI).
+
+use super::{Curve, FragilityReport};
+use crate::fsutil::write_atomic;
+use anyhow::Context;
+use std::path::Path;
+
+pub const FRAGILITY_CSV: &str = "fragility.csv";
+pub const FRAGILITY_JSON: &str = "fragility.json";
+
+fn num(v: Option<f64>) -> String {
+    v.map_or_else(String::new, |v| v.to_string())
+}
+
+type Cell = fn(&FragilityReport, &Curve) -> String;
+
+/// The columns after `device` and the varying parameters: header and value, one table.
+const COLUMNS: [(&str, Cell); 15] = [
+    ("damage_state", |_, c| c.damage_state.to_string()),
+    ("median", |_, c| num(c.median)),
+    ("beta", |_, c| num(c.beta)),
+    ("median_lo", |_, c| num(c.median_lo)),
+    ("median_hi", |_, c| num(c.median_hi)),
+    ("beta_lo", |_, c| num(c.beta_lo)),
+    ("beta_hi", |_, c| num(c.beta_hi)),
+    ("n_records", |_, c| c.n_records.to_string()),
+    ("n_stripes", |_, c| c.n_stripes.to_string()),
+    ("method", |_, c| c.method.name().to_string()),
+    ("status", |_, c| c.status.name().to_string()),
+    // Against the bare variant with the same parameters (empty for the bare one).
+    ("median_ratio", |r, c| {
+        num(r.ratio_of(c).and_then(|x| x.ratio))
+    }),
+    ("median_ratio_lo", |r, c| {
+        num(r.ratio_of(c).and_then(|x| x.lo))
+    }),
+    ("median_ratio_hi", |r, c| {
+        num(r.ratio_of(c).and_then(|x| x.hi))
+    }),
+    ("crosses_bare", |r, c| {
+        r.ratio_of(c)
+            .map_or_else(String::new, |x| x.curves_cross.to_string())
+    }),
+];
+
+/// The varying parameters' names over all curves, in order of first appearance.
+pub fn parameter_names(report: &FragilityReport) -> Vec<String> {
+    let mut names: Vec<String> = Vec::new();
+    for c in &report.curves {
+        for (k, _) in &c.variant.params {
+            if !names.contains(k) {
+                names.push(k.clone());
+            }
+        }
+    }
+    names
+}
+
+/// fragility.csv as bytes: device, each varying parameter, then [`COLUMNS`].
+pub fn fragility_csv(report: &FragilityReport) -> anyhow::Result<Vec<u8>> {
+    let params = parameter_names(report);
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let header = std::iter::once("device")
+        .chain(params.iter().map(String::as_str))
+        .chain(COLUMNS.iter().map(|(h, _)| *h));
+    w.write_record(header)?;
+    for c in &report.curves {
+        let mut row = vec![c.variant.device.clone()];
+        for p in &params {
+            let v = c.variant.params.iter().find(|(k, _)| k == p);
+            row.push(num(v.map(|(_, v)| *v)));
+        }
+        row.extend(COLUMNS.iter().map(|(_, cell)| cell(report, c)));
+        w.write_record(&row)?;
+    }
+    Ok(w.into_inner()?)
+}
+
+pub fn write_fragility_csv(report: &FragilityReport, path: &Path) -> anyhow::Result<()> {
+    write_atomic(path, &fragility_csv(report)?)
+}
+
+pub fn write_fragility_json(report: &FragilityReport, path: &Path) -> anyhow::Result<()> {
+    let mut bytes = serde_json::to_vec_pretty(report)?;
+    bytes.push(b'\n');
+    write_atomic(path, &bytes)
+}
+
+/// Read a fragility.json written by [`write_fragility_json`].
+pub fn read_fragility_json(path: &Path) -> anyhow::Result<FragilityReport> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    serde_json::from_str(&text).map_err(|e| {
+        anyhow::anyhow!(
+            "{}:{}:{}: not a fragility report: {e}\n  hint: rerun `rocklab run` on the study to rewrite it",
+            path.display(),
+            e.line(),
+            e.column()
+        )
+    })
+}
