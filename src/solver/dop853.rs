@@ -1,12 +1,14 @@
-//! Coefficients of DOP853: the explicit Runge–Kutta pair 8(5,3) of Dormand & Prince with
+//! DOP853: the explicit Runge–Kutta pair 8(5,3) of Dormand & Prince with
 //! its 7th-order dense output (Hairer, Nørsett & Wanner, Solving ODEs I, §II.10). Transcribed
 //! from scipy's `scipy/integrate/_ivp/dop853_coefficients.py`, itself taken from Hairer's
 //! `dop853.f` (<http://www.unige.ch/~hairer/software.html>); the indices are scipy's: stages
 //! 0–11 make the step, stage 12 is f(t + h, y1) (first-same-as-last), stages 13–15 exist only
-//! for the dense output.
+//! for the dense output. The coefficients, then one trial step and the dense output.
 
 // Transcribed digit for digit.
 #![allow(clippy::excessive_precision)]
+
+use super::{Dense, Integrator, OdeSystem, Trial};
 
 pub const STAGES: usize = 12;
 pub const STAGES_EXTENDED: usize = 16;
@@ -224,3 +226,105 @@ pub const D: [[f64; STAGES_EXTENDED]; 4] = {
     d[3][15] = -0.14972683625798562581422125276e3;
     d
 };
+
+impl<const N: usize> Integrator<N> {
+    /// Stage `s` of the extended DOP853 tableau into `self.k[s]`.
+    fn dop853_stage<S: OdeSystem<N>>(&mut self, sys: &S, h: f64, s: usize) {
+        let a = &A[s];
+        let k = &self.k;
+        let y = &self.y;
+        let ys: [f64; N] = std::array::from_fn(|i| {
+            let mut acc = 0.0;
+            for j in 0..s {
+                acc += a[j] * k[j][i];
+            }
+            y[i] + h * acc
+        });
+        let mut ks = [0.0; N];
+        sys.rhs(self.t + C[s] * h, &ys, &mut ks);
+        self.k[s] = ks;
+    }
+
+    /// One DOP853 step of size h; stages in `self.k[..13]` (k[12] = f(t + h, y1)). The error
+    /// is Hairer's: the 5th-order estimate, damped where the 3rd-order one is much smaller,
+    /// err = |h|·‖e5‖² / √(‖e5‖² + 0.01‖e3‖²), per norm group.
+    pub(super) fn trial_dop853<S: OdeSystem<N>>(&mut self, sys: &S, h: f64) -> Trial<N> {
+        self.k[0] = self.f;
+        for s in 1..STAGES {
+            self.dop853_stage(sys, h, s);
+        }
+        let k = &self.k;
+        let y = self.y;
+        let y1: [f64; N] = std::array::from_fn(|i| {
+            let mut acc = 0.0;
+            for (j, b) in B.iter().enumerate() {
+                acc += b * k[j][i];
+            }
+            y[i] + h * acc
+        });
+        let mut f1 = [0.0; N];
+        sys.rhs(self.t + h, &y1, &mut f1);
+        self.k[12] = f1;
+        self.stats.rhs_evals += 12;
+        let k = &self.k;
+        let mut err: f64 = 0.0;
+        for range in self.groups() {
+            let (mut e5sum, mut e3sum, mut n) = (0.0, 0.0, 0);
+            for i in range {
+                if !self.opts.atol[i].is_finite() {
+                    continue;
+                }
+                let (mut e5, mut e3) = (0.0, 0.0);
+                for (j, kj) in k.iter().take(STAGES).enumerate() {
+                    e5 += E5[j] * kj[i];
+                    e3 += E3[j] * kj[i];
+                }
+                let sc = self.error_scale(i, y[i], y1[i]);
+                e5sum += (e5 / sc) * (e5 / sc);
+                e3sum += (e3 / sc) * (e3 / sc);
+                n += 1;
+            }
+            if n > 0 && (e5sum > 0.0 || e3sum > 0.0) {
+                let denominator = (e5sum + 0.01 * e3sum) * n as f64;
+                err = err.max(h.abs() * e5sum / denominator.sqrt());
+            }
+        }
+        Trial { y1, f1, err }
+    }
+
+    /// DOP853's 7th-order dense output: three more stages, then the coefficients.
+    pub(super) fn dense_dop853<S: OdeSystem<N>>(
+        &mut self,
+        sys: &S,
+        h: f64,
+        y1: &[f64; N],
+    ) -> Dense<N> {
+        for s in STAGES + 1..STAGES_EXTENDED {
+            self.dop853_stage(sys, h, s);
+        }
+        self.stats.rhs_evals += 3;
+        let y0 = &self.y;
+        let k = &self.k;
+        let mut r = [[0.0; N]; 8];
+        for i in 0..N {
+            let dy = y1[i] - y0[i];
+            r[0][i] = y0[i];
+            r[1][i] = dy;
+            r[2][i] = h * k[0][i] - dy;
+            r[3][i] = 2.0 * dy - h * (k[12][i] + k[0][i]);
+            for (row, d) in D.iter().enumerate() {
+                let mut acc = 0.0;
+                for (j, dj) in d.iter().enumerate() {
+                    acc += dj * k[j][i];
+                }
+                r[4 + row][i] = h * acc;
+            }
+        }
+        Dense {
+            t0: self.t,
+            h,
+            r,
+            top: 7,
+        }
+    }
+}

@@ -1,0 +1,426 @@
+//! The rocking shell: everything a rocking structure with an inerter device does the same way
+//! whatever the structure is. The device and its flywheels, the event table (impact,
+//! overturning, uplift to either side, the sequential switch, the mechanistic clutch events),
+//! the phase (flat on the ground or rocking) and the pivot, the sequential clutch's state, the
+//! energy ledger, the peaks, and the [`OdeSystem`] and [`SimModel`] plumbing.
+//!
+//! A structure family implements [`Body`]: its kinematics (the horizontal coordinate X the
+//! device acts on), its accelerations, the uplift and overturning tests, the impact jump and
+//! its own energy. [`super::rigid`] and [`super::flexible`] are the two bodies.
+
+// The shell is one state machine (events, phase, pivot, peaks, energy ledger) whose parts read
+// and write the same state; split along its seams: the state layout (`layout`), what a body
+// supplies (`body`), and the solver and driver interfaces (`systems`).
+
+mod body;
+mod layout;
+mod systems;
+#[cfg(test)]
+mod tests;
+
+pub use body::{Body, Landing, Mode, OwnLoss, Returnable};
+pub use layout::{Accumulator, Layout, Phase};
+
+use super::device::{ClutchEvent, DeviceModel, resync_sequential, toggle_sequential};
+use super::{Action, Counters, EndReason, Energy, Ledger, Measures, Peaks};
+use crate::excitation::{G, Motion};
+use crate::solver::MAX_EVENTS;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Ev {
+    Impact,
+    Overturn,
+    Uplift(f64),
+    Sequential,
+    Own(usize),
+    Clutch(ClutchEvent),
+}
+
+/// Largest state a rocking model has (flexible structure with two flywheels).
+const MAX_STATE: usize = 16;
+
+/// A rocking structure `B` with its device: the model the simulation driver runs.
+pub struct Rocking<'m, B: Body> {
+    pub(super) body: B,
+    pub(super) mode: Mode<'m>,
+    initial_rotation: f64,
+    events: [Ev; MAX_EVENTS],
+    n_events: usize,
+    /// Whether an event function reads X or Ẋ (the sequential switch, the clutch events).
+    events_read_x: bool,
+    measures: Measures,
+    /// Time of the last uplift, to recognise a grazing lift-off that lands at once.
+    last_uplift: f64,
+    pub(super) ledger: Ledger,
+    counters: Counters,
+    peaks: Peaks,
+}
+
+impl<'m, B: Body> Rocking<'m, B> {
+    pub fn with_body(
+        body: B,
+        device: DeviceModel,
+        motion: &'m Motion,
+        initial_rotation: f64,
+    ) -> Self {
+        let peaks = Peaks {
+            angular_acceleration_p2: body.angular_acceleration_scale().map(|_| 0.0),
+            ..Peaks::default()
+        };
+        let mut events = [Ev::Impact; MAX_EVENTS];
+        let mut n = 0;
+        let mut push = |e| {
+            events[n] = e;
+            n += 1;
+        };
+        push(Ev::Impact);
+        push(Ev::Overturn);
+        push(Ev::Uplift(1.0));
+        push(Ev::Uplift(-1.0));
+        if matches!(device, DeviceModel::Sequential { .. }) {
+            push(Ev::Sequential);
+        }
+        for i in 0..body.own_events() {
+            push(Ev::Own(i));
+        }
+        if let DeviceModel::Mechanistic(c) = device {
+            for e in c.events() {
+                push(Ev::Clutch(*e));
+            }
+        }
+        Rocking {
+            body,
+            mode: Mode {
+                dev: device,
+                motion,
+                layout: Layout::new(B::COORDINATES.len(), &device),
+                phase: Phase::Contact,
+                pivot: 1.0,
+                sequential_engaged: false,
+            },
+            initial_rotation,
+            events,
+            n_events: n,
+            events_read_x: events[..n]
+                .iter()
+                .any(|e| matches!(e, Ev::Sequential | Ev::Clutch(_))),
+            measures: Measures::ALL,
+            last_uplift: f64::NEG_INFINITY,
+            ledger: Ledger::default(),
+            counters: Counters::default(),
+            peaks,
+        }
+    }
+
+    /// Compute only these measures (default: all); call before the run starts.
+    pub fn set_measures(&mut self, measures: Measures) {
+        self.measures = measures;
+        if !measures.angular_acceleration {
+            self.peaks.angular_acceleration_p2 = None;
+        }
+    }
+
+    /// Number of state components this model needs.
+    pub fn state_len(&self) -> usize {
+        self.mode.layout.state_len()
+    }
+
+    fn x_xdot(&self, y: &[f64]) -> (f64, f64) {
+        self.body.x_xdot(&self.mode, y)
+    }
+
+    fn rhs_slice(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        let k = self.body.kin(&self.mode, y);
+        self.rhs_kin(t, y, &k, dy)
+    }
+
+    /// The right-hand side at (t, y) whose kinematics `k` are already known.
+    #[inline]
+    fn rhs_kin(&self, t: f64, y: &[f64], k: &B::Kin, dy: &mut [f64]) {
+        dy.fill(0.0);
+        let m = &self.mode;
+        let layout = m.layout;
+        let ag = m.motion.accel(t);
+        let (x, xdot) = self.body.x_xdot_kin(m, k, y);
+        let (fa, fb) = m.dev.spring_forces(x, layout.flywheel_states(y));
+        let (mut visc, mut fric) = (0.0, 0.0);
+        for (i, f) in [fa, fb].into_iter().take(layout.flywheels).enumerate() {
+            let j = layout.flywheel(i);
+            let (a, pv, pf) = m.dev.flywheel_accel(f, y[j + 1]);
+            dy[j] = y[j + 1];
+            dy[j + 1] = a;
+            visc += pv;
+            fric += pf;
+        }
+        let own = self
+            .body
+            .derivatives(m, k, ag, y, -(fa + fb), m.coupled_mass(), dy);
+        dy[layout.accumulator(Accumulator::Input)] = -self.body.mass() * ag * xdot;
+        dy[layout.accumulator(Accumulator::DeviceDamping)] = visc;
+        dy[layout.accumulator(Accumulator::Friction)] = fric;
+        dy[layout.accumulator(Accumulator::Own)] = own;
+    }
+
+    /// Event `ev`'s value at (t, y); `kx` = (kin(y), (X, Ẋ)) when the caller has them.
+    fn event_value(&self, ev: Ev, t: f64, y: &[f64], kx: Option<&(B::Kin, (f64, f64))>) -> f64 {
+        let m = &self.mode;
+        let rocking = m.rocking();
+        let kx = || match kx {
+            Some(v) => *v,
+            None => {
+                let k = self.body.kin(m, y);
+                (k, self.body.x_xdot_kin(m, &k, y))
+            }
+        };
+        match ev {
+            Ev::Impact if rocking => m.pivot * y[B::THETA],
+            Ev::Impact => 1.0,
+            Ev::Overturn if rocking => self.body.overturn_margin(m, y),
+            Ev::Overturn => -1.0,
+            Ev::Uplift(_) if rocking => -1.0,
+            Ev::Uplift(side) => self.body.uplift_margin(m, side, t, y),
+            Ev::Sequential if rocking || B::MOVES_IN_CONTACT => {
+                let (k, (_, xdot)) = kx();
+                xdot * self.body.bare_xddot(m, &k, t, y)
+            }
+            // X ≡ 0 while flat: the switch keeps its side until the base lifts.
+            Ev::Sequential if m.sequential_engaged => 1.0,
+            Ev::Sequential => -1.0,
+            Ev::Own(i) => self.body.own_event_value(m, i, y),
+            Ev::Clutch(e) => {
+                let DeviceModel::Mechanistic(c) = &m.dev else {
+                    return 1.0;
+                };
+                let (_, (x, xdot)) = kx();
+                c.event_value(e, x, xdot, m.layout.flywheel_states(y))
+            }
+        }
+    }
+
+    /// Re-decide the sequential clutch after a jump or a phase change (Ẋ is continuous across
+    /// both, Ẍ is not), booking the energy the law creates or destroys.
+    fn resync_sequential(&mut self, t: f64, y: &[f64]) {
+        if !matches!(self.mode.dev, DeviceModel::Sequential { .. }) {
+            return;
+        }
+        let k = self.body.kin(&self.mode, y);
+        let xdot = self.body.x_xdot_kin(&self.mode, &k, y).1;
+        let bare = self.body.bare_xddot(&self.mode, &k, t, y);
+        resync_sequential(
+            self.mode.dev.mr(),
+            xdot,
+            bare,
+            &mut self.mode.sequential_engaged,
+            &mut self.ledger,
+            &mut self.counters,
+        );
+    }
+
+    /// From rest |Ẋ| can only grow: the sequential clutch engages (at Ẋ = 0, no energy).
+    fn engage_sequential_from_rest(&mut self) {
+        if matches!(self.mode.dev, DeviceModel::Sequential { .. }) {
+            self.mode.sequential_engaged = true;
+            self.counters.engagements += 1;
+        }
+    }
+
+    fn uplift(&mut self, side: f64, t: f64, y: &mut [f64]) -> Action {
+        self.mode.phase = Phase::Rocking;
+        self.mode.pivot = side;
+        y[B::THETA] = 0.0;
+        y[B::THETA_DOT] = 0.0;
+        self.last_uplift = t;
+        self.counters.uplifts += 1;
+        if !self.mode.sequential_engaged && self.x_xdot(y).1 == 0.0 {
+            self.engage_sequential_from_rest();
+        } else {
+            self.resync_sequential(t, y);
+        }
+        Action::Continue
+    }
+
+    /// The base comes down flat at t: it lifts again at once if the ground asks for it,
+    /// otherwise it stays in full contact (idle, if nothing moves).
+    fn land(&mut self, t: f64, y: &mut [f64]) -> Action {
+        self.mode.phase = Phase::Contact;
+        // A lift-off that landed within roundoff of its start (the margin was positive but
+        // already falling) would lift and land again forever at the same instant: stay down,
+        // the margin is on its way below zero.
+        let grazing = t - self.last_uplift <= 1e-12 * t.abs().max(1.0);
+        for side in [1.0, -1.0] {
+            if !grazing && self.body.uplift_margin(&self.mode, side, t, y) > 0.0 {
+                return self.uplift(side, t, y);
+            }
+        }
+        self.resync_sequential(t, y);
+        match self.body.idle_until(&self.mode, t) {
+            Some(until) if self.device_at_rest(t, y) => Action::Idle { until },
+            _ => Action::Continue,
+        }
+    }
+
+    /// Whether the device holds still and unloaded (flywheels at rest, springs slack: every
+    /// flywheel derivative exactly zero). Only then may a body that does not move in contact
+    /// idle to the ground's exceedance instead of integrating the resting phase (stepping over
+    /// a record's samples, that integration stepped over the uplift).
+    fn device_at_rest(&self, t: f64, y: &[f64]) -> bool {
+        let layout = self.mode.layout;
+        if layout.flywheels == 0 {
+            return true;
+        }
+        let mut dy = [0.0; MAX_STATE];
+        let dy = &mut dy[..y.len()];
+        self.rhs_slice(t, y, dy);
+        dy[layout.flywheel(0)..layout.flywheel(layout.flywheels)]
+            .iter()
+            .all(|d| *d == 0.0)
+    }
+
+    fn impact(&mut self, t: f64, y: &mut [f64]) -> Action {
+        self.counters.impacts += 1;
+        match self.body.impact(&mut self.mode, &mut self.ledger, y) {
+            Landing::Rocking => {
+                self.resync_sequential(t, y);
+                Action::Continue
+            }
+            Landing::Flat => self.land(t, y),
+        }
+    }
+
+    /// The jump of event `index` at t.
+    fn apply_event(&mut self, index: usize, t: f64, y: &mut [f64]) -> Action {
+        match self.events[index] {
+            Ev::Impact => self.impact(t, y),
+            Ev::Overturn => Action::Stop(EndReason::Overturned),
+            Ev::Uplift(side) => self.uplift(side, t, y),
+            Ev::Sequential => {
+                let xdot = self.x_xdot(y).1;
+                toggle_sequential(
+                    self.mode.dev.mr(),
+                    xdot,
+                    &mut self.mode.sequential_engaged,
+                    &mut self.ledger,
+                    &mut self.counters,
+                );
+                Action::Continue
+            }
+            Ev::Own(i) => {
+                self.body.apply_own_event(i, y);
+                Action::Continue
+            }
+            Ev::Clutch(e) => {
+                if let DeviceModel::Mechanistic(c) = self.mode.dev {
+                    let (x, _) = self.x_xdot(y);
+                    let fly = self.mode.layout.flywheel_states_mut(y);
+                    c.apply(e, x, fly, &mut self.ledger, &mut self.counters);
+                }
+                Action::Continue
+            }
+        }
+    }
+
+    /// Two events can fall within the location tolerance of each other (the sequential clutch
+    /// switches where Ẍ = 0, which is exactly where a flexible structure's mass passes over
+    /// the pivot). The located one is returned on its post-crossing side, possibly past the
+    /// other's root, and a function already past its root at a restart never reports the
+    /// crossing: catch up with overturning and landing here.
+    fn catch_up(&mut self, action: Action, t: f64, y: &mut [f64]) -> Action {
+        if action != Action::Continue || !self.mode.rocking() {
+            return action;
+        }
+        if self.body.overturn_margin(&self.mode, y) >= 0.0 {
+            return Action::Stop(EndReason::Overturned);
+        }
+        if self.mode.pivot * y[B::THETA] < 0.0 {
+            return self.impact(t, y);
+        }
+        action
+    }
+
+    /// Energy the device can still give back once the ground has stopped. A coupled mass and
+    /// a two-way spring give back all they hold. The sequential law gives nothing back (mr's
+    /// energy is lost at disengagement). A one-way clutch pushes flywheel a only forward
+    /// (f_a ≥ 0, ẏ_a ≥ 0) and b only backward, so flywheel energy never returns: only the
+    /// clutch springs' can.
+    fn returnable(&self, y: &[f64]) -> Returnable {
+        let m = &self.mode;
+        let (x, xdot) = self.x_xdot(y);
+        let fly = m.layout.flywheel_states(y);
+        let (energy, springs, k) = match m.dev {
+            DeviceModel::None | DeviceModel::Sequential { .. } => (0.0, 0.0, 0.0),
+            DeviceModel::RigidInerter { .. } => (m.coupled_kinetic(xdot), 0.0, 0.0),
+            DeviceModel::FlywheelInerter { k, .. } => (m.dev.stored_energy(x, fly), 1.0, k),
+            DeviceModel::Mechanistic(c) => (
+                c.potential_a(x - fly[0]).max(0.0) + c.potential_b(x - fly[2]).max(0.0),
+                2.0,
+                c.k,
+            ),
+        };
+        Returnable { energy, k, springs }
+    }
+
+    fn absolute_acceleration(&self, t: f64, k: &B::Kin, y: &[f64], dy: &[f64]) -> f64 {
+        self.body.xddot(&self.mode, k, y, dy) + self.mode.motion.accel(t)
+    }
+
+    /// |absolute acceleration|/g (`dy` the interpolant's rates) and |θ̈|/p² (from the
+    /// right-hand side, 0 while flat) at (t, y), sharing the kinematics; each only if asked.
+    fn accelerations_at<const N: usize>(
+        &self,
+        t: f64,
+        y: &[f64; N],
+        dy: Option<&[f64; N]>,
+        angular: bool,
+    ) -> (f64, f64) {
+        let k = self.body.kin(&self.mode, y);
+        let abs_g = dy.map_or(0.0, |dy| self.absolute_acceleration(t, &k, y, dy).abs() / G);
+        let theta_dd = match self.body.angular_acceleration_scale() {
+            Some(p2) if angular && self.mode.rocking() => {
+                let mut d = [0.0; N];
+                self.rhs_kin(t, y, &k, &mut d);
+                d[B::THETA_DOT].abs() / p2
+            }
+            _ => 0.0,
+        };
+        (abs_g, theta_dd)
+    }
+
+    /// Clutch forces (f_a, f_b) and the device force Fd; a coupled mass pushes with −mc Ẍ.
+    fn device_force(&self, t: f64, y: &[f64]) -> (f64, f64, f64) {
+        let (x, _) = self.x_xdot(y);
+        let (fa, fb) = self
+            .mode
+            .dev
+            .spring_forces(x, self.mode.layout.flywheel_states(y));
+        let mc = self.mode.coupled_mass();
+        if mc > 0.0 {
+            let mut dy = vec![0.0; y.len()];
+            let k = self.body.kin(&self.mode, y);
+            self.rhs_kin(t, y, &k, &mut dy);
+            return (0.0, 0.0, -mc * self.body.xddot(&self.mode, &k, y, &dy));
+        }
+        (fa, fb, -(fa + fb))
+    }
+
+    fn energy_of(&self, y: &[f64]) -> Energy {
+        let m = &self.mode;
+        let layout = m.layout;
+        let (x, xdot) = self.x_xdot(y);
+        let own = y[layout.accumulator(Accumulator::Own)];
+        let (column_damping, impact) = match B::OWN_LOSS {
+            OwnLoss::Impact => (0.0, self.ledger.impact + own),
+            OwnLoss::ColumnDamping => (own, self.ledger.impact),
+        };
+        Energy {
+            input: y[layout.accumulator(Accumulator::Input)],
+            structure: self.body.energy(m, y),
+            inerter: m.coupled_kinetic(xdot) + m.dev.stored_energy(x, layout.flywheel_states(y)),
+            column_damping,
+            device_damping: y[layout.accumulator(Accumulator::DeviceDamping)],
+            friction: y[layout.accumulator(Accumulator::Friction)],
+            impact,
+            disengagement: self.ledger.disengagement,
+            reset: self.ledger.reset,
+        }
+    }
+}
