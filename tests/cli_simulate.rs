@@ -249,3 +249,35 @@ fn missing_and_contradictory_flags_are_usage_errors() {
         "--cbar",
     );
 }
+
+/// `--repeat N` runs the scene N times in-process: the result is the single run's (the runs
+/// are checked to agree), wall_seconds is the fastest run and never above the median.
+#[test]
+fn repeat_reports_the_fastest_run_beside_the_median_and_the_same_result() {
+    let json = |extra: &[&str]| -> serde_json::Value {
+        let mut args = vec!["--json"];
+        args.extend_from_slice(extra);
+        let out = rocklab(&with(&args));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let once = json(&[]);
+    let five = json(&["--repeat", "5"]);
+    assert_eq!(once["repeats"], 1);
+    assert_eq!(five["repeats"], 5);
+    assert_eq!(once["wall_seconds"], once["wall_seconds_median"]);
+    let (fastest, median) = (
+        five["wall_seconds"].as_f64().unwrap(),
+        five["wall_seconds_median"].as_f64().unwrap(),
+    );
+    assert!(fastest > 0.0 && fastest <= median, "{fastest} {median}");
+    for key in ["peak_rotation", "rhs_evals", "steps", "impacts", "end_time"] {
+        assert_eq!(once[key], five[key], "{key}");
+    }
+    let zero = rocklab(&with(&["--repeat", "0"]));
+    assert_eq!(zero.status.code(), Some(2), "--repeat 0 is a usage error");
+}

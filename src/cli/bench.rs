@@ -35,6 +35,17 @@ pub struct BenchArgs {
     /// Only the method comparison (DP54 against DOP853 on the Fig. 8 scenes).
     #[arg(long)]
     pub methods_only: bool,
+    /// Only the record-suite throughput: scenes per second of a fragility study's scenes
+    /// (every component of --suite-dir × the far-field stripes × bare, sequential and
+    /// mechanistic blocks) on one and two threads.
+    #[arg(long)]
+    pub record_suite: bool,
+    /// The record suite's directory (one file per component).
+    #[arg(long, default_value = "records/fema-p695/farfield")]
+    pub suite_dir: std::path::PathBuf,
+    /// Run only this many components of the suite, spread over it.
+    #[arg(long)]
+    pub suite_records: Option<usize>,
 }
 
 /// The studies whose sweep throughput the bench reports, embedded so the bench runs anywhere.
@@ -529,6 +540,9 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     }
     if args.methods_only {
         return print_method_tables(args);
+    }
+    if args.record_suite {
+        return super::bench_suite::print(args);
     }
     println!(
         "rocklab bench: relative peak errors against rtol = {:e}; time = median of {} runs",

@@ -2,6 +2,7 @@
 
 pub mod bench;
 mod bench_quantities;
+mod bench_suite;
 pub mod check;
 pub mod compare;
 pub mod paper;

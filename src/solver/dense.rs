@@ -100,11 +100,16 @@ impl<const N: usize> Dense<N> {
             }
             return d;
         }
+        // DOP853 (top = 7). The top as a constant lets the compiler unroll the loop and
+        // resolve the parity tests (read from `self.top` it cost ~16 % of the bare block's
+        // instructions at rtol 1e-6); the operations and their order are unchanged.
+        debug_assert_eq!(self.top, 7);
+        const TOP: usize = 7;
         for (i, di) in d.iter_mut().enumerate().take(n) {
             // Inside out: v_k = r_k + m_k v_(k+1), m_k = τ for even k, 1 − τ for odd k.
-            let mut v = r[self.top][i];
+            let mut v = r[TOP][i];
             let mut dv = 0.0;
-            for k in (0..self.top).rev() {
+            for k in (0..TOP).rev() {
                 let (m, dm) = if k % 2 == 0 { (th, 1.0) } else { (th1, -1.0) };
                 dv = dm * v + m * dv;
                 v = r[k][i] + m * v;

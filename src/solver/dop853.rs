@@ -227,19 +227,28 @@ pub const D: [[f64; STAGES_EXTENDED]; 4] = {
     d
 };
 
+/// Σ_j c_j k_j componentwise, j ascending from 0.0 (the order of the scalar loops this
+/// replaced, so results are bit-identical). Row by row: the inner loop runs over the N
+/// components of one stage, contiguous and of constant length, which the compiler unrolls and
+/// vectorises; summed column by column (one component over all stages) it cost ~370
+/// instructions per stage on the bare block (N = 6), more than the right-hand side itself.
+#[inline(always)]
+fn combine<const N: usize>(c: &[f64], k: &[[f64; N]]) -> [f64; N] {
+    let mut acc = [0.0; N];
+    for (cj, kj) in c.iter().zip(k) {
+        for i in 0..N {
+            acc[i] += cj * kj[i];
+        }
+    }
+    acc
+}
+
 impl<const N: usize> Integrator<N> {
     /// Stage `s` of the extended DOP853 tableau into `self.k[s]`.
+    #[inline(always)]
     fn dop853_stage<S: OdeSystem<N>>(&mut self, sys: &S, h: f64, s: usize) {
-        let a = &A[s];
-        let k = &self.k;
-        let y = &self.y;
-        let ys: [f64; N] = std::array::from_fn(|i| {
-            let mut acc = 0.0;
-            for j in 0..s {
-                acc += a[j] * k[j][i];
-            }
-            y[i] + h * acc
-        });
+        let acc = combine(&A[s][..s], &self.k[..s]);
+        let ys: [f64; N] = std::array::from_fn(|i| self.y[i] + h * acc[i]);
         let mut ks = [0.0; N];
         sys.rhs(self.t + C[s] * h, &ys, &mut ks);
         self.k[s] = ks;
@@ -253,20 +262,15 @@ impl<const N: usize> Integrator<N> {
         for s in 1..STAGES {
             self.dop853_stage(sys, h, s);
         }
-        let k = &self.k;
         let y = self.y;
-        let y1: [f64; N] = std::array::from_fn(|i| {
-            let mut acc = 0.0;
-            for (j, b) in B.iter().enumerate() {
-                acc += b * k[j][i];
-            }
-            y[i] + h * acc
-        });
+        let acc = combine(&B, &self.k);
+        let y1: [f64; N] = std::array::from_fn(|i| y[i] + h * acc[i]);
         let mut f1 = [0.0; N];
         sys.rhs(self.t + h, &y1, &mut f1);
         self.k[12] = f1;
         self.stats.rhs_evals += 12;
-        let k = &self.k;
+        let e5 = combine(&E5[..STAGES], &self.k);
+        let e3 = combine(&E3[..STAGES], &self.k);
         let mut err: f64 = 0.0;
         for range in self.groups() {
             let (mut e5sum, mut e3sum, mut n) = (0.0, 0.0, 0);
@@ -274,14 +278,9 @@ impl<const N: usize> Integrator<N> {
                 if !self.opts.atol[i].is_finite() {
                     continue;
                 }
-                let (mut e5, mut e3) = (0.0, 0.0);
-                for (j, kj) in k.iter().take(STAGES).enumerate() {
-                    e5 += E5[j] * kj[i];
-                    e3 += E3[j] * kj[i];
-                }
                 let sc = self.error_scale(i, y[i], y1[i]);
-                e5sum += (e5 / sc) * (e5 / sc);
-                e3sum += (e3 / sc) * (e3 / sc);
+                e5sum += (e5[i] / sc) * (e5[i] / sc);
+                e3sum += (e3[i] / sc) * (e3[i] / sc);
                 n += 1;
             }
             if n > 0 && (e5sum > 0.0 || e3sum > 0.0) {
@@ -306,19 +305,16 @@ impl<const N: usize> Integrator<N> {
         let y0 = &self.y;
         let k = &self.k;
         let mut r = [[0.0; N]; 8];
+        for (row, d) in D.iter().enumerate() {
+            let acc = combine(d, k);
+            r[4 + row] = std::array::from_fn(|i| h * acc[i]);
+        }
         for i in 0..N {
             let dy = y1[i] - y0[i];
             r[0][i] = y0[i];
             r[1][i] = dy;
             r[2][i] = h * k[0][i] - dy;
             r[3][i] = 2.0 * dy - h * (k[12][i] + k[0][i]);
-            for (row, d) in D.iter().enumerate() {
-                let mut acc = 0.0;
-                for (j, dj) in d.iter().enumerate() {
-                    acc += dj * k[j][i];
-                }
-                r[4 + row][i] = h * acc;
-            }
         }
         Dense {
             t0: self.t,

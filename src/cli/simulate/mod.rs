@@ -225,6 +225,38 @@ pub struct SimulateArgs {
     /// moves them); about 3–15× the scene's own time.
     #[arg(long)]
     pub check: bool,
+    /// Run the scene this many times in-process and report `wall_seconds` as the fastest run,
+    /// the median beside it (`wall_seconds_median`): a warm timing, as a compiled peer is
+    /// timed. Every run must give the same result (checked).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    pub repeat: u32,
+}
+
+/// Wall times of `--repeat` runs of one scene (s).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Timing {
+    pub fastest: f64,
+    pub median: f64,
+    pub repeats: usize,
+}
+
+impl Timing {
+    /// From the wall times of the runs (at least one).
+    pub fn of(walls: &[f64]) -> Timing {
+        let mut sorted = walls.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        let n = sorted.len();
+        let median = if n % 2 == 1 {
+            sorted[n / 2]
+        } else {
+            0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
+        };
+        Timing {
+            fastest: sorted[0],
+            median,
+            repeats: n,
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -288,15 +320,27 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         measures,
         ..Default::default()
     };
-    let (result, history, check) = crate::sweep::guarded(|| {
+    let (result, history, check, timing, differs) = crate::sweep::guarded(|| {
         let sampling = args.dt.clone().unwrap_or(sim::Sampling::Auto);
         let sampling = args.history.is_some().then_some(&sampling);
-        let (result, history) = sim::run_sampled(&scene, library, sampling, bounds)?;
+        let (mut result, history) = sim::run_sampled(&scene, library, sampling, bounds)?;
+        let mut walls = vec![result.wall_seconds];
+        let mut differs = None;
+        for run in 2..=args.repeat {
+            let (mut again, _) = sim::run_sampled(&scene, library, sampling, bounds)?;
+            walls.push(again.wall_seconds);
+            again.wall_seconds = result.wall_seconds;
+            if again != result {
+                differs.get_or_insert(run);
+            }
+        }
+        let timing = Timing::of(&walls);
+        result.wall_seconds = timing.fastest;
         let check = args
             .check
             .then(|| sim::check::check(&scene, &result, library, bounds))
             .transpose()?;
-        Ok((result, history, check))
+        Ok((result, history, check, timing, differs))
     })
     .map_err(|e| match e {
         // A scene the model refuses is bad input: exit 2 like a bad flag.
@@ -305,11 +349,19 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         }
         e => e.into(),
     })?;
+    if let Some(run) = differs {
+        anyhow::bail!(
+            "--repeat: run {run} of the scene gave a different result from the first (the \
+             solver should be deterministic; please report the command)"
+        );
+    }
     if let (Some(path), Some(h)) = (&args.history, &history) {
         crate::report::write_history_csv(path, h)?;
     }
     if args.json {
         let mut json = result_json(&scene, &result);
+        json["wall_seconds_median"] = timing.median.into();
+        json["repeats"] = timing.repeats.into();
         if let Some(check) = &check {
             json["check"] = serde_json::to_value(check)?;
         }
@@ -328,6 +380,14 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
             );
         }
         print!("{}", summary(&scene, &result));
+        if timing.repeats > 1 {
+            println!(
+                "  wall time over {} runs: fastest {:.3} ms, median {:.3} ms",
+                timing.repeats,
+                timing.fastest * 1e3,
+                timing.median * 1e3
+            );
+        }
         if let Some(check) = &check {
             print!("{}", check.report());
         }
@@ -419,5 +479,20 @@ mod angle_tests {
         for bad in ["deg", "10 degrees", "ten", "NaNdeg", ""] {
             assert!(parse_angle(bad).is_err(), "{bad}");
         }
+    }
+}
+
+#[cfg(test)]
+mod timing_tests {
+    use super::Timing;
+
+    #[test]
+    fn fastest_and_median_of_odd_and_even_counts() {
+        let odd = Timing::of(&[3.0, 1.0, 2.0]);
+        assert_eq!((odd.fastest, odd.median, odd.repeats), (1.0, 2.0, 3));
+        let even = Timing::of(&[4.0, 1.0, 3.0, 2.0]);
+        assert_eq!((even.fastest, even.median, even.repeats), (1.0, 2.5, 4));
+        let one = Timing::of(&[0.5]);
+        assert_eq!((one.fastest, one.median), (0.5, 0.5));
     }
 }
