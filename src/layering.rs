@@ -1,4 +1,4 @@
-//! The architecture's rules, checked mechanically (ARCHITECTURE.md): no cycle among the
+//! The architecture's rules, checked mechanically (docs/ARCHITECTURE.md): no cycle among the
 //! top-level modules, and the TUI and CLI never reach into the model or the solver. The
 //! check reads the sources: every `crate::<module>` path (grouped `use crate::{a, b}` too)
 //! outside comments is an edge from the file's top-level module to `<module>`.
@@ -161,7 +161,7 @@ fn violations(graph: &Graph) -> Vec<String> {
     let mut out: Vec<String> = FORBIDDEN
         .iter()
         .filter(|(from, to)| graph.get(*from).is_some_and(|e| e.contains(*to)))
-        .map(|(from, to)| format!("`{from}` imports `{to}` (ARCHITECTURE.md: never)"))
+        .map(|(from, to)| format!("`{from}` imports `{to}` (docs/ARCHITECTURE.md: never)"))
         .collect();
     if let Some(cycle) = find_cycle(graph) {
         out.push(format!("module cycle: {}", cycle.join(" → ")));

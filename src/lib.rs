@@ -1,7 +1,7 @@
 //! rocklab: parametric seismic studies of rocking structures protected by clutched inerters.
 //!
 //! Data flows one way: scene → [`sim::run`] (model + excitation + solver) → result.
-//! See MODEL.md in the repository for the equations each module implements.
+//! See docs/MODEL.md in the repository for the equations each module implements.
 
 pub mod cli;
 pub mod excitation;

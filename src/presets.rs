@@ -144,7 +144,7 @@ pub fn rigid_fig8(device: Device) -> Scene {
     )
 }
 
-/// The flexible structure of Fig. 14 (MODEL.md case 6): R0 = 10 m, α = 0.2, ξ = 0.02,
+/// The flexible structure of Fig. 14 (docs/MODEL.md case 6): R0 = 10 m, α = 0.2, ξ = 0.02,
 /// ωn/p = 8, one-sine A/(g tan α) = 1.5, ωg/p = 8, 30 s.
 pub fn flexible_fig14(device: Device) -> Scene {
     scene(

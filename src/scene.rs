@@ -290,7 +290,7 @@ impl Clutch {
 /// clutch frequency down: it calls the same §6 systems c̄ = 1 s⁻¹ (§6.2) and ξθ = 0.02 (§6.3),
 /// and ξθ = c̄ / (2 √(kθ/J)), so √(kθ/J) = 25 rad/s. The default, 25 p, is that for the §6
 /// structure (p = √(g/10 m) = 0.990 rad/s: 24.8 rad/s, ξθ = 0.02 ⇔ c̄ = 0.99 s⁻¹); at fixed
-/// c̄ a stiffer clutch barely changes peaks (the paper's Fig. 18; MODEL.md "Defaults").
+/// c̄ a stiffer clutch barely changes peaks (the paper's Fig. 18; docs/MODEL.md "Defaults").
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ClutchStiffness {
@@ -318,7 +318,7 @@ impl Default for Damping {
     }
 }
 
-/// Re-engagement reset with gear play (MODEL.md): the paper's rule resets whenever the clutch
+/// Re-engagement reset with gear play (docs/MODEL.md): the paper's rule resets whenever the clutch
 /// is disengaged (δ < up), the strict rule only once the gap has closed the other way (δ < 0).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

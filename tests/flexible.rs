@@ -1,4 +1,4 @@
-//! Flexible rocking structure (MODEL.md "Flexible rocking structure", paper §6): closed-form
+//! Flexible rocking structure (docs/MODEL.md "Flexible rocking structure", paper §6): closed-form
 //! fixed-base response, the rigid point-mass limit, energy balance, mirror symmetry, the
 //! paper's Fig. 14 ordering, and the CLI contract.
 
@@ -43,7 +43,7 @@ fn scene(structure: Structure, device: Device, excitation: Excitation, duration:
     }
 }
 
-/// MODEL.md public case 6 (paper Fig. 14): R0 = 10 m, α = 0.2, ξ = 0.02, ωn/p = 8,
+/// docs/MODEL.md public case 6 (paper Fig. 14): R0 = 10 m, α = 0.2, ξ = 0.02, ωn/p = 8,
 /// one-sine A/(g tan α) = 1.5, ωg/p = 8.
 fn case6(device: Device, duration: f64) -> Scene {
     Scene {
@@ -429,7 +429,7 @@ fn mirrored_excitation_gives_the_same_peaks() {
     }
 }
 
-/// MODEL.md public case 6 (paper Fig. 14): a single inerter lowers the peak uplift rotation of
+/// docs/MODEL.md public case 6 (paper Fig. 14): a single inerter lowers the peak uplift rotation of
 /// the bare structure, the clutched inerters lower it further.
 #[test]
 fn fig14_inerter_cuts_uplift_and_clutch_cuts_more() {

@@ -71,7 +71,7 @@ fn dirac_impacts_are_seen_at_every_tolerance() {
     }
 }
 
-/// With n → 0 the Dirac model converges to Housner (MODEL.md case 7): at n = 1e-4 within 0.5%
+/// With n → 0 the Dirac model converges to Housner (docs/MODEL.md case 7): at n = 1e-4 within 0.5%
 /// of Housner's peak rotation at every tolerance (0.4698 against 0.4685 at rtol 1e-10).
 #[test]
 fn narrow_dirac_impact_stays_near_housner_at_every_tolerance() {

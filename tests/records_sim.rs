@@ -65,7 +65,7 @@ fn a_record_scene_converges_as_the_tolerance_tightens() {
 
 #[test]
 fn polarity_flip_mirrors_the_response() {
-    // MODEL.md: flipping the excitation's sign leaves every peak unchanged.
+    // docs/MODEL.md: flipping the excitation's sign leaves every peak unchanged.
     let up = sim::run(
         &scene(northridge(0.5), Device::None, 1e-9),
         rocklab::excitation::library::global().unwrap(),

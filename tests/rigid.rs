@@ -1,4 +1,4 @@
-//! The rigid block against MODEL.md's public cases 1–5 and 7, closed forms, symmetry,
+//! The rigid block against docs/MODEL.md's public cases 1–5 and 7, closed forms, symmetry,
 //! convergence and the energy balance.
 
 use rocklab::excitation::{G, PulseShape};

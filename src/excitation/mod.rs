@@ -20,7 +20,7 @@ pub use record::{KinkPolicy, RecordMotion, Series};
 
 use crate::solver::search::brent_max;
 
-/// Standard gravity used throughout rocklab (MODEL.md: g = 9.81 m/s²).
+/// Standard gravity used throughout rocklab (docs/MODEL.md: g = 9.81 m/s²).
 pub const G: f64 = 9.81;
 
 /// A ground acceleration history a_g(t) in m/s², zero after [`Motion::end`].

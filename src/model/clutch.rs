@@ -1,4 +1,4 @@
-//! The mechanistic one-way clutch (MODEL.md "Devices", paper Eqs. 19–21, 55–59), in the
+//! The mechanistic one-way clutch (docs/MODEL.md "Devices", paper Eqs. 19–21, 55–59), in the
 //! translational form y = ρ θ_flywheel: spring k = kθ/ρ², smoothing ε̂ = ε/ρ, flywheel mass mr.
 
 use std::f64::consts::PI;

@@ -1,4 +1,4 @@
-//! Inerter devices acting on one horizontal coordinate x of a structure (MODEL.md "Devices").
+//! Inerter devices acting on one horizontal coordinate x of a structure (docs/MODEL.md "Devices").
 //! The structure supplies x and ẋ; the device returns the force Fd it puts on the structure
 //! and the accelerations of its flywheels. Shared by the rigid and flexible families.
 
@@ -184,7 +184,7 @@ impl DeviceModel {
 }
 
 /// The sequential law's switch at velocity ẋ. Disengaging loses the flywheel's ½ mr ẋ²;
-/// engaging at ẋ ≠ 0 creates it from nothing (the law's known flaw, MODEL.md), booked as
+/// engaging at ẋ ≠ 0 creates it from nothing (the law's known flaw, docs/MODEL.md), booked as
 /// negative dissipation so the energy balance closes.
 pub fn toggle_sequential(
     mr: f64,

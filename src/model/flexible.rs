@@ -1,9 +1,9 @@
-//! Flexible rocking structure (MODEL.md "Flexible rocking structure"; paper §6) as a [`Body`]
+//! Flexible rocking structure (docs/MODEL.md "Flexible rocking structure"; paper §6) as a [`Body`]
 //! of the rocking shell: a lumped mass m on a massless elastic column (height H, k = m ωn²,
 //! c = 2 ξ ωn m) fixed to a rigid base of half-width B that can uplift about either corner,
 //! with an inerter device acting on the mass's horizontal coordinate X.
 //!
-//! Coordinates (u, θ), MODEL.md's recommended form (equivalent to the paper's R–β, Eqs. 34–52,
+//! Coordinates (u, θ), docs/MODEL.md's recommended form (equivalent to the paper's R–β, Eqs. 34–52,
 //! without the ½ on the inerter term of Eqs. 51–52):
 //!   X = sB + (u − sB) cos θ + H sin θ,  Y = (sB − u) sin θ + H cos θ,
 //!   ∂X/∂u = cos θ, ∂X/∂θ = Y, ∂Y/∂u = −sin θ, ∂Y/∂θ = Z = (sB − u) cos θ − H sin θ,
@@ -184,7 +184,7 @@ impl Column {
 
     /// (ü, θ̈) for device force `fd` (not counting a coupled mass) and coupled mass `mc`.
     ///
-    /// Rocking phase (MODEL.md), with a = Fd − m a_g:
+    /// Rocking phase (docs/MODEL.md), with a = Fd − m a_g:
     ///   m ü + m H θ̈ + m (sB − u) θ̇² − m g sin θ + k u + c u̇ = a cos θ
     ///   m H ü + m ((sB − u)² + H²) θ̈ − 2 m (sB − u) u̇ θ̇ + m g Z = a Y
     /// A rigidly coupled mass mc adds ½ mc Ẋ² to T. Its Lagrange terms are
@@ -448,7 +448,7 @@ mod tests {
         model
     }
 
-    /// The closed-form 2×2 solve satisfies the two rocking equations as written in MODEL.md,
+    /// The closed-form 2×2 solve satisfies the two rocking equations as written in docs/MODEL.md,
     /// and a coupled mass enters exactly as the load Fd = −mc Ẍ.
     #[test]
     fn rocking_accelerations_satisfy_the_lagrange_equations() {

@@ -126,7 +126,7 @@ pub struct Counters {
     pub resets: u64,
 }
 
-/// Peak responses (MODEL.md "reported").
+/// Peak responses (docs/MODEL.md "reported").
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Peaks {
     pub rotation: f64,

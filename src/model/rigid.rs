@@ -1,4 +1,4 @@
-//! Housner's rigid block with an inerter device (MODEL.md "Rigid block"; paper §2, §3, §5),
+//! Housner's rigid block with an inerter device (docs/MODEL.md "Rigid block"; paper §2, §3, §5),
 //! as a [`Body`] of the rocking shell.
 //!
 //! State: [θ, θ̇ | flywheels | accumulators] ([`super::shell::Layout`]); the block's own
