@@ -203,34 +203,37 @@ fn a_stopped_adaptive_map_resumes_from_its_journal() {
     let points = study.expand().unwrap();
     let library = rocklab::excitation::library::global().unwrap();
     let open = || {
-        sweep::open_output(
+        sweep::DirRun::open(
             dir.path(),
             None,
             &study,
             points.len(),
-            OpenOptions {
-                fresh: false,
-                force: false,
-            },
+            OpenOptions::default(),
         )
         .unwrap()
     };
-    let opts = SweepOptions {
-        jobs: Some(1),
-        ..Default::default()
-    };
-    let run =
-        |output: &mut sweep::Output, cancel: &AtomicBool, progress: &(dyn Fn(Progress) + Sync)| {
-            sweep::run_into(
-                output, &study, &points, &opts, library, None, cancel, progress,
+    let run = |output: sweep::DirRun, cancel: &AtomicBool, progress: &(dyn Fn(Progress) + Sync)| {
+        output
+            .run(
+                &study,
+                &points,
+                Some(1),
+                library,
+                None,
+                cancel,
+                progress,
+                rocklab::report::WRITERS,
             )
             .unwrap()
-        };
+            .results
+    };
     // First run: stopped after 20 scenes (in the coarse round: there is more to do).
     let cancel = AtomicBool::new(false);
     let done = AtomicUsize::new(0);
-    let mut output = open();
-    let stopped = run(&mut output, &cancel, &|p| {
+    let output = open();
+    let journal = output.journal_path().to_path_buf();
+    let results_file = output.results_path().to_path_buf();
+    let stopped = run(output, &cancel, &|p| {
         if let Progress::SceneDone { .. } = p
             && done.fetch_add(1, Ordering::Relaxed) + 1 >= 20
         {
@@ -244,9 +247,11 @@ fn a_stopped_adaptive_map_resumes_from_its_journal() {
     );
     let first = stopped.outcomes.len();
     assert!(first >= 20 && first < uninterrupted.outcomes.len());
-    let journal = output.journal.path().to_path_buf();
-    drop(output);
-    let from_journal = sweep::journal::results_from_journal(&journal).unwrap();
+    // The journal alone (as a run killed before writing its results file leaves it).
+    let partial_file = std::fs::read(&results_file).unwrap();
+    std::fs::remove_file(&results_file).unwrap();
+    let (from_journal, _) = sweep::load_fullest(&journal).unwrap().unwrap();
+    std::fs::write(&results_file, partial_file).unwrap();
     assert!(
         from_journal.cancelled,
         "a stopped adaptive journal is incomplete"
@@ -255,8 +260,7 @@ fn a_stopped_adaptive_map_resumes_from_its_journal() {
     // Resumed: the first run's scenes come from the journal.
     let cancel = AtomicBool::new(false);
     let (reused, computed) = (AtomicUsize::new(0), AtomicUsize::new(0));
-    let mut output = open();
-    let resumed = run(&mut output, &cancel, &|p| {
+    let resumed = run(open(), &cancel, &|p| {
         if let Progress::SceneDone { reused: r, .. } = p {
             if r { &reused } else { &computed }.fetch_add(1, Ordering::Relaxed);
         }
@@ -269,9 +273,9 @@ fn a_stopped_adaptive_map_resumes_from_its_journal() {
     );
     assert_eq!(resumed.inferred, uninterrupted.inferred);
     assert_eq!(maps(&resumed), maps(&uninterrupted));
-    drop(output);
     // The finished journal alone replays to the same inferred cells (`rocklab merge JOURNAL`).
-    let replayed = sweep::journal::results_from_journal(&journal).unwrap();
+    std::fs::remove_file(&results_file).unwrap();
+    let (replayed, _) = sweep::load_fullest(&journal).unwrap().unwrap();
     assert!(!replayed.cancelled);
     assert_eq!(replayed.inferred, uninterrupted.inferred);
 }

@@ -8,7 +8,7 @@
 //! never hang) before they signal.
 
 use crate::util::{rocklab, rocklab_command};
-use rocklab::sweep::{SceneOutcome, journal};
+use rocklab::sweep::{self, SceneOutcome};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Stdio};
 use std::sync::OnceLock;
@@ -136,9 +136,11 @@ fn finish(mut child: Child) -> (std::process::ExitStatus, String) {
     }
 }
 
-/// Scenes finished (journalled) in a journal.
+/// Scenes finished (journalled) in a journal, as `rocklab status` counts them.
 fn journalled(path: &Path) -> usize {
-    journal::read_journal(path, false).unwrap().entries.len()
+    let status = sweep::set_status(&path.with_extension("json"), None);
+    assert!(status.total.is_some(), "{} unreadable", path.display());
+    status.ok + status.failed
 }
 
 /// The scene count in "resuming from …: N finished scenes reused".

@@ -4,7 +4,7 @@
 use super::UsageError;
 use crate::report;
 use crate::study::Study;
-use crate::sweep::{self, OpenOptions, OutputError, Progress, SweepOptions, SweepResults};
+use crate::sweep::{self, OpenOptions, OutputError, Progress, SweepResults};
 use anyhow::Context;
 use clap::Args;
 use std::io::IsTerminal;
@@ -37,7 +37,7 @@ pub struct RunArgs {
     pub force: bool,
     /// Wall-clock limit of one scene in seconds (0: none); a scene over it is recorded as
     /// failed with the reason.
-    #[arg(long, default_value_t = 600.0, value_parser = parse_seconds)]
+    #[arg(long, default_value_t = sweep::SCENE_TIME_LIMIT.as_secs_f64(), value_parser = parse_seconds)]
     pub scene_time_limit: f64,
     /// Do not print the summary.
     #[arg(long)]
@@ -207,70 +207,39 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         fresh: args.fresh,
         force: args.force,
     };
-    let mut output =
-        sweep::open_output(&out, args.shard, &study, total, open).map_err(|e| match e
+    let output =
+        sweep::DirRun::open(&out, args.shard, &study, total, open).map_err(|e| match e
             .downcast_ref::<OutputError>()
         {
             Some(OutputError::OtherStudy { .. }) => UsageError::new(e.to_string()).into(),
             _ => e,
         })?;
-    for note in &output.notes {
+    for note in output.notes() {
         say(&format!("note: {note}"));
     }
-    let results_path = output.results_path.clone();
-    let opts = SweepOptions {
-        jobs,
-        shard: args.shard,
-        cache: None,
-    };
+    let results_path = output.results_path().to_path_buf();
     install_signal_handlers();
     let reporter = Reporter::new(std::io::stderr().is_terminal());
     let started = Instant::now();
     let library = crate::excitation::library::global()?;
     let scene_time_limit =
         (args.scene_time_limit > 0.0).then(|| Duration::from_secs_f64(args.scene_time_limit));
-    let results = sweep::run_into(
-        &mut output,
+    let results = output.run(
         &study,
         &points,
-        &opts,
+        jobs,
         library,
         scene_time_limit,
         &CANCEL,
         &|p| reporter.report(p),
+        report::WRITERS,
     );
     reporter.finish();
-    let results = results?;
+    let finished = results?;
+    finished.written?;
+    let results = finished.results;
     drop(points);
     let elapsed = started.elapsed();
-    let journal = output.journal.path().display().to_string();
-    if results.cancelled && output.keep_previous_results {
-        anyhow::bail!(
-            "cancelled: the previous complete results in {} are kept; this --fresh run's {} \
-             finished scenes are in {journal}: run the same command without --fresh to continue it",
-            results_path.display(),
-            results.outcomes.len()
-        );
-    }
-    let written = report::save_results(&results_path, &results).and_then(|()| {
-        if args.shard.is_none() {
-            report::write_tables(&out, &study, &results)
-        } else {
-            Ok(())
-        }
-    });
-    if let Err(e) = written {
-        return Err(e.context(format!(
-            "the journal {journal} keeps all {} finished scenes: fix the cause and run the same \
-             command again to write the results (or `rocklab merge {journal} --out DIR`)",
-            results.outcomes.len()
-        )));
-    }
-    if !results.cancelled
-        && let Some(aside) = &output.set_aside
-    {
-        let _ = std::fs::remove_file(aside);
-    }
     if !args.quiet {
         print_out(&report::summary(&results))?;
     }
@@ -290,30 +259,11 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The results of one merge input: a results file, a journal, or both (the fuller wins: a
-/// shard stopped by SIGKILL after an earlier partial write has more in its journal).
+/// The results of one merge input: a results file, a journal, or both (the fuller wins).
 fn load_part(path: &Path) -> anyhow::Result<SweepResults> {
-    let (results_path, journal_path) = if path.extension().is_some_and(|e| e == "journal") {
-        (path.with_extension("json"), path.to_path_buf())
-    } else {
-        (path.to_path_buf(), sweep::output::journal_path(path))
-    };
-    let from_file = results_path
-        .exists()
-        .then(|| report::load_results(&results_path));
-    let from_journal = journal_path
-        .exists()
-        .then(|| sweep::journal::results_from_journal(&journal_path));
-    match (from_file, from_journal) {
-        (Some(Ok(a)), Some(Ok(b))) => Ok(if b.outcomes.len() > a.outcomes.len() {
-            b
-        } else {
-            a
-        }),
-        (Some(Ok(a)), _) => Ok(a),
-        (_, Some(Ok(b))) => Ok(b),
-        (Some(Err(e)), _) | (None, Some(Err(e))) => Err(e),
-        (None, None) => Err(UsageError::new(format!(
+    match sweep::load_fullest(path)? {
+        Some((results, _)) => Ok(results),
+        None => Err(UsageError::new(format!(
             "{}: no results file or journal there",
             path.display()
         ))
@@ -348,7 +298,7 @@ pub fn merge(args: &MergeArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create output directory {}", args.out.display()))?;
     let path = args.out.join("results.json");
-    let _lock = sweep::output::OutputLock::acquire(&path)?;
+    let _lock = sweep::lock_results(&path)?;
     report::save_results(&path, &merged)?;
     if let Some(study) = &merged.study {
         report::write_tables(&args.out, study, &merged)?;

@@ -10,7 +10,7 @@ use clap::Args;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::time::{Duration, Instant};
+use std::sync::atomic::AtomicBool;
 
 /// Seconds before its time limit at which Slurm sends a task SIGTERM (`--signal=B:TERM@…`).
 pub const STOP_WARNING_SECONDS: u64 = 60;
@@ -297,33 +297,6 @@ exec {rocklab} merge "${{shards[@]}}" --out {out}
     }
 }
 
-/// Mean seconds per scene over a few scenes spread through the study (at most ~5 s of work).
-fn seconds_per_scene(points: &[crate::study::ScenePoint]) -> Option<f64> {
-    let cancel = std::sync::atomic::AtomicBool::new(false);
-    let opts = crate::sweep::SweepOptions {
-        jobs: Some(1),
-        ..Default::default()
-    };
-    let library = crate::excitation::library::global().ok()?;
-    let step = (points.len() / 12).max(1);
-    let started = Instant::now();
-    let mut timed = 0;
-    for point in points.iter().step_by(step) {
-        crate::sweep::run(
-            std::slice::from_ref(point),
-            &opts,
-            library,
-            &cancel,
-            &|_| {},
-        );
-        timed += 1;
-        if started.elapsed() > Duration::from_secs(5) {
-            break;
-        }
-    }
-    (timed > 0).then(|| started.elapsed().as_secs_f64() / timed as f64)
-}
-
 fn absolute(path: &Path) -> anyhow::Result<PathBuf> {
     Ok(if path.is_absolute() {
         path.to_path_buf()
@@ -362,7 +335,8 @@ pub fn run(args: &SlurmArgs) -> anyhow::Result<()> {
         }
         Some(t) => t,
         None => {
-            let cost = seconds_per_scene(&points).unwrap_or(0.0);
+            let cost =
+                crate::sweep::seconds_per_scene(&points, &AtomicBool::new(false)).unwrap_or(0.0);
             let tasks = default_tasks(points.len(), cost, args.cpus_per_task, args.time);
             eprintln!(
                 "sizing: ~{:.1} ms per scene (timed on a sample) → {tasks} task(s) of about {} each (--tasks to choose)",

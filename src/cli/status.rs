@@ -2,7 +2,7 @@
 //! are done, failed, missing, and whether a process is running it now, read from the journals
 //! (results files for sets without one), and which array tasks to resubmit.
 
-use crate::sweep::{self, output::OutputLock};
+use crate::sweep::{self, SetStatus};
 use clap::Args;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -57,77 +57,8 @@ pub fn result_sets(dir: &Path) -> anyhow::Result<Vec<ResultSet>> {
     Ok(sets.into_values().collect())
 }
 
-/// What is known of one set.
-#[derive(Clone, Debug, PartialEq)]
-pub struct SetStatus {
-    pub shard: Option<(usize, usize)>,
-    pub ok: usize,
-    pub failed: usize,
-    /// Scenes the set has to go through; None if nothing says (no journal, unreadable file).
-    pub total: Option<usize>,
-    /// The pid of the process writing this set now.
-    pub running: Option<String>,
-    pub study_hash: Option<String>,
-}
-
-impl SetStatus {
-    pub fn missing(&self) -> Option<usize> {
-        self.total.map(|t| t.saturating_sub(self.ok + self.failed))
-    }
-}
-
 fn set_status(set: &ResultSet) -> SetStatus {
-    let journal = sweep::output::journal_path(&set.results_path);
-    let running = OutputLock::holder(&set.results_path);
-    let mut status = SetStatus {
-        shard: set.shard,
-        ok: 0,
-        failed: 0,
-        total: None,
-        running,
-        study_hash: None,
-    };
-    if let Ok((header, counts)) = sweep::journal::count_journal(&journal) {
-        status.ok = counts.ok;
-        status.failed = counts.failed;
-        status.total = Some(header.total);
-        status.study_hash = Some(header.study_hash);
-        // An adaptive map runs only part of its grid: it is complete when its refinement is
-        // (replayed from the journal), and what is missing is unknown until then.
-        if header
-            .study
-            .is_some_and(|s| s.map.is_some_and(|m| m.refine.is_some()))
-        {
-            let complete =
-                sweep::journal::results_from_journal(&journal).is_ok_and(|r| !r.cancelled);
-            status.total = complete.then_some(status.ok + status.failed);
-        }
-    } else if let Ok(results) = sweep::load_results(&set.results_path) {
-        status.failed = results
-            .outcomes
-            .iter()
-            .filter(|o| o.result.is_err())
-            .count();
-        status.ok = results.outcomes.len() - status.failed;
-        status.total = results
-            .study
-            .as_ref()
-            .and_then(|s| s.expand().ok())
-            .map(|p| {
-                p.iter()
-                    .filter(|p| sweep::in_shard(p.index, set.shard))
-                    .count()
-            });
-        if results
-            .study
-            .as_ref()
-            .is_some_and(|s| s.map.is_some_and(|m| m.refine.is_some()))
-        {
-            status.total = (!results.cancelled).then_some(status.ok + status.failed);
-        }
-        status.study_hash = Some(results.study_hash);
-    }
-    status
+    sweep::set_status(&set.results_path, set.shard)
 }
 
 /// The status of every set in `dir`, with a line for each shard of an array that left no file.

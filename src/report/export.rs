@@ -204,17 +204,6 @@ const STATUS_COLUMNS: [(&str, &str, &str); 2] = [
     ("status", "ok, or failed: reason", ""),
 ];
 
-fn quantity_unit(q: crate::report::Quantity) -> &'static str {
-    use crate::report::Quantity;
-    match q {
-        Quantity::PeakRotation => "rad",
-        Quantity::PeakDeformation => "m",
-        Quantity::PeakAbsAcceleration => "g",
-        // θ̈max/p² is dimensionless, like θmax/α.
-        Quantity::PeakRotationRatio | Quantity::PeakDrift | Quantity::PeakAngularAcceleration => "",
-    }
-}
-
 /// The results CSV: ASCII identifier column names only (a MATLAB `readtable`, pandas
 /// `read_csv` or R `read.csv` reads it with no option or renaming); the paper's Unicode
 /// labels and units are in [`results_columns_csv`].
@@ -308,7 +297,7 @@ pub fn results_columns_csv(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
         "the quantity's value (long layout; unit below)",
     ])?;
     for q in quantities(results) {
-        w.write_record([q.name(), q.label(), quantity_unit(q), "response quantity"])?;
+        w.write_record([q.name(), q.label(), q.info().unit, "response quantity"])?;
     }
     for (name, description, unit) in STATUS_COLUMNS {
         w.write_record([name, name, unit, description])?;

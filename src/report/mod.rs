@@ -29,6 +29,12 @@ pub use plot::{
 use crate::sim::History;
 use std::path::Path;
 
+/// How a run writes its results file and tables, for [`crate::sweep::DirRun::run`].
+pub const WRITERS: crate::sweep::Writers<'static> = crate::sweep::Writers {
+    results: &save_results,
+    tables: &write_tables,
+};
+
 /// A history as CSV: one header line, then one row per sample (see [`crate::sim::Sampling`]).
 pub fn history_csv(history: &History) -> anyhow::Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());

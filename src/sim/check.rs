@@ -17,6 +17,7 @@
 //! rotation by 1.2 %, while the same scene with the 25, 100 or 200 p clutch, the sequential
 //! law or no device moves by less than 1e-5 (`tests/hard_cases.rs`).
 
+use super::Quantity;
 use super::{SceneResult, SimError, run_bounded};
 use crate::excitation::Library;
 use crate::numfmt::fmt_condition;
@@ -72,16 +73,9 @@ fn key(v: f64) -> f64 {
     if v.is_nan() { f64::INFINITY } else { v }
 }
 
-/// A peak's name for people: `rotation`, `abs. accel.`, ….
-pub fn short_name(quantity: &str) -> &'static str {
-    match quantity {
-        "peak_rotation" => "rotation",
-        "peak_deformation" => "deformation",
-        "peak_drift" => "drift",
-        "peak_abs_acceleration_g" => "abs. accel.",
-        "peak_angular_acceleration_p2" => "θ̈",
-        _ => "peak",
-    }
+/// A peak's name for people (`rotation`, `abs. accel.`, …) from its key in check.csv.
+pub fn short_name(key: &str) -> &'static str {
+    Quantity::from_key(key).map_or("peak", |q| q.info().short)
 }
 
 /// JSON has no infinity: a non-finite number is written as `null`.
@@ -139,29 +133,18 @@ pub struct Check {
     pub verdict: Verdict,
 }
 
-/// The peaks a result holds (those its run measured; a rigid block has no deformation), by
-/// name.
-fn peaks_of(r: &SceneResult, rigid: bool) -> Vec<(&'static str, f64)> {
-    let p = &r.peaks;
-    let m = &r.measured;
-    let mut out = vec![("peak_rotation", p.rotation)];
-    for (on, name, value) in [
-        (m.deformation && !rigid, "peak_deformation", p.deformation),
-        (m.drift, "peak_drift", p.drift),
-        (
-            m.abs_acceleration,
-            "peak_abs_acceleration_g",
-            p.abs_acceleration_g,
-        ),
-    ] {
-        if on {
-            out.push((name, value));
-        }
-    }
-    if let Some(a) = p.angular_acceleration_p2 {
-        out.push(("peak_angular_acceleration_p2", a));
-    }
-    out
+/// The peaks a result holds (those its run measured; a rigid block has no deformation; the
+/// rotation ratio is the rotation's), by quantity.
+fn peaks_of(r: &SceneResult, rigid: bool) -> Vec<(Quantity, f64)> {
+    Quantity::ALL
+        .into_iter()
+        .filter(|q| match q {
+            Quantity::PeakRotationRatio => false,
+            Quantity::PeakDeformation => !rigid,
+            _ => true,
+        })
+        .filter_map(|q| Some((q, q.peak(r)?)))
+        .collect()
 }
 
 /// Relative difference, 0 when both are 0 and infinite when only the reference is.
@@ -208,14 +191,14 @@ pub fn check(
     let scaled = [at(1.0 + INPUT_CHANGE)?, at(1.0 - INPUT_CHANGE)?];
     // Matched by name; a peak missing from a run (it cannot be: the runs measure the same
     // quantities) would read NaN and count as ill-conditioned rather than vanish.
-    let peak = |r: &SceneResult, quantity: &str| {
+    let peak = |r: &SceneResult, quantity: Quantity| {
         peaks_of(r, rigid)
             .into_iter()
             .find(|(n, _)| *n == quantity)
             .map_or(f64::NAN, |(_, v)| v)
     };
     let runs = [result, &reference, &scaled[0], &scaled[1]];
-    let any_nan = |quantity: &str| runs.iter().any(|r| peak(r, quantity).is_nan());
+    let any_nan = |quantity: Quantity| runs.iter().any(|r| peak(r, quantity).is_nan());
     let rocking_negligible = runs
         .iter()
         .all(|r| r.peaks.rotation.abs() < NEGLIGIBLE * alpha);
@@ -239,15 +222,15 @@ pub fn check(
                 .fold(value.abs().max(reference_value.abs()), f64::max);
             let negligible = match quantity {
                 // `largest` drops a NaN (f64::max): a NaN peak is judged, not skipped.
-                "peak_rotation" | "peak_drift" => {
+                Quantity::PeakRotation | Quantity::PeakDrift => {
                     largest < NEGLIGIBLE * alpha && !any_nan(quantity)
                 }
                 // θ̈ between impacts describes the rocking: negligible with it.
-                "peak_angular_acceleration_p2" => rocking_negligible,
+                Quantity::PeakAngularAcceleration => rocking_negligible,
                 _ => false,
             };
             PeakCheck {
-                quantity,
+                quantity: quantity.info().key,
                 value,
                 reference: reference_value,
                 change: relative(value, reference_value),

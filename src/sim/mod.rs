@@ -11,6 +11,7 @@ use crate::scene::{Excitation, Impact, RigidBlock, Scene, Structure};
 use crate::solver::{Integrator, Method, Options, SolverError, Stats, StepOutcome};
 use history::Recorder;
 pub use history::{MAX_GRID_ROWS, Sampling, auto_step};
+pub use quantity::{Quantity, QuantityInfo};
 
 /// The integrator's work counters, as reported with a scene's result.
 pub type SceneStats = Stats;
@@ -22,6 +23,7 @@ use thiserror::Error;
 
 pub mod check;
 mod history;
+mod quantity;
 
 /// Accepted + rejected steps allowed per scene before it is reported as failed.
 pub const STEP_BUDGET: u64 = 5_000_000;
@@ -283,7 +285,7 @@ pub fn run_sampled(
         Structure::Flexible(flex) => {
             if scene.impact != Impact::default() {
                 return Err(SimError::Invalid(
-                    "impact: the flexible structure uses the VVEL impact (MODEL.md); \
+                    "impact: the flexible structure uses the VVEL impact (docs/MODEL.md); \
                      Housner restitution and Dirac impacts apply to rigid blocks only"
                         .into(),
                 ));
@@ -349,11 +351,6 @@ fn drive<const N: usize, M: SimModel<N>>(
     let mut energy_scale = initial_stored.abs();
     let mut closed_form_steps = 0;
     let mut stalls = 0;
-    // Restarts after events could take their first step from the new dynamics
-    // ([`Integrator::restart_switched`]); off, see [`ESTIMATE_RESTARTS_WITH_CLUTCH`].
-    let estimate_restarts = ESTIMATE_RESTARTS_WITH_CLUTCH
-        && matches!(scene.device, crate::scene::Device::Mechanistic(_));
-    let mut switched = false;
     model.observe_point(t, &y);
     if let Some(h) = history.as_deref_mut() {
         h.start(model, t, &y);
@@ -403,11 +400,7 @@ fn drive<const N: usize, M: SimModel<N>>(
                     action = next;
                     continue;
                 }
-                if switched {
-                    integ.restart_switched(model, t, y)
-                } else {
-                    integ.restart(model, t, y)
-                }
+                integ.restart(model, t, y)
             }
         }
         action = loop {
@@ -441,7 +434,6 @@ fn drive<const N: usize, M: SimModel<N>>(
             }
             match outcome {
                 StepOutcome::Event(index) => {
-                    switched = estimate_restarts;
                     break Run {
                         model: &mut *model,
                         motion,
@@ -494,15 +486,6 @@ fn drive<const N: usize, M: SimModel<N>>(
         measured: Measures::ALL,
     })
 }
-
-/// Whether restarts after events of a scene with a mechanistic clutch estimate their first
-/// step from the new dynamics ([`Integrator::restart_switched`]). Measured on the Fig. 8
-/// mechanistic scene (`rocklab bench --methods-only`, DP54): rejected steps 270 → 57 at
-/// rtol 1e-4 (RHS calls 4434 → 3508), 111 → 83 at 1e-6, 223 → 202 at 1e-8 (RHS calls +3 %,
-/// +4 % there). Off: at the default rtol it moved peaks of the shipped clutch studies in
-/// tiny-amplitude chattering scenes by up to 0.7 % (fig21 scene 24: 8e-3 from an rtol 1e-9
-/// run, against 5e-4 without), beyond the default tolerance's 1e-3 accuracy.
-const ESTIMATE_RESTARTS_WITH_CLUTCH: bool = false;
 
 /// What the driver shares with the closed-form path and the event handling.
 struct Run<'r, const N: usize, M: SimModel<N>> {

@@ -153,9 +153,6 @@ pub struct Options<const N: usize> {
     /// Skip the event scan's sub-samples on steps where the end values and rates prove no
     /// sign change inside ([`no_root_inside`]); `false` samples every step (the reference).
     pub event_screen: bool,
-    /// First step after a switch of the dynamics from the local dynamics
-    /// ([`Integrator::restart_switched`]) instead of the last step size.
-    pub restart_estimate: bool,
     /// Measure the time spent in the stages (`Stats::stage_nanos`); costs two clock reads
     /// per step.
     pub time_stages: bool,
@@ -172,7 +169,6 @@ impl<const N: usize> Options<N> {
             max_steps: u64::MAX,
             method: Method::Dp54,
             event_screen: true,
-            restart_estimate: true,
             time_stages: false,
         }
     }
@@ -328,23 +324,6 @@ impl<const N: usize> Integrator<N> {
     /// (Re)start at (t, y): after an event's jump, or when the right-hand side changes form.
     /// The last step size is kept as the first guess (Hairer's estimate on the first start).
     pub fn restart<S: OdeSystem<N>>(&mut self, sys: &S, t: f64, y: [f64; N]) {
-        self.start_at(sys, t, y, false);
-    }
-
-    /// [`Self::restart`] where the dynamics just switched (a clutch engaged or released, an
-    /// impact of a clutched structure): the
-    /// last step size was fitted to the dynamics *before* the switch, and after a clutch
-    /// engages (a stiff spring in series) it is often far too long — each such restart cost
-    /// a rejected step, a full set of stages. With `opts.restart_estimate` Hairer's starting
-    /// estimate (Solving ODEs I, §II.4: from the derivative and its change along the tangent
-    /// at the new point, one RHS call) caps it: h = min(h_old, h_est). For the caller to
-    /// choose: where the old step fits (the bare block's impacts, measured on Fig. 8) the
-    /// estimate, built for an unknown start, is conservative and cost 10–35 % more RHS calls.
-    pub fn restart_switched<S: OdeSystem<N>>(&mut self, sys: &S, t: f64, y: [f64; N]) {
-        self.start_at(sys, t, y, self.opts.restart_estimate);
-    }
-
-    fn start_at<S: OdeSystem<N>>(&mut self, sys: &S, t: f64, y: [f64; N], estimate: bool) {
         self.t = t;
         self.y = y;
         self.h_cap = sys.max_step();
@@ -352,8 +331,6 @@ impl<const N: usize> Integrator<N> {
         self.stats.rhs_evals += 1;
         if self.h == 0.0 {
             self.h = self.initial_step(sys);
-        } else if estimate {
-            self.h = self.h.min(self.initial_step(sys));
         }
         self.err_old = 1e-4;
         self.dense = None;

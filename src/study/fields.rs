@@ -77,7 +77,7 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ),
     (
         "clutch_frequency_ratio",
-        "clutch frequency √(k/mr) as a multiple of p (default 50)",
+        "clutch frequency √(k/mr) as a multiple of p (default 25)",
     ),
     (
         "cbar",
@@ -108,11 +108,6 @@ const FIELD_HELP: &[(&str, &str)] = &[
     (
         "kinks",
         "whether the integrator stops at every record sample",
-    ),
-    (
-        "quantities",
-        "peak_rotation, peak_rotation_ratio, peak_deformation, peak_drift, peak_abs_acceleration, \
-         peak_angular_acceleration (rigid blocks: |θ̈|max/p² between impacts)",
     ),
     (
         "spectrum",
@@ -159,8 +154,18 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ),
 ];
 
+/// The quantities' names from their table, with the one that needs a rigid block.
+static QUANTITIES_HELP: std::sync::LazyLock<String> = std::sync::LazyLock::new(|| {
+    let names: Vec<&str> = super::Quantity::ALL.iter().map(|q| q.name()).collect();
+    let angular = super::Quantity::PeakAngularAcceleration.info();
+    format!("{} ({}: {})", names.join(", "), angular.name, angular.help)
+});
+
 /// Help for a study field, by name (list elements have none).
 pub fn field_help(field: &str) -> Option<&'static str> {
+    if field == "quantities" {
+        return Some(QUANTITIES_HELP.as_str());
+    }
     FIELD_HELP
         .iter()
         .find(|(f, _)| *f == field)

@@ -10,14 +10,13 @@
 mod error;
 mod expand;
 pub mod fields;
-mod quantity;
 mod strict;
 mod values;
 pub mod writer;
 
+pub use crate::sim::{Quantity, QuantityInfo};
 pub use error::StudyError;
 pub use expand::{DeviceKind, Layout, Parameter, Part, VariantLayout, device_label};
-pub use quantity::Quantity;
 pub use strict::{ANGLE_FIELDS, parse_angle};
 pub use values::Values;
 

@@ -310,14 +310,6 @@ impl Refinement {
         out.sort_by_key(|c| c.index);
         out
     }
-
-    /// Points run so far.
-    pub fn known_count(&self) -> usize {
-        self.grids
-            .iter()
-            .map(|g| g.known.iter().flatten().count())
-            .sum()
-    }
 }
 
 /// Run the refinement to the end with `classify` giving the verdicts of each round's points

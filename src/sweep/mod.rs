@@ -3,15 +3,22 @@
 //! a sweep is deterministic.
 
 use crate::excitation::Library;
-use crate::sim::{self, SceneResult};
+use crate::sim::{self, Quantity, SceneResult};
 use crate::study::{ScenePoint, Study, StudyError};
 pub mod adaptive;
-pub mod journal;
-pub mod output;
+mod facade;
+mod journal;
+mod output;
 mod store;
 
-pub use journal::Journal;
-pub use output::{OpenOptions, Output, OutputError, open_output, results_name};
+pub use facade::{
+    DirRun, Finished, SCENE_TIME_LIMIT, SetStatus, Writers, load_fullest, lock_results,
+    seconds_per_scene, set_status,
+};
+pub use output::{OpenOptions, OutputError, OutputLock, results_name};
+
+use journal::Journal;
+use output::Output;
 pub use store::{RESULTS_FORMAT, load_results, results_file_json, results_identity};
 
 use rayon::prelude::*;
@@ -284,7 +291,7 @@ pub fn run_checkpointed(
 /// journalled before stay). The caller writes the results file ([`Output::results_path`]).
 // The run's inputs as `rocklab run` names them; a struct of them would only be unpacked here.
 #[allow(clippy::too_many_arguments)]
-pub fn run_into(
+fn run_into(
     output: &mut Output,
     study: &Study,
     points: &[ScenePoint],
@@ -374,19 +381,11 @@ pub fn guarded<T>(f: impl FnOnce() -> Result<T, sim::SimError>) -> Result<T, Gua
 /// Whether the numbers of a result are finite (JSON cannot carry NaN or ∞, and a peak that is
 /// not finite is not a response).
 fn all_finite(r: &SceneResult) -> bool {
-    [
-        r.end_time,
-        r.peaks.rotation,
-        r.peaks.deformation,
-        r.peaks.drift,
-        r.peaks.abs_acceleration_g,
-        r.peaks.angular_acceleration_p2.unwrap_or(0.0),
-        r.peak_rotation_ratio,
-        r.energy_residual,
-    ]
-    .into_iter()
-    .chain(r.energy.terms())
-    .all(f64::is_finite)
+    [r.end_time, r.energy_residual]
+        .into_iter()
+        .chain(Quantity::ALL.into_iter().filter_map(|q| q.peak(r)))
+        .chain(r.energy.terms())
+        .all(f64::is_finite)
 }
 
 /// Finished scenes of a previous run by key. Failures are not reused: they may come from the

@@ -16,13 +16,11 @@ use super::edit::{EditOutcome, LineEdit};
 use super::job::{AsyncSingleJob, JobEvent};
 use crate::excitation::library::Library;
 use crate::report;
-use crate::sim;
 use crate::study::{ScenePoint, Study};
 use crate::sweep::SweepResults;
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 pub use super::components::prompt::{
@@ -96,7 +94,7 @@ pub struct App {
     /// One-line message on the status bar (cleared by the next key); true for an error.
     pub message: Option<(String, bool)>,
     /// Times a few scenes of the study for the run-time estimate.
-    calibration: AsyncSingleJob<(), f64>,
+    calibration: AsyncSingleJob<(), Option<f64>>,
     /// Set by a first Ctrl-C with unsaved changes: a second one quits anyway.
     ctrl_c_armed: bool,
     /// The sweep being stopped was discarded: its partial results are not shown.
@@ -116,31 +114,16 @@ pub fn is_results_path(path: &std::path::Path) -> bool {
 /// stopped before writing it: whichever holds more), a results file or a journal; with the
 /// directory they belong to.
 pub fn load_results_at(path: &std::path::Path) -> anyhow::Result<(SweepResults, PathBuf)> {
-    let file = if path.is_dir() {
-        path.join(crate::sweep::results_name(None))
-    } else {
-        path.with_extension("json")
+    let Some((results, file)) = crate::sweep::load_fullest(path)? else {
+        anyhow::bail!(
+            "{}: no results there (neither a results file nor its journal)",
+            path.display()
+        );
     };
     let dir = file
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
         .map_or_else(|| PathBuf::from("."), PathBuf::from);
-    let journal = crate::sweep::output::journal_path(&file);
-    let from_file = file.exists().then(|| crate::sweep::load_results(&file));
-    let from_journal = journal
-        .exists()
-        .then(|| crate::sweep::journal::results_from_journal(&journal));
-    let results = match (from_file, from_journal) {
-        (Some(Ok(a)), Some(Ok(b))) if b.outcomes.len() > a.outcomes.len() => b,
-        (Some(Ok(a)), _) => a,
-        (_, Some(Ok(b))) => b,
-        (Some(Err(e)), _) | (None, Some(Err(e))) => return Err(e),
-        (None, None) => anyhow::bail!(
-            "{}: no results there (neither {} nor its journal)",
-            path.display(),
-            file.display()
-        ),
-    };
     Ok((results, dir))
 }
 
@@ -297,26 +280,9 @@ impl App {
         if points.is_empty() {
             return;
         }
-        let Ok(library) = crate::excitation::library::global() else {
-            return;
-        };
-        let n = points.len();
-        let sample: Vec<ScenePoint> = [0, n / 2, n - 1]
-            .iter()
-            .map(|&i| points[i].clone())
-            .collect();
-        self.calibration.spawn(move |_, cancel| {
-            let started = Instant::now();
-            let mut timed = 0;
-            for p in &sample {
-                if cancel.load(Ordering::Relaxed) {
-                    break;
-                }
-                let _ = sim::run(&p.scene, library);
-                timed += 1;
-            }
-            started.elapsed().as_secs_f64() / f64::from(timed.max(1))
-        });
+        let points = Arc::clone(points);
+        self.calibration
+            .spawn(move |_, cancel| crate::sweep::seconds_per_scene(&points, cancel));
     }
 
     // ----- keys -----
@@ -713,7 +679,7 @@ impl App {
     pub fn tick(&mut self) -> bool {
         let mut changed = false;
         for event in self.calibration.poll() {
-            if let JobEvent::Done(per) = event {
+            if let JobEvent::Done(Some(per)) = event {
                 self.shared.seconds_per_scene = Some(per);
                 changed = true;
             }

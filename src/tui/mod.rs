@@ -53,14 +53,15 @@ pub fn run_results(path: &std::path::Path, mono: bool) -> anyhow::Result<()> {
 
 fn run_app(mut app: App, mono: bool) -> anyhow::Result<()> {
     let theme = Theme::from_env(mono);
-    // In raw mode Ctrl-C is a key; a SIGINT sent from outside (kill -INT) still ends the
-    // workbench through the same clean exit. Setting the handler fails only if one is set.
-    let interrupted = Arc::new(AtomicBool::new(false));
-    let flag = interrupted.clone();
-    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
-    // A lost SSH session (SIGHUP) or a `kill` (SIGTERM) ends the workbench the same clean way:
+    // In raw mode Ctrl-C is a key; a SIGINT sent from outside (kill -INT), a lost SSH
+    // session (SIGHUP) or a `kill` (SIGTERM) end the workbench through the same clean exit:
     // the sweep stops and writes its results; finished scenes are in the journal already.
-    for signal in [signal_hook::consts::SIGHUP, signal_hook::consts::SIGTERM] {
+    let interrupted = Arc::new(AtomicBool::new(false));
+    for signal in [
+        signal_hook::consts::SIGINT,
+        signal_hook::consts::SIGHUP,
+        signal_hook::consts::SIGTERM,
+    ] {
         let _ = signal_hook::flag::register(signal, interrupted.clone());
     }
     let shutting_down = Arc::new(AtomicBool::new(false));

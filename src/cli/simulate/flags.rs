@@ -73,7 +73,7 @@ impl SimulateArgs {
                     "--form slender|auto only applies to --structure rigid",
                 ));
             }
-            // The flexible structure lands by the VVEL rule (MODEL.md): no restitution to choose.
+            // The flexible structure lands by the VVEL rule (docs/MODEL.md): no restitution to choose.
             if self.impact != ImpactKind::Housner || self.restitution.is_some() {
                 return Err(UsageError::new(
                     "--impact and --restitution only apply to --structure rigid \

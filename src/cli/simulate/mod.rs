@@ -281,14 +281,8 @@ pub enum KinksKind {
 
 /// The JSON object `simulate --json` prints (keys are a contract other tools rely on).
 pub fn result_json(scene: &Scene, r: &SceneResult) -> serde_json::Value {
-    serde_json::json!({
+    let mut json = serde_json::json!({
         "overturned": r.overturned,
-        "peak_rotation": r.peaks.rotation,
-        "peak_rotation_ratio": r.peak_rotation_ratio,
-        "peak_deformation": r.measured.deformation.then_some(r.peaks.deformation),
-        "peak_drift": r.measured.drift.then_some(r.peaks.drift),
-        "peak_abs_acceleration_g": r.measured.abs_acceleration.then_some(r.peaks.abs_acceleration_g),
-        "peak_angular_acceleration_p2": r.peaks.angular_acceleration_p2,
         "impacts": r.counters.impacts,
         "uplifts": r.counters.uplifts,
         "engagements": r.counters.engagements,
@@ -304,7 +298,12 @@ pub fn result_json(scene: &Scene, r: &SceneResult) -> serde_json::Value {
         "wall_seconds": r.wall_seconds,
         "form_used": r.form_used,
         "scene": scene,
-    })
+    });
+    // Each peak under its key from the quantity table; null when the run did not measure it.
+    for q in crate::sim::Quantity::ALL {
+        json[q.info().key] = serde_json::json!(q.peak(r));
+    }
+    json
 }
 
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {

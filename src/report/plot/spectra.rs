@@ -80,18 +80,6 @@ fn names_parameter(given: &str, label: &str) -> bool {
     given == label || given == p.name || given == p.field
 }
 
-/// The label of a quantity's axis, with its symbol and unit.
-fn quantity_axis(q: Quantity) -> &'static str {
-    match q {
-        Quantity::PeakRotation => "θmax [rad]",
-        Quantity::PeakRotationRatio => "θmax/α",
-        Quantity::PeakDeformation => "umax [m]",
-        Quantity::PeakDrift => "drift |X|max/H",
-        Quantity::PeakAbsAcceleration => "ẍmax [g]",
-        Quantity::PeakAngularAcceleration => "θ̈max/p²",
-    }
-}
-
 /// A drawn series of one panel: points (gaps break the line), overturned xs, style.
 struct Drawn {
     segments: Vec<Vec<(f64, f64)>>,
@@ -427,7 +415,7 @@ pub fn plot_spectra(
             panels.push(Panel {
                 title,
                 x_label: coordinate_axis(&in_panel[0].spectrum.axis),
-                y_label: quantity_axis(*q).to_string(),
+                y_label: q.info().axis.to_string(),
                 series,
             });
         }

@@ -1,8 +1,8 @@
 //! The Run screen: a sweep of the study on a background job, its progress overall and per
 //! variant, and its failures. A run here is a `rocklab run`: it goes through the same output
-//! directory, journal, lock and atomic results files ([`sweep::open_output`],
-//! [`sweep::run_into`], [`report::write_tables`]), so a finished scene is on disk as soon as
-//! it finishes and `r` after a cancel or a quit resumes. The results go to the app.
+//! directory, journal, lock and atomic results files (the sweep's façade, [`sweep::DirRun`]),
+//! so a finished scene is on disk as soon as it finishes and `r` after a cancel or a quit
+//! resumes. The results go to the app.
 
 use super::super::app::Screen;
 use super::super::job::{AsyncSingleJob, JobEvent};
@@ -12,7 +12,7 @@ use super::prompt::{Prompt, StopSweep};
 use super::{Action, Check, Component, Shared};
 use crate::report;
 use crate::study::{ScenePoint, Study};
-use crate::sweep::{self, OpenOptions, Progress, SweepOptions, SweepResults};
+use crate::sweep::{self, OpenOptions, Progress, SweepResults};
 use crate::tui::edit::LineEdit;
 use crossterm::event::{KeyCode, KeyEvent};
 use ratatui::Frame;
@@ -104,51 +104,33 @@ fn sweep_into(
         notes: Vec::new(),
         error: None,
     };
-    let opened = sweep::open_output(out_dir, None, study, points.len(), OpenOptions::default());
-    let mut output = match opened {
+    let opened = sweep::DirRun::open(out_dir, None, study, points.len(), OpenOptions::default());
+    let output = match opened {
         Ok(output) => output,
         Err(e) => {
             outcome.error = Some(format!("{e:#}"));
             return outcome;
         }
     };
-    outcome.notes = std::mem::take(&mut output.notes);
-    let opts = SweepOptions {
-        jobs,
-        shard: None,
-        cache: None,
-    };
-    // `rocklab run`'s default scene time limit: a stuck scene fails instead of hanging.
-    let limit = Some(Duration::from_secs(600));
-    let results = match sweep::run_into(
-        &mut output,
+    outcome.notes = output.notes().to_vec();
+    let results = match output.run(
         study,
         points,
-        &opts,
+        jobs,
         library,
-        limit,
+        Some(sweep::SCENE_TIME_LIMIT),
         cancel,
         progress,
+        report::WRITERS,
     ) {
-        Ok(results) => results,
+        Ok(finished) => finished,
         Err(e) => {
             outcome.error = Some(format!("{e:#}"));
             return outcome;
         }
     };
-    let written = report::save_results(&output.results_path, &results)
-        .and_then(|()| report::write_tables(out_dir, study, &results));
-    if let Err(e) = written {
-        outcome.error = Some(format!(
-            "cannot write the results ({e:#}); the journal in {} keeps every finished scene",
-            out_dir.display()
-        ));
-    } else if !results.cancelled
-        && let Some(aside) = &output.set_aside
-    {
-        let _ = std::fs::remove_file(aside);
-    }
-    outcome.results = Some(results);
+    outcome.error = results.written.err().map(|e| format!("{e:#}"));
+    outcome.results = Some(results.results);
     outcome
 }
 
