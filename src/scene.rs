@@ -389,6 +389,10 @@ pub enum RecordScale {
     Pga(f64),
     /// Scaled to this PGV (m/s).
     Pgv(f64),
+    /// Scaled to this PGA* = PGA/(g·tan α) of the scene's structure.
+    PgaStar(f64),
+    /// Scaled to this PGV* = PGV·p/(g·tan α) of the scene's structure.
+    PgvStar(f64),
 }
 
 impl Default for RecordScale {
@@ -398,12 +402,28 @@ impl Default for RecordScale {
 }
 
 impl RecordScale {
-    /// The factor that applies this scaling to a record with the given PGA (m/s²) and PGV.
-    pub fn factor(&self, pga: f64, pgv: f64) -> f64 {
+    /// The factor that applies this scaling to a record with the given PGA (m/s²) and PGV
+    /// (m/s), for a structure of slenderness `alpha` and frequency parameter `p` (the
+    /// dimensionless PGA* and PGV* depend on them, so one value means the same for every
+    /// structure of a family).
+    pub fn factor(&self, pga: f64, pgv: f64, alpha: f64, p: f64) -> f64 {
         match *self {
             RecordScale::Factor(k) => k,
             RecordScale::Pga(target) => target * G / pga,
             RecordScale::Pgv(target) => target / pgv,
+            RecordScale::PgaStar(target) => target * G * alpha.tan() / pga,
+            RecordScale::PgvStar(target) => target * G * alpha.tan() / (p * pgv),
+        }
+    }
+
+    /// The target value (or the factor), whatever it means.
+    pub fn value(&self) -> f64 {
+        match *self {
+            RecordScale::Factor(v)
+            | RecordScale::Pga(v)
+            | RecordScale::Pgv(v)
+            | RecordScale::PgaStar(v)
+            | RecordScale::PgvStar(v) => v,
         }
     }
 }
@@ -439,6 +459,8 @@ impl Excitation {
                     RecordScale::Factor(k) => RecordScale::Factor(k * factor),
                     RecordScale::Pga(target) => RecordScale::Pga(target * factor),
                     RecordScale::Pgv(target) => RecordScale::Pgv(target * factor),
+                    RecordScale::PgaStar(target) => RecordScale::PgaStar(target * factor),
+                    RecordScale::PgvStar(target) => RecordScale::PgvStar(target * factor),
                 }
             }
         }
@@ -617,6 +639,8 @@ impl Scene {
                     RecordScale::Factor(k) => check("scale", k, true, "must be a finite number")?,
                     RecordScale::Pga(a) => positive("scale_pga", a)?,
                     RecordScale::Pgv(v) => positive("scale_pgv", v)?,
+                    RecordScale::PgaStar(v) => positive("scale_pga_star", v)?,
+                    RecordScale::PgvStar(v) => positive("scale_pgv_star", v)?,
                 }
             }
         }

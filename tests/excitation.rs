@@ -346,8 +346,10 @@ fn scaling_hits_its_target() {
         RecordScale::Factor(-1.5),
         RecordScale::Pga(0.5),
         RecordScale::Pgv(0.2),
+        RecordScale::PgaStar(1.5),
+        RecordScale::PgvStar(0.7),
     ] {
-        let factor = scale.factor(s.pga(), s.pgv());
+        let factor = scale.factor(s.pga(), s.pgv(), 0.2, 2.0);
         let m = RecordMotion {
             series: s.clone(),
             factor,
@@ -362,6 +364,13 @@ fn scaling_hits_its_target() {
             RecordScale::Factor(k) => assert!((m.accel(0.02) - 3.0 * 1.5).abs() < 1e-12 && k < 0.0),
             RecordScale::Pga(g) => assert!((scaled.pga() - g * G).abs() < 1e-12),
             RecordScale::Pgv(v) => assert!((scaled.pgv() - v).abs() < 1e-12),
+            // α = 0.2, p = 2 rad/s.
+            RecordScale::PgaStar(x) => {
+                assert!((scaled.pga() / (G * 0.2_f64.tan()) - x).abs() < 1e-12)
+            }
+            RecordScale::PgvStar(x) => {
+                assert!((scaled.pgv() * 2.0 / (G * 0.2_f64.tan()) - x).abs() < 1e-12)
+            }
         }
     }
 }

@@ -27,6 +27,7 @@ mod scene_history;
 mod slurm;
 mod studies;
 mod study;
+mod suites;
 mod sweep;
 mod tui;
 mod tui_compare;

@@ -18,6 +18,10 @@ pub struct RecordsArgs {
     /// Print one JSON array on stdout.
     #[arg(long)]
     pub json: bool,
+    /// List a record suite instead, with its metadata: far_field, near_field_pulse,
+    /// near_field_no_pulse, near_field (both) or table1.
+    #[arg(long)]
+    pub suite: Option<String>,
 }
 
 const SPARK: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
@@ -40,7 +44,7 @@ pub fn sparkline(samples: &[f64], width: usize) -> String {
         .collect()
 }
 
-fn row_json(r: &Record) -> serde_json::Value {
+pub(super) fn row_json(r: &Record) -> serde_json::Value {
     let s = &r.series;
     let meta = r.meta.as_ref();
     serde_json::json!({
@@ -70,6 +74,9 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
     }
     let dir = args.records_dir.clone().or_else(Library::default_dir);
     let library = Library::open(dir)?;
+    if let Some(suite) = &args.suite {
+        return super::records_suite::run(&library, suite, args);
+    }
     let mut rows = Vec::new();
     let mut failures = Vec::new();
     for name in library.names() {
@@ -152,7 +159,7 @@ fn table(library: &Library, rows: &[std::sync::Arc<Record>]) -> String {
     out
 }
 
-fn truncate(s: &str, width: usize) -> String {
+pub(super) fn truncate(s: &str, width: usize) -> String {
     if s.chars().count() <= width {
         s.to_string()
     } else {

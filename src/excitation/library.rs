@@ -11,6 +11,7 @@
 use super::pulse::Pulse;
 use super::reader::{self, ParseError};
 use super::record::Series;
+use super::suite::{self, Set, SuiteRecord, SuiteSelect};
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -156,7 +157,7 @@ pub enum RecordError {
     #[error("{path}: {message}")]
     Io { path: String, message: String },
     #[error(
-        "unknown record '{name}'; known records: {known} (or give a path to an AT2, one- or two-column file)"
+        "unknown record '{name}'; known records: {known}, and the suite components `<suite>/<id><a|b>` (`rocklab records --suite far_field`) (or give a path to an AT2, one- or two-column file)"
     )]
     Unknown { name: String, known: String },
     #[error(
@@ -167,6 +168,8 @@ pub enum RecordError {
         file: String,
         dir: String,
     },
+    #[error("record suite: {0}")]
+    Suite(String),
 }
 
 fn is_data_file(name: &str) -> bool {
@@ -187,6 +190,8 @@ fn stem(file: &str) -> &str {
 pub struct Library {
     dir: Option<PathBuf>,
     index: Vec<RecordMeta>,
+    /// Every component of the FEMA P695 sets, in index order (see [`suite`]).
+    suites: Vec<SuiteRecord>,
     cache: Mutex<HashMap<(String, bool), Arc<Record>>>,
 }
 
@@ -217,11 +222,36 @@ impl Library {
                 message: format!("{}", e.code),
             })
         })?;
+        let suites = read_suites(dir.as_deref())?;
         Ok(Library {
             dir,
             index,
+            suites,
             cache: Mutex::new(HashMap::new()),
         })
+    }
+
+    /// Every component of the shipped record suites (FEMA P695 sets), in index order.
+    pub fn suite_records(&self) -> &[SuiteRecord] {
+        &self.suites
+    }
+
+    /// The record names a suite selection stands for, in index order.
+    pub fn suite(&self, select: &SuiteSelect) -> Result<Vec<String>, RecordError> {
+        let table1: Vec<String> = self
+            .index
+            .iter()
+            .filter(|m| m.table1.is_some())
+            .map(|m| m.name.clone())
+            .collect();
+        suite::select(select, &self.suites, &table1).map_err(RecordError::Suite)
+    }
+
+    /// The suite component named `name` (`far_field/7a`), if any.
+    pub fn suite_entry(&self, name: &str) -> Option<&SuiteRecord> {
+        self.suites
+            .iter()
+            .find(|r| r.id().eq_ignore_ascii_case(name))
     }
 
     /// The directory named by `$ROCKLAB_RECORDS`, else `./records` if it holds an
@@ -248,7 +278,7 @@ impl Library {
         let mut extra: Vec<String> = self
             .dir_files()
             .into_iter()
-            .chain(embedded::EMBEDDED.iter().map(|(n, _)| n.to_string()))
+            .chain(top_level_embedded())
             .filter(|f| is_data_file(f) && !claimed(f))
             .map(|f| stem(&f).to_string())
             .collect();
@@ -304,6 +334,9 @@ impl Library {
 
     /// The index entry's name, else the name as given (a stem or a path).
     fn canonical(&self, name: &str) -> String {
+        if let Some(r) = self.suite_entry(name) {
+            return format!("suite:{}", r.id());
+        }
         self.find_entry(name)
             .map_or_else(|| name.to_string(), |m| format!("index:{}", m.name))
     }
@@ -337,10 +370,26 @@ impl Library {
                 fingerprint: String::new(),
             });
         }
+        if let Some(entry) = self.suite_entry(name) {
+            let (source, series) = self
+                .read_data(&entry.path(), Some(entry.row.dt))?
+                .ok_or_else(|| RecordError::Missing {
+                    name: entry.id(),
+                    file: entry.path(),
+                    dir: dir_label.clone(),
+                })?;
+            return Ok(Record {
+                name: entry.id(),
+                meta: None,
+                source,
+                series: Arc::new(series),
+                fingerprint: String::new(),
+            });
+        }
         let by_stem = self
             .dir_files()
             .into_iter()
-            .chain(embedded::EMBEDDED.iter().map(|(n, _)| n.to_string()))
+            .chain(top_level_embedded())
             .find(|f| is_data_file(f) && stem(f).eq_ignore_ascii_case(name));
         if let Some(file) = by_stem
             && let Some((source, series)) = self.read_data(&file, None)?
@@ -390,6 +439,44 @@ impl Library {
             None => Ok(None),
         }
     }
+}
+
+/// Embedded files at the top of `records/` (sub-folders hold the suites).
+fn top_level_embedded() -> impl Iterator<Item = String> {
+    embedded::EMBEDDED
+        .iter()
+        .filter(|(n, _)| !n.contains('/'))
+        .map(|(n, _)| n.to_string())
+}
+
+/// Each set's `index.csv`, from the records directory if it has one, else embedded.
+fn read_suites(dir: Option<&Path>) -> Result<Vec<SuiteRecord>, RecordError> {
+    let mut out = Vec::new();
+    for set in Set::ALL {
+        let file = format!("{}/index.csv", set.dir());
+        let on_disk = dir.map(|d| d.join(&file)).filter(|p| p.is_file());
+        let (text, origin) = match on_disk {
+            Some(path) => (
+                std::fs::read_to_string(&path).map_err(|e| RecordError::Io {
+                    path: path.display().to_string(),
+                    message: e.to_string(),
+                })?,
+                path.display().to_string(),
+            ),
+            None => match embedded_file(&file) {
+                Some(text) => (text.to_string(), format!("embedded {file}")),
+                None => continue,
+            },
+        };
+        out.extend(suite::parse_index(set, &text).map_err(|(line, message)| {
+            RecordError::Parse(ParseError {
+                origin: origin.clone(),
+                line,
+                message,
+            })
+        })?);
+    }
+    Ok(out)
 }
 
 fn embedded_file(name: &str) -> Option<&'static str> {

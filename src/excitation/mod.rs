@@ -12,6 +12,7 @@ pub mod library;
 pub mod pulse;
 pub mod reader;
 pub mod record;
+pub mod suite;
 
 pub use library::{Library, Record, RecordError, RecordMeta, Source, StandIn};
 pub use pulse::{Pulse, PulseShape};

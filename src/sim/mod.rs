@@ -113,7 +113,7 @@ pub fn motion_for(scene: &Scene, library: &Library) -> Result<Motion, SimError> 
                 .load(name, *baseline)
                 .map_err(|e| SimError::Invalid(e.to_string()))?;
             let series = Arc::clone(&record.series);
-            let factor = scale.factor(series.pga(), series.pgv());
+            let factor = scale.factor(series.pga(), series.pgv(), alpha, p);
             if !factor.is_finite() {
                 return Err(SimError::Invalid(format!(
                     "record '{name}' is all zeros and cannot be scaled to a target PGA or PGV"

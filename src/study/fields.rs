@@ -102,9 +102,37 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ),
     ("frequency", "ratio(ωg/p) or rad_per_sec(ωg)"),
     ("names", "ground-motion records"),
-    ("scale", "record scale factors"),
-    ("scale_to", "what scale means: factor, pga (g) or pgv (m/s)"),
+    (
+        "suite",
+        "a record suite: (name: far_field | near_field_pulse | near_field_no_pulse | near_field | table1, \
+         optional component: a | b, records: [ids], pulse: true | false)",
+    ),
+    (
+        "component",
+        "only this component of every suite record: a or b",
+    ),
+    (
+        "records",
+        "only these record ids of the suite (1-based, as index.csv numbers them)",
+    ),
+    (
+        "pulse",
+        "only pulse-like (true) or no-pulse (false) near-field records",
+    ),
+    (
+        "scale",
+        "record scale factors, or the target intensities of scale_to",
+    ),
+    (
+        "scale_to",
+        "what scale means: factor, pga (g), pgv (m/s), pga_star (PGA/(g·tanα)), \
+         pgv_star (PGV·p/(g·tanα)) or fema (factor × FEMA P695 normalisation)",
+    ),
     ("baseline", "baseline-correct the records first"),
+    (
+        "tail",
+        "each scene lasts its record's length plus this many seconds (instead of duration)",
+    ),
     (
         "kinks",
         "whether the integrator stops at every record sample",

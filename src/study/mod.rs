@@ -11,6 +11,7 @@ mod error;
 mod expand;
 pub mod fields;
 mod strict;
+mod suites;
 mod values;
 pub mod writer;
 
@@ -200,9 +201,14 @@ pub enum ExcitationFamily {
         frequency: FrequencyAxis,
     },
     /// Recorded ground motions from the record library (`rocklab records` lists them), each
-    /// scaled by `scale`: a factor (default), or a target PGA (g) or PGV (m/s) per `scale_to`.
+    /// scaled by `scale`: a factor (default), or a target PGA (g), PGV (m/s), PGA* or PGV*
+    /// per `scale_to`. The records are `names`, then the members of `suite` (a whole FEMA P695
+    /// set or a filter of one; `rocklab records --suite NAME` lists them).
     Record {
+        #[serde(default)]
         names: Vec<String>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        suite: Option<crate::excitation::suite::SuiteSelect>,
         #[serde(default = "unit_values")]
         scale: Values,
         #[serde(default)]
@@ -213,6 +219,9 @@ pub enum ExcitationFamily {
         /// Whether the integrator stops at every sample (default) or steps over the kinks.
         #[serde(default)]
         kinks: KinkPolicy,
+        /// Each scene lasts its record's length plus `tail` seconds (instead of `duration`).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        tail: Option<f64>,
     },
 }
 
@@ -227,6 +236,13 @@ pub enum RecordScaling {
     Pga,
     /// Scaled to a peak ground velocity of `scale` m/s.
     Pgv,
+    /// Scaled to PGA* = PGA/(g·tan α) = `scale` for each structure of the family.
+    PgaStar,
+    /// Scaled to PGV* = PGV·p/(g·tan α) = `scale` for each structure of the family.
+    PgvStar,
+    /// FEMA P695 normalisation: a_g = `scale` · (the record's normalisation factor) · record
+    /// (suite records only; the factor is in their `index.csv`).
+    Fema,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

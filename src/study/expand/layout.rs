@@ -481,7 +481,8 @@ fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Parameter>, StudyError>
                 ),
             ]
         }
-        ExcitationFamily::Record { names, scale, .. } => {
+        ExcitationFamily::Record { scale, .. } => {
+            let names = e.record_names()?;
             let mut record = Parameter::new(
                 "record",
                 Part::Excitation,
@@ -490,7 +491,7 @@ fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Parameter>, StudyError>
                 None,
                 &Values::List((0..names.len()).map(|i| i as f64).collect()),
             );
-            record.names = Some(names.clone());
+            record.names = Some(names);
             vec![
                 record,
                 Parameter::new(

@@ -9,12 +9,12 @@ mod validate;
 pub use layout::{DeviceKind, Layout, Parameter, Part, VariantLayout, device_label};
 
 use super::{
-    AmplitudeAxis, Axis, DeviceVariant, ExcitationFamily, FrequencyAxis, RecordScaling, ScenePoint,
+    AmplitudeAxis, Axis, DeviceVariant, ExcitationFamily, FrequencyAxis, ScenePoint,
     StructureFamily, Study, StudyError, scene_key,
 };
 use crate::scene::{
     Amplitude, Clutch, ClutchStiffness, Damping, Device, Excitation, FlexibleStructure, Frequency,
-    RecordScale, RigidBlock, Scene, Structure,
+    RigidBlock, Scene, Structure,
 };
 use validate::{check_axes, check_records, check_top_level, invalid_scene};
 
@@ -40,12 +40,13 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
                     .find(|(p, _)| p.id == id)
                     .map(|(p, &i)| p.values[i])
             };
+            let excitation = build_excitation(&study.excitation, params, &odometer)?;
             let scene = Scene {
                 structure: build_structure(&study.structure, &value),
                 device: build_device(device, &value),
                 impact: study.impact,
-                excitation: build_excitation(&study.excitation, params, &odometer)?,
-                duration: study.duration,
+                duration: crate::study::suites::scene_duration(study, &excitation)?,
+                excitation,
                 rtol: study.rtol,
                 initial_rotation: 0.0,
                 stop_when_settled: study.stop_when_settled,
@@ -181,21 +182,20 @@ fn build_excitation(
             })
         }
         ExcitationFamily::Record {
-            names,
             scale_to,
             baseline,
             kinks,
             ..
         } => {
             let index = value("record") as usize;
-            let scale = value("scale");
+            let name = params
+                .iter()
+                .find_map(|p| p.names.as_ref())
+                .map(|names| names[index].clone())
+                .unwrap_or_default();
             Ok(Excitation::Record {
-                name: names[index].clone(),
-                scale: match scale_to {
-                    RecordScaling::Factor => RecordScale::Factor(scale),
-                    RecordScaling::Pga => RecordScale::Pga(scale),
-                    RecordScaling::Pgv => RecordScale::Pgv(scale),
-                },
+                scale: crate::study::suites::scene_scale(*scale_to, value("scale"), &name)?,
+                name,
                 baseline: *baseline,
                 kinks: *kinks,
             })

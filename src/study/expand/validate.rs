@@ -96,15 +96,7 @@ pub(super) fn check_top_level(study: &Study) -> Result<(), StudyError> {
         }
         _ => {}
     }
-    if let ExcitationFamily::Record { names, .. } = &study.excitation
-        && names.is_empty()
-    {
-        return Err(StudyError::field(
-            "excitation.names",
-            "no records",
-            "list record names from `rocklab records`",
-        ));
-    }
+    study.excitation.record_names()?;
     Ok(())
 }
 
@@ -183,10 +175,8 @@ fn axis_name(axis: Axis) -> String {
 /// Every record the study names must be in the library (loading it also parses it once for
 /// the whole sweep).
 pub(super) fn check_records(study: &Study) -> Result<(), StudyError> {
-    if let ExcitationFamily::Record {
-        names, baseline, ..
-    } = &study.excitation
-    {
+    if let ExcitationFamily::Record { baseline, .. } = &study.excitation {
+        let names = study.excitation.record_names()?;
         let library = crate::excitation::library::global().map_err(|e| {
             StudyError::field(
                 "excitation.names",
@@ -216,6 +206,9 @@ pub(super) fn invalid_scene(
 ) -> StudyError {
     let path = match e.field {
         "duration" | "rtol" => e.field.to_string(),
+        "scale" | "scale_pga" | "scale_pgv" | "scale_pga_star" | "scale_pgv_star" => {
+            "excitation.scale".to_string()
+        }
         "restitution" | "width" => "impact".to_string(),
         "amplitude" | "frequency" => format!("excitation.{}", e.field),
         // Scene::validate names the flexible R0 `size`.
