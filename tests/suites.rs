@@ -167,6 +167,8 @@ fn dimensionless_scaling_means_the_same_for_every_structure() {
     assert!((k * pga / G - 0.5).abs() < 1e-14);
 }
 
+// StudyError is large by design (study/mod.rs): built once per failing study.
+#[allow(clippy::result_large_err)]
 fn study(excitation: &str) -> Result<rocklab::study::Study, rocklab::study::StudyError> {
     rocklab::study::Study::from_ron_str(
         &format!(
