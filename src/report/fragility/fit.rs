@@ -63,9 +63,12 @@ fn maximise(start: [f64; 2], f: impl Fn([f64; 2]) -> Eval) -> Option<[f64; 2]> {
     None
 }
 
-/// Stripes sorted by IM with equal IMs merged; stripes with no observation dropped.
+/// Stripes sorted by IM with equal IMs merged; stripes with no observation, or at an IM that
+/// is not a positive number (no lognormal fragility reaches it), dropped.
 pub fn merge_stripes(points: &[StripePoint]) -> Vec<StripePoint> {
-    let mut sorted: Vec<StripePoint> = points.iter().copied().filter(|p| p.n > 0).collect();
+    let mut sorted: Vec<StripePoint> = (points.iter().copied())
+        .filter(|p| p.n > 0 && p.im > 0.0 && p.im.is_finite())
+        .collect();
     sorted.sort_by(|a, b| a.im.total_cmp(&b.im));
     let mut merged: Vec<StripePoint> = Vec::with_capacity(sorted.len());
     for p in sorted {
@@ -203,6 +206,11 @@ fn censored_likelihood(ln_cap: &[f64], ln_top: &[f64], [a, b]: [f64; 2]) -> Eval
 /// Lognormal fit to capacities (first IM reaching the state) with right-censoring: `tops` are
 /// the top IMs of records that never reached the state.
 pub fn fit_censored(capacities: &[f64], tops: &[f64]) -> Result<Lognormal, FitStatus> {
+    // IMs that are not positive numbers carry no information on a lognormal capacity.
+    let usable = |v: &&f64| **v > 0.0 && v.is_finite();
+    let capacities: Vec<f64> = capacities.iter().filter(usable).copied().collect();
+    let tops: Vec<f64> = tops.iter().filter(usable).copied().collect();
+    let (capacities, tops) = (capacities.as_slice(), tops.as_slice());
     if capacities.is_empty() && tops.is_empty() {
         return Err(FitStatus::NoData);
     }

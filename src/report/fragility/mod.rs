@@ -247,17 +247,6 @@ impl Curve {
     }
 }
 
-/// A fitted number to three significant digits (medians, β, ratios in readouts): `2.49`,
-/// `0.412`, `12.3`; the files keep every digit.
-pub fn fmt_sig(v: f64) -> String {
-    let digits = if v == 0.0 || !v.is_finite() {
-        2
-    } else {
-        (2 - v.abs().log10().floor() as i32).clamp(0, 6) as usize
-    };
-    format!("{v:.digits$}")
-}
-
 /// Median of variant `a` over that of variant `b` (the bare one) for one damage state, with a
 /// paired bootstrap interval, and whether the fitted curves cross inside the IM range.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
