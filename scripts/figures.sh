@@ -3,7 +3,8 @@
 #   scripts/figures.sh                    # runs the studies into out/ first (reuses finished scenes)
 #   RESULTS=some/dir scripts/figures.sh   # plots existing results some/dir/<study>/results.json
 # Each study's spectra (all quantities as panels) or, for studies with a map, its overturning
-# maps; plus the paper's Fig. 8/9/15 histories of the Fig. 12 mechanistic scene at ωg/p = 4.
+# maps, or for fragility studies its fragility curves (fragility.png); plus the paper's Fig. 8/9/15
+# histories of the Fig. 12 mechanistic scene at ωg/p = 4.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --quiet
@@ -19,7 +20,9 @@ for file in studies/*.ron; do
         "$bin" run "$file" --out "$results/$study" --quiet
     fi
     "$bin" plot "$results/$study" --png "$tmp/$study" --dpi 150 >/dev/null
-    if [[ -f "$tmp/$study/maps.png" ]]; then
+    if [[ -f "$tmp/$study/fragility.png" ]]; then
+        cp "$tmp/$study/fragility.png" "$dest/$study.png"
+    elif [[ -f "$tmp/$study/maps.png" ]]; then
         cp "$tmp/$study/maps.png" "$dest/$study.png"
     else
         cp "$tmp/$study/spectra.png" "$dest/$study.png"

@@ -65,7 +65,15 @@ fn parse_dpi(text: &str) -> Result<f64, String> {
 }
 
 pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
-    let results = report::load_results(&super::compare::resolve_results(&args.results))?;
+    let results_path = super::compare::resolve_results(&args.results);
+    let results = report::load_results(&results_path)?;
+    // A fragility study's report sits beside its results.
+    let fragility_path =
+        crate::fsutil::parent_dir(&results_path).join(report::fragility::FRAGILITY_JSON);
+    let fragility = match fragility_path.exists() {
+        true => Some(report::fragility::read_fragility_json(&fragility_path)?),
+        false => None,
+    };
     let mut targets = Vec::new();
     if let Some(d) = &args.svg {
         targets.push((d.clone(), ImageFormat::Svg));
@@ -129,6 +137,9 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
             &dir, &options, &results, &spectra, &choice,
         )?);
         written.extend(report::plot_maps(&dir, &options, &results, &maps, &choice)?);
+        if let Some(f) = &fragility {
+            written.extend(report::fragility::plot_fragility(&dir, &options, f)?);
+        }
         if let (Some(a), Some(b)) = (&args.a, &args.b) {
             match report::plot_map_differences(&dir, &options, &maps, a, b)? {
                 Some(path) => written.push(path),

@@ -244,11 +244,24 @@ impl App {
         let n = results.outcomes.len();
         self.show_results(results, cancelled);
         self.screen = Screen::Results;
-        let checks = match self.shared.results.as_mut().map(|r| r.load_checks(&dir)) {
+        let mut checks = match self.shared.results.as_mut().map(|r| r.load_checks(&dir)) {
             Some(Ok(0)) | None => String::new(),
             Some(Ok(m)) => format!("; check.csv: {m} scenes checked"),
             Some(Err(e)) => format!("; not read: {e}"),
         };
+        match self.shared.results.as_mut().map(|r| r.load_fragility(&dir)) {
+            Some(Ok(true)) => {
+                checks.push_str("; fragility curves: p");
+                if let Some(data) = &self.shared.results
+                    && data.spectra.is_empty()
+                    && data.maps.is_empty()
+                {
+                    self.browser.tab = ResultsTab::Fragility;
+                }
+            }
+            Some(Err(e)) => checks.push_str(&format!("; not read: {e}")),
+            _ => {}
+        }
         self.say(format!(
             "opened {n} scenes of results in {}/{checks}",
             dir.display()

@@ -52,9 +52,15 @@ impl Help {
             ),
             k("↑↓ d Enter", "scroll (PgUp/Dn g/G) / results dir / results"),
             h("Results"),
-            k("s m c", "spectra / overturning maps / compare A and B"),
+            k(
+                "s m c p",
+                "spectra / overturning maps / compare A and B / fragility",
+            ),
             k("←→ ↑↓", "cursor along the axis / variant or map cell"),
-            k("[ ]  f", "prev/next quantity or map; f filter spectra rows"),
+            k(
+                "[ ]  f",
+                "prev/next quantity, map or damage state; f filter spectra",
+            ),
             k("a b x", "compare: pick A / B (device, values), swap"),
             k("o y d", "compare: sort pairs, one y scale or two, maps"),
             k(

@@ -3,10 +3,12 @@
 //! spectra and the comparison share the quantity and the position along the axis.
 
 mod compare;
+mod fragility;
 mod maps;
 mod spectra;
 
 pub use compare::CompareView;
+pub use fragility::FragilityView;
 pub use maps::MapsView;
 pub use spectra::SpectraView;
 
@@ -49,6 +51,8 @@ pub struct Results {
     pub cancelled: bool,
     /// Scene index → its check, from a `check.csv` (`rocklab check`) beside the results.
     pub checks: std::collections::HashMap<usize, SceneCheck>,
+    /// The fragility report (fragility.json) beside the results of a fragility study.
+    pub fragility: Option<report::fragility::FragilityReport>,
 }
 
 /// One scene's line of `check.csv`, as the readout shows it.
@@ -148,7 +152,20 @@ impl Results {
             quantities,
             cancelled,
             checks: Default::default(),
+            fragility: None,
         }
+    }
+
+    /// Read `dir/fragility.json` if there is one: whether there was, or why it could not be
+    /// read.
+    pub fn load_fragility(&mut self, dir: &std::path::Path) -> Result<bool, String> {
+        let path = dir.join(report::fragility::FRAGILITY_JSON);
+        if !path.exists() {
+            return Ok(false);
+        }
+        let report = report::fragility::read_fragility_json(&path).map_err(|e| format!("{e:#}"))?;
+        self.fragility = Some(report);
+        Ok(true)
     }
 
     /// Read `dir/check.csv` if there is one: the number of scenes it checks, or why it could
@@ -197,6 +214,7 @@ pub enum ResultsTab {
     Spectra,
     Maps,
     Compare,
+    Fragility,
 }
 
 #[derive(Default)]
@@ -205,6 +223,7 @@ pub struct ResultsScreen {
     pub spectra: SpectraView,
     pub maps: MapsView,
     pub compare: CompareView,
+    pub fragility: FragilityView,
 }
 
 impl ResultsScreen {
@@ -272,6 +291,8 @@ impl ResultsScreen {
                 let m = data.maps.get(self.maps.map)?;
                 (*m.outcomes.get(self.maps.cell.1)?.get(self.maps.cell.0)?)?
             }
+            // A fragility curve is many scenes: none is under the cursor.
+            ResultsTab::Fragility => return None,
         };
         data.padded.outcomes.get(outcome).map(|o| &o.point)
     }
@@ -323,6 +344,7 @@ impl Component for ResultsScreen {
             KeyCode::Char('s') => self.tab = ResultsTab::Spectra,
             KeyCode::Char('m') => self.tab = ResultsTab::Maps,
             KeyCode::Char('c') => self.tab = ResultsTab::Compare,
+            KeyCode::Char('p') => self.tab = ResultsTab::Fragility,
             KeyCode::Char('r') => return Action::StartRun,
             KeyCode::Char('w') => {
                 let name = data
@@ -379,13 +401,14 @@ impl Component for ResultsScreen {
                 }
             }
             ResultsTab::Maps => self.maps.handle_key(key, data),
+            ResultsTab::Fragility => self.fragility.handle_key(key, data.fragility.as_ref()),
         }
         Action::None
     }
 
     fn hints(&self, _: &Shared) -> Vec<Hint> {
         let mut hints = vec![
-            ("s/m/c", "spectra/maps/compare"),
+            ("s/m/c/p", "spectra/maps/compare/fragility"),
             ("←→↑↓", "cursor"),
             ("[ ]", "quantity"),
         ];
@@ -404,8 +427,19 @@ impl Component for ResultsScreen {
                 ]
             }
             ResultsTab::Maps => {}
+            ResultsTab::Fragility => {
+                hints = vec![
+                    ("s/m/c/p", "spectra/maps/compare/fragility"),
+                    ("↑↓", "variant"),
+                    ("←→", "IM"),
+                    ("[ ]", "damage state"),
+                ]
+            }
         }
-        hints.extend([("Enter", "scene"), ("w", "write results")]);
+        if self.tab != ResultsTab::Fragility {
+            hints.push(("Enter", "scene"));
+        }
+        hints.push(("w", "write results"));
         hints
     }
 
@@ -430,6 +464,7 @@ impl Component for ResultsScreen {
             (ResultsTab::Spectra, "s", "spectra"),
             (ResultsTab::Maps, "m", "maps"),
             (ResultsTab::Compare, "c", "compare"),
+            (ResultsTab::Fragility, "p", "fragility"),
         ] {
             let style = if self.tab == tab {
                 theme.tab_active()
@@ -457,6 +492,10 @@ impl Component for ResultsScreen {
             ResultsTab::Spectra => spectra::draw(self, data, theme, frame, body),
             ResultsTab::Maps => self.maps.draw(data, theme, frame, body),
             ResultsTab::Compare => compare::draw(self, data, theme, frame, body),
+            ResultsTab::Fragility => {
+                self.fragility
+                    .draw(data.fragility.as_ref(), theme, frame, body)
+            }
         }
     }
 }
