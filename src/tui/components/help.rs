@@ -52,15 +52,9 @@ impl Help {
             ),
             k("↑↓ d Enter", "scroll (PgUp/Dn g/G) / results dir / results"),
             h("Results"),
-            k(
-                "s m c p",
-                "spectra / overturning maps / compare A and B / fragility",
-            ),
+            k("s m c p", "spectra / maps / compare A and B / fragility"),
             k("←→ ↑↓", "cursor along the axis / variant or map cell"),
-            k(
-                "[ ]  f",
-                "prev/next quantity, map or damage state; f filter spectra",
-            ),
+            k("[ ]  f", "prev/next quantity, map or state; f filter rows"),
             k("a b x", "compare: pick A / B (device, values), swap"),
             k("o y d", "compare: sort pairs, one y scale or two, maps"),
             k(

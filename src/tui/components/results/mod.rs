@@ -407,11 +407,7 @@ impl Component for ResultsScreen {
     }
 
     fn hints(&self, _: &Shared) -> Vec<Hint> {
-        let mut hints = vec![
-            ("s/m/c/p", "spectra/maps/compare/fragility"),
-            ("←→↑↓", "cursor"),
-            ("[ ]", "quantity"),
-        ];
+        let mut hints = vec![("s/m/c/p", "view"), ("←→↑↓", "cursor"), ("[ ]", "quantity")];
         match self.tab {
             ResultsTab::Spectra => hints.push(("f", "filter")),
             ResultsTab::Compare => {
@@ -429,7 +425,7 @@ impl Component for ResultsScreen {
             ResultsTab::Maps => {}
             ResultsTab::Fragility => {
                 hints = vec![
-                    ("s/m/c/p", "spectra/maps/compare/fragility"),
+                    ("s/m/c/p", "view"),
                     ("↑↓", "variant"),
                     ("←→", "IM"),
                     ("[ ]", "damage state"),
