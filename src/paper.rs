@@ -19,7 +19,7 @@ use std::sync::OnceLock;
 
 /// Whether rocklab agrees with a claim.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Verdict {
+pub enum Agreement {
     Agrees,
     Disagrees,
     /// Not checkable (yet), with the reason.
@@ -36,7 +36,7 @@ pub struct Claim {
     pub paper: &'static str,
     /// What rocklab measures.
     pub rocklab: String,
-    pub verdict: Verdict,
+    pub verdict: Agreement,
 }
 
 impl Claim {
@@ -53,9 +53,9 @@ impl Claim {
             paper,
             rocklab,
             verdict: if agrees {
-                Verdict::Agrees
+                Agreement::Agrees
             } else {
-                Verdict::Disagrees
+                Agreement::Disagrees
             },
         }
     }
@@ -92,7 +92,7 @@ pub fn not_checked() -> Vec<Claim> {
         claim,
         paper,
         rocklab: "—".into(),
-        verdict: Verdict::NotChecked(why),
+        verdict: Agreement::NotChecked(why),
     };
     vec![
         row(
@@ -147,11 +147,11 @@ pub fn markdown(claims: &[Claim]) -> String {
     );
     let agree = claims
         .iter()
-        .filter(|c| c.verdict == Verdict::Agrees)
+        .filter(|c| c.verdict == Agreement::Agrees)
         .count();
     let checked = claims
         .iter()
-        .filter(|c| !matches!(c.verdict, Verdict::NotChecked(_)))
+        .filter(|c| !matches!(c.verdict, Agreement::NotChecked(_)))
         .count();
     let _ = writeln!(
         s,
@@ -162,9 +162,9 @@ pub fn markdown(claims: &[Claim]) -> String {
     let _ = writeln!(s, "|---|---|---|---|---|");
     for c in claims {
         let verdict = match &c.verdict {
-            Verdict::Agrees => "yes".to_string(),
-            Verdict::Disagrees => "**no**".to_string(),
-            Verdict::NotChecked(why) => format!("not checked: {why}"),
+            Agreement::Agrees => "yes".to_string(),
+            Agreement::Disagrees => "**no**".to_string(),
+            Agreement::NotChecked(why) => format!("not checked: {why}"),
         };
         let _ = writeln!(
             s,

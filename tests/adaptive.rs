@@ -4,7 +4,7 @@
 
 use rocklab::report::maps;
 use rocklab::study::{Refine, Study};
-use rocklab::sweep::adaptive::{MapGrid, Verdict, refine};
+use rocklab::sweep::adaptive::{CellVerdict, MapGrid, refine};
 use rocklab::sweep::{self, OpenOptions, Progress, SweepOptions};
 use std::collections::HashSet;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -110,9 +110,9 @@ fn oracle(
             .iter()
             .map(|&i| {
                 let v = if overturns(i % nx, i / nx) {
-                    Verdict::Overturned
+                    CellVerdict::Overturned
                 } else {
-                    Verdict::Survived
+                    CellVerdict::Survived
                 };
                 (i, Some(v))
             })

@@ -4,7 +4,7 @@
 use crate::util::rocklab;
 use rocklab::presets::{flexible_fig14, rigid_fig8};
 use rocklab::scene::*;
-use rocklab::sim::check::{Verdict, check};
+use rocklab::sim::check::{Reproducibility, check};
 use rocklab::sim::{self, Bounds};
 
 fn checked(scene: &Scene) -> rocklab::sim::check::Check {
@@ -28,7 +28,7 @@ fn a_linear_response_has_condition_one() {
     let mut scene = flexible_fig14(Device::None);
     scene.excitation = scene.excitation.scaled(0.2);
     let c = checked(&scene);
-    assert_eq!(c.verdict, Verdict::Converged, "{}", c.report());
+    assert_eq!(c.verdict, Reproducibility::Converged, "{}", c.report());
     assert_eq!(condition(&c, "peak_rotation"), 0.0);
     for q in ["peak_deformation", "peak_drift", "peak_abs_acceleration_g"] {
         let k = condition(&c, q);
@@ -45,7 +45,7 @@ fn the_paper_scenes_are_converged() {
         flexible_fig14(Device::Sequential { sigma: 0.5 }),
     ] {
         let c = checked(&scene);
-        assert_eq!(c.verdict, Verdict::Converged, "{}", c.report());
+        assert_eq!(c.verdict, Reproducibility::Converged, "{}", c.report());
         assert!(
             c.peaks
                 .iter()
@@ -62,7 +62,7 @@ fn a_loose_tolerance_is_not_converged() {
     let mut scene = rigid_fig8(Device::Mechanistic(Clutch::paper_default(0.5)));
     scene.rtol = 1e-2;
     let c = checked(&scene);
-    assert_eq!(c.verdict, Verdict::NotConverged, "{}", c.report());
+    assert_eq!(c.verdict, Reproducibility::NotConverged, "{}", c.report());
     assert!(c.report().contains("a tighter --rtol fixes it"));
 }
 
@@ -98,7 +98,7 @@ fn the_overturning_boundary_is_ill_conditioned() {
     }
     let c = checked(&at(0.5 * (low + high)));
     assert!(c.overturn_flips, "{}", c.report());
-    assert_eq!(c.verdict, Verdict::IllConditioned);
+    assert_eq!(c.verdict, Reproducibility::IllConditioned);
     assert!(c.report().contains("overturning boundary"));
 }
 
@@ -247,7 +247,7 @@ fn a_peak_that_appears_has_infinite_condition() {
     assert!(rotation.negligible, "{}", c.report());
     // The acceleration follows the ground's: linear.
     assert!((condition(&c, "peak_abs_acceleration_g") - 1.0).abs() < 1e-3);
-    assert_eq!(c.verdict, Verdict::Converged, "{}", c.report());
+    assert_eq!(c.verdict, Reproducibility::Converged, "{}", c.report());
     assert!(c.report().contains("negligible (< 1e-3 α), not judged"));
     let json = serde_json::to_value(&c).unwrap();
     assert_eq!(json["peaks"][0]["condition"], serde_json::Value::Null);
@@ -255,7 +255,7 @@ fn a_peak_that_appears_has_infinite_condition() {
     // Were that peak not negligible, no tolerance would settle it.
     let mut not_negligible = c.clone();
     not_negligible.peaks[0].negligible = false;
-    not_negligible.verdict = Verdict::IllConditioned;
+    not_negligible.verdict = Reproducibility::IllConditioned;
     assert_eq!(not_negligible.suggested_rtol(), None);
     assert!(not_negligible.report().contains("appears or vanishes"));
 }
@@ -286,7 +286,7 @@ fn a_barely_rocking_peak_is_negligible() {
             .unwrap()
             .negligible
     );
-    assert_eq!(c.verdict, Verdict::Converged, "{}", c.report());
+    assert_eq!(c.verdict, Reproducibility::Converged, "{}", c.report());
 }
 
 /// `simulate --check` of a small bare block (R = 1 m, α = 0.2, one-sine at 5 rad/s) with

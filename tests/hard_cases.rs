@@ -324,7 +324,10 @@ fn long_record_chattering_to_rest() {
     };
     let rotation_condition = |c: &rocklab::sim::check::Check| c.peaks[0].condition;
     let c = checked(&early);
-    assert_eq!(c.verdict, rocklab::sim::check::Verdict::IllConditioned);
+    assert_eq!(
+        c.verdict,
+        rocklab::sim::check::Reproducibility::IllConditioned
+    );
     assert!(rotation_condition(&c) > 1e4, "{}", c.report());
     assert!(off(c.suggested_rtol().unwrap()) < 1e-3, "{}", c.report());
     for device in [
@@ -333,7 +336,7 @@ fn long_record_chattering_to_rest() {
         Device::Mechanistic(Clutch::paper_default(0.5)),
     ] {
         let c = checked(&scene(device, 10.5));
-        assert_eq!(c.verdict, rocklab::sim::check::Verdict::Converged);
+        assert_eq!(c.verdict, rocklab::sim::check::Reproducibility::Converged);
         assert!(rotation_condition(&c) < 100.0, "{}", c.report());
     }
     for device in [mechanistic, stiff] {

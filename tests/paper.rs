@@ -2,14 +2,14 @@
 //! (rocklab::paper, which also writes PAPER.md through `rocklab paper`) states its margin
 //! in its claim text; a test fails with the paper's statement and rocklab's measurement.
 
-use rocklab::paper::{self, Claim, Verdict};
+use rocklab::paper::{self, Agreement, Claim};
 
 fn assert_agrees(check: fn() -> anyhow::Result<Claim>) {
     let c = check().expect("the check's scenes run");
     println!("{}: {}\n  rocklab: {}", c.figure, c.claim, c.rocklab);
     assert_eq!(
         c.verdict,
-        Verdict::Agrees,
+        Agreement::Agrees,
         "{} — {}\n  paper: {}\n  rocklab: {}",
         c.figure,
         c.claim,
@@ -114,6 +114,6 @@ fn fig24_accelerations_and_overturning() {
 fn paper_md_lists_every_check() {
     assert_eq!(paper::CHECKS.len(), 18);
     for c in paper::not_checked() {
-        assert!(matches!(c.verdict, Verdict::NotChecked(why) if !why.is_empty()));
+        assert!(matches!(c.verdict, Agreement::NotChecked(why) if !why.is_empty()));
     }
 }

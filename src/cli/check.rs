@@ -4,7 +4,7 @@
 
 use super::UsageError;
 use crate::report;
-use crate::sim::check::{Check, Verdict, check};
+use crate::sim::check::{Check, Reproducibility, check};
 use crate::sweep::SceneOutcome;
 use rayon::prelude::*;
 use std::io::IsTerminal;
@@ -193,9 +193,9 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
          ill-conditioned (a change of {:e} in the inputs moves a peak by > 1e-3){}",
         checks.len(),
         if checks.len() == 1 { "" } else { "s" },
-        counts[Verdict::Converged as usize],
-        counts[Verdict::NotConverged as usize],
-        counts[Verdict::IllConditioned as usize],
+        counts[Reproducibility::Converged as usize],
+        counts[Reproducibility::NotConverged as usize],
+        counts[Reproducibility::IllConditioned as usize],
         crate::sim::check::INPUT_CHANGE,
         if failed.is_empty() {
             String::new()
@@ -206,7 +206,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
     let mut worst: Vec<(&SceneOutcome, &Check)> = checks
         .iter()
         .filter_map(|(o, c)| c.as_ref().ok().map(|c| (*o, c)))
-        .filter(|(_, c)| c.verdict != Verdict::Converged)
+        .filter(|(_, c)| c.verdict != Reproducibility::Converged)
         .collect();
     let condition = |c: &Check| c.worst_condition();
     worst.sort_by(|a, b| condition(b.1).total_cmp(&condition(a.1)));

@@ -89,7 +89,7 @@ fn finite_or_null<S: serde::Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Verdict {
+pub enum Reproducibility {
     /// Every peak within [`CONVERGED`] of the reference, none ill-conditioned (negligible
     /// peaks aside).
     Converged,
@@ -100,22 +100,22 @@ pub enum Verdict {
     IllConditioned,
 }
 
-impl Verdict {
+impl Reproducibility {
     /// As people read it: `converged`, `not converged`, `ill-conditioned`.
     pub fn label(self) -> &'static str {
         match self {
-            Verdict::Converged => "converged",
-            Verdict::NotConverged => "not converged",
-            Verdict::IllConditioned => "ill-conditioned",
+            Reproducibility::Converged => "converged",
+            Reproducibility::NotConverged => "not converged",
+            Reproducibility::IllConditioned => "ill-conditioned",
         }
     }
 
     /// As `check.csv` and `--json` spell it.
     pub fn name(self) -> &'static str {
         match self {
-            Verdict::Converged => "converged",
-            Verdict::NotConverged => "not_converged",
-            Verdict::IllConditioned => "ill_conditioned",
+            Reproducibility::Converged => "converged",
+            Reproducibility::NotConverged => "not_converged",
+            Reproducibility::IllConditioned => "ill_conditioned",
         }
     }
 }
@@ -130,7 +130,7 @@ pub struct Check {
     pub reference_overturned: bool,
     /// The overturn flag differs between the scaled runs: the scene sits on the boundary.
     pub overturn_flips: bool,
-    pub verdict: Verdict,
+    pub verdict: Reproducibility,
 }
 
 /// The peaks a result holds (those its run measured; a rigid block has no deformation; the
@@ -244,11 +244,11 @@ pub fn check(
     let verdict = if overturn_flips
         || judged().any(|p| p.condition >= ILL_CONDITIONED || p.condition.is_nan())
     {
-        Verdict::IllConditioned
+        Reproducibility::IllConditioned
     } else if judged().all(|p| p.change <= CONVERGED) && result.overturned == reference.overturned {
-        Verdict::Converged
+        Reproducibility::Converged
     } else {
-        Verdict::NotConverged
+        Reproducibility::NotConverged
     };
     Ok(Check {
         rtol: scene.rtol,
@@ -337,23 +337,23 @@ impl Check {
             );
         }
         out += &match self.verdict {
-            Verdict::Converged => {
+            Reproducibility::Converged => {
                 format!(
                     "verdict: converged (every peak that is not negligible within {CONVERGED:e} \
                      of the reference)\n"
                 )
             }
-            Verdict::NotConverged => format!(
+            Reproducibility::NotConverged => format!(
                 "verdict: not converged at rtol {:e}, but well-conditioned: a tighter --rtol \
                  fixes it\n",
                 self.rtol
             ),
-            Verdict::IllConditioned if self.overturn_flips => format!(
+            Reproducibility::IllConditioned if self.overturn_flips => format!(
                 "verdict: ill-conditioned: the scene sits on the overturning boundary (a change \
                  of {:e} in the excitation flips it)\n",
                 self.input_change
             ),
-            Verdict::IllConditioned => match self.suggested_rtol() {
+            Reproducibility::IllConditioned => match self.suggested_rtol() {
                 Some(rtol) => format!(
                     "verdict: ill-conditioned: a relative change of {:e} in the inputs moves \
                      the {} by {:.1e}, so it is not reproducible to better than that; to \

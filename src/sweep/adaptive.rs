@@ -28,19 +28,19 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What a run point says about its cell.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Verdict {
+pub enum CellVerdict {
     Overturned,
     Survived,
     /// The scene failed: no verdict, its neighbourhood is refined.
     Failed,
 }
 
-impl Verdict {
-    pub fn of(outcome: &SceneOutcome) -> Verdict {
+impl CellVerdict {
+    pub fn of(outcome: &SceneOutcome) -> CellVerdict {
         match &outcome.result {
-            Ok(r) if r.overturned => Verdict::Overturned,
-            Ok(_) => Verdict::Survived,
-            Err(_) => Verdict::Failed,
+            Ok(r) if r.overturned => CellVerdict::Overturned,
+            Ok(_) => CellVerdict::Survived,
+            Err(_) => CellVerdict::Failed,
         }
     }
 }
@@ -167,20 +167,20 @@ fn lattice(n: usize, step: usize) -> Vec<usize> {
 
 struct GridState {
     grid: MapGrid,
-    known: Vec<Option<Verdict>>,
+    known: Vec<Option<CellVerdict>>,
     leaves: Vec<Cell>,
 }
 
 impl GridState {
-    fn at(&self, (x, y): (usize, usize)) -> Option<Verdict> {
+    fn at(&self, (x, y): (usize, usize)) -> Option<CellVerdict> {
         self.known[y * self.grid.nx + x]
     }
 
     /// The verdict every known point of the leaf agrees on, if its corners are known, none
     /// failed and all agree.
-    fn agreed(&self, cell: &Cell) -> Option<Verdict> {
+    fn agreed(&self, cell: &Cell) -> Option<CellVerdict> {
         let first = self.at((cell.x0, cell.y0))?;
-        if first == Verdict::Failed || cell.corners().iter().any(|c| self.at(*c).is_none()) {
+        if first == CellVerdict::Failed || cell.corners().iter().any(|c| self.at(*c).is_none()) {
             return None;
         }
         cell.nodes()
@@ -256,7 +256,7 @@ impl Refinement {
     }
 
     /// Record the verdict of a run point (points of no map are ignored).
-    pub fn record(&mut self, index: usize, verdict: Verdict) {
+    pub fn record(&mut self, index: usize, verdict: CellVerdict) {
         if let Some(&(g, node)) = self.where_is.get(&index) {
             self.grids[g].known[node] = Some(verdict);
         }
@@ -301,7 +301,7 @@ impl Refinement {
                         seen[node] = true;
                         out.push(InferredCell {
                             index: g.grid.nodes[node],
-                            overturned: verdict == Verdict::Overturned,
+                            overturned: verdict == CellVerdict::Overturned,
                         });
                     }
                 }
@@ -318,7 +318,7 @@ impl Refinement {
 pub fn refine(
     grids: Vec<MapGrid>,
     levels: u32,
-    mut classify: impl FnMut(&[usize]) -> Vec<(usize, Option<Verdict>)>,
+    mut classify: impl FnMut(&[usize]) -> Vec<(usize, Option<CellVerdict>)>,
 ) -> Option<Vec<InferredCell>> {
     let mut refinement = Refinement::new(grids, levels);
     let mut points = refinement.first_points();
@@ -411,7 +411,7 @@ pub fn run_refined(
             &round_progress,
         );
         for o in &part.outcomes {
-            refinement.record(o.point.index, Verdict::of(o));
+            refinement.record(o.point.index, CellVerdict::of(o));
         }
         outcomes.extend(part.outcomes);
         if part.cancelled || journal.is_some_and(|j| j.failure().is_some()) {
@@ -445,9 +445,9 @@ pub fn run_refined(
 /// run was stopped) or the study is no adaptive map.
 pub fn replay(study: &Study, outcomes: &[SceneOutcome]) -> Option<Vec<InferredCell>> {
     let levels = study.map?.refine_levels()?;
-    let verdicts: HashMap<usize, Verdict> = outcomes
+    let verdicts: HashMap<usize, CellVerdict> = outcomes
         .iter()
-        .map(|o| (o.point.index, Verdict::of(o)))
+        .map(|o| (o.point.index, CellVerdict::of(o)))
         .collect();
     refine(map_grids(study).ok()?, levels, |points| {
         points
@@ -487,9 +487,9 @@ mod tests {
                 .iter()
                 .map(|&i| {
                     let v = if i % nx <= 10 {
-                        Verdict::Overturned
+                        CellVerdict::Overturned
                     } else {
-                        Verdict::Survived
+                        CellVerdict::Survived
                     };
                     (i, Some(v))
                 })

@@ -10,7 +10,7 @@ use super::super::widgets::chart::draw_chart;
 use super::super::widgets::{Hint, fmt_coords, fmt_num};
 use super::{Action, Component, Shared};
 use crate::numfmt::fmt_condition;
-use crate::sim::check::{Check, Verdict, short_name};
+use crate::sim::check::{Check, Reproducibility, short_name};
 use crate::sim::{self, History, SceneResult};
 use crate::study::ScenePoint;
 use crossterm::event::{KeyCode, KeyEvent};
@@ -238,18 +238,18 @@ fn check_line(c: &Check, theme: Theme) -> Line<'static> {
         _ => " · every peak negligible (the structure barely rocks)".to_string(),
     };
     let (verdict, advice, style) = match c.verdict {
-        Verdict::Converged => ("converged", String::new(), theme.ok()),
-        Verdict::NotConverged => (
+        Reproducibility::Converged => ("converged", String::new(), theme.ok()),
+        Reproducibility::NotConverged => (
             "not converged",
             " · a tighter rtol fixes it".to_string(),
             theme.warn(),
         ),
-        Verdict::IllConditioned if c.overturn_flips => (
+        Reproducibility::IllConditioned if c.overturn_flips => (
             "ill-conditioned",
             " · on the overturning boundary".to_string(),
             theme.error(),
         ),
-        Verdict::IllConditioned => (
+        Reproducibility::IllConditioned => (
             "ill-conditioned",
             match c.suggested_rtol() {
                 Some(rtol) => format!(
