@@ -42,6 +42,9 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Run a study (RON file or `default`): parallel sweep, spectra, maps, CSV/JSON results.
     Run(run::RunArgs),
+    /// The least device parameter meeting a study's design target, as a design chart: runs
+    /// the study's design search (as `run` does on such a study) and prints the answer.
+    Design(run::RunArgs),
     /// Combine the results of `run --shard i/N` into one.
     Merge(run::MergeArgs),
     /// Write (and with --submit submit) a Slurm job array and its merge job for a study.
@@ -176,6 +179,7 @@ pub fn main() -> ExitCode {
         Some(Command::Records(args)) => records::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Run(args)) => run::run(&args),
+        Some(Command::Design(args)) => run::design(&args),
         Some(Command::Merge(args)) => run::merge(&args),
         Some(Command::Slurm(args)) => slurm::run(&args),
         Some(Command::Status(args)) => status::run(&args),

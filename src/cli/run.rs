@@ -140,6 +140,35 @@ pub fn refuse_adaptive_shards(study: &Study, what: &str) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// A design study's search cannot be split into shards either (each probe needs the verdict
+/// of the one before).
+pub fn refuse_design_shards(study: &Study, what: &str) -> anyhow::Result<()> {
+    if study.design.is_some() {
+        return Err(UsageError::new(format!(
+            "study {}: it has a design section and cannot run as {what}: each probe of the \
+             search needs the verdict of the one before. Run it unsharded (`rocklab design`)",
+            study.name
+        ))
+        .into());
+    }
+    Ok(())
+}
+
+/// `rocklab design STUDY`: `rocklab run` on a study with a design section.
+pub fn design(args: &RunArgs) -> anyhow::Result<()> {
+    let study = load_study(&args.study)?;
+    if study.design.is_none() {
+        return Err(UsageError::new(format!(
+            "{}: study {} has no design section: add one, e.g. design: (parameter: sigma, \
+             bracket: (0.0, 3.0), target: limit(quantity: peak_rotation_ratio, max: 0.5)) \
+             (README \"Design: the least device\")",
+            args.study, study.name
+        ))
+        .into());
+    }
+    run(args)
+}
+
 /// Worker threads: at least 1; more than a few per core only adds memory and contention.
 fn checked_jobs(jobs: Option<usize>) -> anyhow::Result<Option<usize>> {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -162,6 +191,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let points = study.expand().map_err(|e| UsageError::new(e.to_string()))?;
     if let Some((i, n)) = args.shard {
         refuse_adaptive_shards(&study, &format!("shard {i}/{n}"))?;
+        refuse_design_shards(&study, &format!("shard {i}/{n}"))?;
     }
     if args.dry_run {
         let mut groups: Vec<(String, usize)> = Vec::new();

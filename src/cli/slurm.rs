@@ -308,6 +308,7 @@ fn absolute(path: &Path) -> anyhow::Result<PathBuf> {
 pub fn run(args: &SlurmArgs) -> anyhow::Result<()> {
     let study = load_study(&args.study)?;
     super::run::refuse_adaptive_shards(&study, "a Slurm job array")?;
+    super::run::refuse_design_shards(&study, "a Slurm job array")?;
     let points = study.expand().map_err(|e| UsageError::new(e.to_string()))?;
     if points.is_empty() {
         return Err(UsageError::new("the study has no scenes").into());

@@ -43,6 +43,12 @@ pub fn write_tables(
     if study.map.is_some() {
         super::write_atomic(&out.join("boundary.csv"), &boundary_csv(results)?)?;
     }
+    if let Some(rows) = super::design::design_rows(results) {
+        super::write_atomic(
+            &out.join("design.csv"),
+            &super::design::design_csv(study, &rows)?,
+        )?;
+    }
     study.save(&out.join("study.ron"))
 }
 
@@ -346,6 +352,15 @@ pub fn summary(results: &SweepResults) -> String {
             o.point.group,
             o.result.as_ref().err().map_or("", |e| e.as_str())
         );
+    }
+    if let (Some(study), Some(rows)) = (&results.study, super::design::design_rows(results)) {
+        let distinct: std::collections::HashSet<&str> = results
+            .outcomes
+            .iter()
+            .map(|o| o.point.key.as_str())
+            .collect();
+        s.push_str(&super::design::design_summary(study, &rows, distinct.len()));
+        return s;
     }
     let mut spectra = spectra(results);
     // Maps over a fine amplitude grid make hundreds of spectra: show the first few per quantity.

@@ -29,6 +29,11 @@ const fn optional(
 pub const OPTIONAL_FIELDS: &[OptionalField] = &[
     optional("study", "description", "\"\""),
     optional("study", "map", "(x: frequency, y: amplitude)"),
+    optional(
+        "study",
+        "design",
+        "(parameter: sigma, bracket: (0.0, 3.0), target: no_overturning)",
+    ),
     optional("rigid", "size", "1.0"),
     optional("rigid", "p", "2.0"),
     optional("flexible", "omega_n", "10.0"),
@@ -157,6 +162,36 @@ const FIELD_HELP: &[(&str, &str)] = &[
     (
         "levels",
         "refinement levels of an adaptive map (1–8): coarse lattice every 2^levels values",
+    ),
+    (
+        "design",
+        "the least device parameter meeting a target at every excitation point (rocklab design)",
+    ),
+    (
+        "parameter",
+        "parameter to size: sigma, cbar, xi_theta, friction, k_theta or clutch_frequency_ratio",
+    ),
+    (
+        "bracket",
+        "search bracket (low, high) of the sized parameter",
+    ),
+    (
+        "resolution",
+        "relative resolution of the answer (0.01: the bracket ends within 1 % of it)",
+    ),
+    (
+        "target",
+        "limit(quantity: q, max: v) (and no overturning) or no_overturning, at every excitation point",
+    ),
+    ("quantity", "the response quantity the target limits"),
+    ("max", "the response limit of the target"),
+    (
+        "over",
+        "excitation axes the target holds over: frequency, amplitude, record, scale",
+    ),
+    (
+        "verify",
+        "values checked above the answer for a non-monotone failure (the bracket's top always)",
     ),
     ("x", "the map's x axis"),
     ("y", "the map's y axis"),

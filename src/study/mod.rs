@@ -7,6 +7,7 @@
 // so their size does not matter.
 #![allow(clippy::result_large_err)]
 
+pub mod design;
 mod error;
 mod expand;
 pub mod fields;
@@ -70,6 +71,9 @@ pub struct Study {
     /// Integrator method: `auto` (by rtol), `dp54` or `dop853`.
     #[serde(default, skip_serializing_if = "crate::scene::Method::is_auto")]
     pub method: crate::scene::Method,
+    /// The inverse question: the least device parameter meeting a target (study/design.rs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub design: Option<design::Design>,
 }
 
 fn yes() -> bool {
@@ -427,7 +431,8 @@ impl Study {
     /// Physical and structural validity. Errors name the field (as a path) with a hint; the
     /// file position is filled in by [`Study::from_ron_str`].
     pub fn validate(&self) -> Result<(), StudyError> {
-        expand::validate(self)
+        expand::validate(self)?;
+        design::validate(self)
     }
 
     pub fn expand(&self) -> Result<Vec<ScenePoint>, StudyError> {

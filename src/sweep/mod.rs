@@ -6,6 +6,7 @@ use crate::excitation::Library;
 use crate::sim::{self, Quantity, SceneResult};
 use crate::study::{ScenePoint, Study, StudyError};
 pub mod adaptive;
+pub mod design;
 mod facade;
 mod journal;
 mod output;
@@ -136,6 +137,10 @@ pub fn run_study(
     if study.map.is_some_and(|m| m.refine.is_some()) {
         return adaptive::run_refined(study, &points, opts, library, checkpoint, cancel, progress)
             .map_err(|e| StudyError::field("map.refine", e.to_string(), "run it without --shard"));
+    }
+    if study.design.is_some() {
+        return design::run_design(study, opts, library, checkpoint, cancel, progress)
+            .map_err(|e| StudyError::field("design", e.to_string(), "run it without --shard"));
     }
     let mut results = run_checkpointed(&points, opts, library, checkpoint, cancel, progress);
     results.study_hash = study.hash();
@@ -309,6 +314,8 @@ fn run_into(
     };
     let mut results = if study.map.is_some_and(|m| m.refine.is_some()) {
         adaptive::run_refined(study, points, opts, library, checkpoint, cancel, progress)?
+    } else if study.design.is_some() {
+        design::run_design(study, opts, library, checkpoint, cancel, progress)?
     } else {
         run_checkpointed(points, opts, library, checkpoint, cancel, progress)
     };
