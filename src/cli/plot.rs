@@ -133,6 +133,11 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
             size: args.size,
             dpi: args.dpi,
         };
+        // A design study's scenes are the search's probes: its figure is the design chart.
+        if let Some(path) = report::plot_design(&dir, &options, &results)? {
+            written.push(path);
+            continue;
+        }
         written.extend(report::plot_spectra(
             &dir, &options, &results, &spectra, &choice,
         )?);

@@ -3,10 +3,12 @@
 
 mod aggregate;
 pub mod compare;
+pub mod design;
 mod export;
 mod figure;
 pub mod fragility;
 mod plot;
+mod plot_design;
 pub mod select;
 
 pub use crate::fsutil::{readable_by_all, write_atomic};
@@ -25,6 +27,7 @@ pub use plot::{
     MAX_SERIES, PlotChoice, plot_history, plot_map_differences, plot_maps, plot_spectra,
     scene_title,
 };
+pub use plot_design::plot_design;
 
 use crate::sim::History;
 use std::path::Path;
