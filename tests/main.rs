@@ -9,6 +9,7 @@ mod checkpoint;
 mod cli_simulate;
 mod compare;
 mod conditioning;
+mod design;
 mod exact_contact;
 mod excitation;
 mod figures;

@@ -37,6 +37,35 @@ fn summary(results: &SweepResults) -> String {
     for o in results.outcomes.iter().filter(|o| o.result.is_err()) {
         let _ = writeln!(s, "  failed scene {}: {:?}", o.point.index, o.result);
     }
+    if let Some(rows) = report::design::design_rows(results) {
+        let num = |v: Option<f64>| v.map_or("-".into(), sig4);
+        for r in rows {
+            let axes: Vec<String> = r
+                .axes
+                .iter()
+                .map(|(l, v)| format!("{l}={}", sig4(*v)))
+                .collect();
+            let _ = writeln!(
+                s,
+                "  {} {} {}: {} in ({}, {}], {} probes, governing {} ({}){}",
+                r.device,
+                axes.join(" "),
+                r.status.name(),
+                num(r.value),
+                sig4(r.lo),
+                sig4(r.hi),
+                r.probes,
+                r.governing,
+                r.achieved_note.map_or(num(r.achieved), String::from),
+                if r.fails_above.is_empty() {
+                    String::new()
+                } else {
+                    format!(", fails again at {:?}", r.fails_above)
+                },
+            );
+        }
+        return s;
+    }
     let spectra = report::spectra(results);
     let width = spectra
         .iter()
