@@ -4,7 +4,7 @@
 
 use super::export::parameter;
 use crate::study::Study;
-use crate::study::fmt_num;
+use crate::numfmt::fmt_num;
 use crate::sweep::SweepResults;
 use crate::sweep::design::{DesignRow, DesignStatus, replay};
 use std::fmt::Write as _;

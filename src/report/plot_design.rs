@@ -10,7 +10,7 @@ use super::figure::{
     Axes, Canvas, FigureOptions, FigureSize, LINE_PT, LegendEntry, Marker, SeriesStyle, Swatch,
     build_chart, draw_line, draw_markers, render, split_figure,
 };
-use crate::study::fmt_num;
+use crate::numfmt::fmt_num;
 use crate::sweep::SweepResults;
 use crate::sweep::design::{DesignRow, DesignStatus};
 use plotters::coord::Shift;
