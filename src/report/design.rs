@@ -3,8 +3,8 @@
 //! scenes (`sweep::design::replay`), so a results file alone gives the answer back.
 
 use super::export::parameter;
-use crate::study::Study;
 use crate::numfmt::fmt_num;
+use crate::study::Study;
 use crate::sweep::SweepResults;
 use crate::sweep::design::{DesignRow, DesignStatus, replay};
 use std::fmt::Write as _;
