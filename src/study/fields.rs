@@ -29,11 +29,6 @@ const fn optional(
 pub const OPTIONAL_FIELDS: &[OptionalField] = &[
     optional("study", "description", "\"\""),
     optional("study", "map", "(x: frequency, y: amplitude)"),
-    optional(
-        "study",
-        "design",
-        "(parameter: sigma, bracket: (0.0, 3.0), target: no_overturning)",
-    ),
     optional("rigid", "size", "1.0"),
     optional("rigid", "p", "2.0"),
     optional("flexible", "omega_n", "10.0"),
