@@ -1,0 +1,606 @@
+//! One fair check per kind of claim, defined once: every row whose claim is of a kind judges it
+//! with that kind's function and thresholds, so no row picks its own window or margin.
+//!
+//! A spectrum is a [`Series`]: one value per point of the figure's axis, None where the scene
+//! overturned (the paper discontinues its curves there).
+
+use super::Verdict;
+
+/// One value per axis point; None where the structure overturned.
+pub type Series = Vec<Option<f64>>;
+
+/// A fair check's outcome: what was checked, the numbers, the verdict and, short of agreeing,
+/// the gap.
+#[derive(Clone, Debug)]
+pub struct Judgement {
+    pub check: String,
+    pub values: Vec<(String, f64)>,
+    pub verdict: Verdict,
+    pub gap: String,
+}
+
+impl Judgement {
+    /// Add a value reported beside the check's own (it does not change the verdict).
+    pub fn with(mut self, name: impl Into<String>, x: f64) -> Self {
+        self.values.push((name.into(), x));
+        self
+    }
+
+    /// Add a sentence to the check's description (the scenes it ran).
+    pub fn on(mut self, scenes: &str) -> Self {
+        self.check = format!("{} — {scenes}", self.check);
+        self
+    }
+
+    pub fn value(&self, name: &str) -> f64 {
+        self.values
+            .iter()
+            .find(|(k, _)| k == name)
+            .map_or(f64::NAN, |(_, x)| *x)
+    }
+}
+
+/// "Immaterial / not determinant / negligible / comparable / almost unnoticeable": the largest
+/// difference from the reference, over the figure's whole axis, as a share of the reference
+/// spectrum's peak, at most this...
+pub const IMMATERIAL_SHARE: f64 = 0.10;
+/// ...and at most this for "roughly".
+pub const IMMATERIAL_ROUGHLY: f64 = 0.20;
+
+/// "Immaterial" and its synonyms: every variant against the reference. A point where exactly
+/// one of the two overturned (a curve discontinued where the other goes on) is a visible
+/// difference: it caps the verdict at roughly.
+pub fn immaterial(reference: &Series, variants: &[(&str, &Series)]) -> Judgement {
+    let scale = peak(reference).unwrap_or(0.0);
+    let mut values = vec![("reference peak".to_string(), scale)];
+    let (mut worst, mut flips) = (0.0f64, 0usize);
+    for (name, v) in variants {
+        let d = reference
+            .iter()
+            .zip(v.iter())
+            .filter_map(|(a, b)| Some((a.as_ref()? - b.as_ref()?).abs()))
+            .fold(0.0, f64::max);
+        let share = if scale > 0.0 { d / scale } else { d };
+        let flipped = reference
+            .iter()
+            .zip(v.iter())
+            .filter(|(a, b)| a.is_some() != b.is_some())
+            .count();
+        values.push((
+            format!("{name}: largest difference / reference peak"),
+            share,
+        ));
+        values.push((format!("{name}: overturning flips"), flipped as f64));
+        worst = worst.max(share);
+        flips += flipped;
+    }
+    let verdict = if worst <= IMMATERIAL_SHARE && flips == 0 {
+        Verdict::Agrees
+    } else if worst <= IMMATERIAL_ROUGHLY {
+        Verdict::Roughly
+    } else {
+        Verdict::Disagrees
+    };
+    let gap = match verdict {
+        Verdict::Agrees => String::new(),
+        _ if flips > 0 && worst <= IMMATERIAL_ROUGHLY => format!(
+            "largest difference {:.1} % of the peak, but {flips} point(s) where only one curve overturns",
+            100.0 * worst
+        ),
+        _ => format!(
+            "largest difference {:.1} % of the reference peak (immaterial: ≤ {:.0} %)",
+            100.0 * worst,
+            100.0 * IMMATERIAL_SHARE
+        ),
+    };
+    Judgement {
+        check: format!(
+            "immaterial: largest |difference| over the whole axis ≤ {:.0} % of the reference spectrum's peak (≤ {:.0} % roughly), no overturning flips",
+            100.0 * IMMATERIAL_SHARE,
+            100.0 * IMMATERIAL_ROUGHLY
+        ),
+        values,
+        verdict,
+        gap,
+    }
+}
+
+/// "Converge / within": |a − b| / |b| at most `tol` (the tolerance is the claim's own word:
+/// "converge" 1 %).
+pub const CONVERGE: f64 = 0.01;
+
+pub fn converges(value: f64, limit: f64) -> Judgement {
+    let err = (value - limit).abs() / limit.abs();
+    let verdict = if err <= CONVERGE {
+        Verdict::Agrees
+    } else if err <= 5.0 * CONVERGE {
+        Verdict::Roughly
+    } else {
+        Verdict::Disagrees
+    };
+    Judgement {
+        check: format!(
+            "converges: |value − limit| / limit ≤ {:.0} % ({:.0} % roughly)",
+            100.0 * CONVERGE,
+            500.0 * CONVERGE
+        ),
+        values: vec![
+            ("value".into(), value),
+            ("limit".into(), limit),
+            ("relative difference".into(), err),
+        ],
+        verdict,
+        gap: if verdict == Verdict::Agrees {
+            String::new()
+        } else {
+            format!("{:.2} % apart", 100.0 * err)
+        },
+    }
+}
+
+/// How strongly a claim says one response is above or below another; thresholds on the mean
+/// of the pointwise ratio (variant / reference) and the share of points on the claimed side.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Relation {
+    /// "larger / higher / increased": mean ratio > 1 and at least half the points above.
+    Larger,
+    /// "markedly / significantly larger": mean ratio ≥ 1.10 and ≥ 80 % of the points above.
+    MarkedlyLarger,
+    /// "lower / smaller / reduce": mean ratio < 1 and at least half the points below.
+    Lower,
+    /// "in all cases smaller": every point below (≥ 80 % roughly).
+    LowerEverywhere,
+    /// "significantly / greatly / important reductions": mean ratio ≤ 0.80 (< 0.95 roughly).
+    MuchLower,
+    /// "slightly / marginally / mild / small / less dramatic" lower: mean ratio in [0.80, 1)
+    /// (0.70 – 0.80 or 1 – 1.03 roughly).
+    SlightlyLower,
+    /// "more than halving": mean ratio < 0.5 (< 0.6 roughly).
+    Halved,
+    /// "slightly higher": mean ratio in (1, 1.20] ((1.20, 1.30] or [0.97, 1] roughly).
+    SlightlyHigher,
+    /// "can / possible / in some cases" higher: at least one point above.
+    HigherSomewhere,
+    /// "can" lower: at least one point below.
+    LowerSomewhere,
+}
+
+impl Relation {
+    fn words(self) -> &'static str {
+        match self {
+            Relation::Larger => {
+                "larger: mean ratio > 1 and ≥ 50 % of points above (one of the two roughly)"
+            }
+            Relation::MarkedlyLarger => {
+                "markedly larger: mean ratio ≥ 1.10 and ≥ 80 % of points above (mean > 1 roughly)"
+            }
+            Relation::Lower => {
+                "lower: mean ratio < 1 and ≥ 50 % of points below (one of the two roughly)"
+            }
+            Relation::LowerEverywhere => "lower in all cases: every point below (≥ 80 % roughly)",
+            Relation::MuchLower => "significantly lower: mean ratio ≤ 0.80 (< 0.95 roughly)",
+            Relation::SlightlyLower => {
+                "slightly lower: mean ratio in [0.80, 1) (0.70–0.80 or 1–1.03 roughly)"
+            }
+            Relation::Halved => "more than halved: mean ratio < 0.5 (< 0.6 roughly)",
+            Relation::SlightlyHigher => {
+                "slightly higher: mean ratio in (1, 1.20] ((1.20, 1.30] or [0.97, 1] roughly)"
+            }
+            Relation::HigherSomewhere => "can be higher: at least one point above",
+            Relation::LowerSomewhere => "can be lower: at least one point below",
+        }
+    }
+
+    fn judge(self, mean: f64, above: f64, below: f64) -> Verdict {
+        use Verdict::*;
+        let pick = |agree: bool, rough: bool| {
+            if agree {
+                Agrees
+            } else if rough {
+                Roughly
+            } else {
+                Disagrees
+            }
+        };
+        match self {
+            Relation::Larger => pick(mean > 1.0 && above >= 0.5, mean > 1.0 || above >= 0.5),
+            Relation::MarkedlyLarger => pick(mean >= 1.10 && above >= 0.8, mean > 1.0),
+            Relation::Lower => pick(mean < 1.0 && below >= 0.5, mean < 1.0 || below >= 0.5),
+            Relation::LowerEverywhere => pick(below >= 1.0, below >= 0.8),
+            Relation::MuchLower => pick(mean <= 0.80, mean < 0.95),
+            Relation::SlightlyLower => pick(
+                (0.80..1.0).contains(&mean),
+                (0.70..0.80).contains(&mean) || (1.0..1.03).contains(&mean),
+            ),
+            Relation::Halved => pick(mean < 0.5, mean < 0.6),
+            Relation::SlightlyHigher => pick(
+                mean > 1.0 && mean <= 1.20,
+                (1.20..=1.30).contains(&mean) || (0.97..=1.0).contains(&mean),
+            ),
+            Relation::HigherSomewhere => pick(above > 0.0, false),
+            Relation::LowerSomewhere => pick(below > 0.0, false),
+        }
+    }
+}
+
+/// The pointwise ratio variant / reference where both exist and the reference is positive.
+pub fn ratios(reference: &Series, variant: &Series) -> Vec<f64> {
+    reference
+        .iter()
+        .zip(variant)
+        .filter_map(|(a, b)| match (a, b) {
+            (Some(a), Some(b)) if *a > 0.0 => Some(b / a),
+            _ => None,
+        })
+        .collect()
+}
+
+/// A claimed relation of `variant` to `reference`, pointwise over the figure's whole axis (a
+/// single scene is a one-point axis).
+pub fn compare(relation: Relation, reference: &Series, variant: &Series) -> Judgement {
+    let q = ratios(reference, variant);
+    let n = q.len().max(1) as f64;
+    let m = mean(&q);
+    let above = q.iter().filter(|r| **r > 1.0).count() as f64 / n;
+    let below = q.iter().filter(|r| **r < 1.0).count() as f64 / n;
+    let verdict = if q.is_empty() {
+        Verdict::Untestable
+    } else {
+        relation.judge(m, above, below)
+    };
+    Judgement {
+        check: relation.words().to_string(),
+        values: vec![
+            ("mean ratio".into(), m),
+            ("share above".into(), above),
+            ("share below".into(), below),
+            ("points".into(), q.len() as f64),
+        ],
+        verdict,
+        gap: match verdict {
+            Verdict::Agrees => String::new(),
+            Verdict::Untestable => "no point where both responses exist".into(),
+            _ => format!(
+                "mean ratio {m:.3}, {:.0} % of {} points above, {:.0} % below",
+                100.0 * above,
+                q.len(),
+                100.0 * below
+            ),
+        },
+    }
+}
+
+/// "Reduced as X increases": the distance of the ratio from 1, averaged per third of the
+/// axis, falls from third to third (a rise of at most `TREND_TOL` between neighbours is
+/// allowed) and ends below where it started. Ends lower but not monotone: roughly.
+pub const TREND_TOL: f64 = 0.02;
+
+pub fn toward_one(xs: &[f64], reference: &Series, variant: &Series) -> Judgement {
+    let thirds = thirds(xs.len());
+    let d: Vec<f64> = thirds
+        .iter()
+        .map(|r| {
+            let q = ratios(&reference[r.clone()].to_vec(), &variant[r.clone()].to_vec());
+            (1.0 - mean(&q)).abs()
+        })
+        .collect();
+    let monotone = d.windows(2).all(|w| w[1] <= w[0] + TREND_TOL);
+    let ends_lower = d[2] < d[0];
+    let verdict = if monotone && ends_lower {
+        Verdict::Agrees
+    } else if ends_lower {
+        Verdict::Roughly
+    } else {
+        Verdict::Disagrees
+    };
+    let mut values = Vec::new();
+    for (k, r) in thirds.iter().enumerate() {
+        values.push((
+            format!(
+                "|1 − mean ratio|, third {} (x {:.2}–{:.2})",
+                k + 1,
+                xs[r.start],
+                xs[r.end - 1]
+            ),
+            d[k],
+        ));
+    }
+    Judgement {
+        check: format!(
+            "reduced as x increases: |1 − mean ratio| per third of the axis falls third to third (rises ≤ {TREND_TOL} allowed) and ends below its start"
+        ),
+        values,
+        verdict,
+        gap: if verdict == Verdict::Agrees {
+            String::new()
+        } else {
+            format!(
+                "|1 − ratio| by third {:.3} → {:.3} → {:.3}",
+                d[0], d[1], d[2]
+            )
+        },
+    }
+}
+
+/// "Around X % lower, fairly constant": the pointwise ratio's mean in each third of the axis
+/// within `offset_band` of 1 − X (twice that roughly).
+pub const OFFSET_BAND: f64 = 0.04;
+
+/// `pairs`: (reference, variant) series over `xs`, one pair per record.
+pub fn constant_offset(xs: &[f64], pairs: &[(&Series, &Series)], lower_by: f64) -> Judgement {
+    let target = 1.0 - lower_by;
+    let thirds = thirds(xs.len());
+    let means: Vec<f64> = thirds
+        .iter()
+        .map(|r| {
+            let q: Vec<f64> = pairs
+                .iter()
+                .flat_map(|(a, b)| ratios(&a[r.clone()].to_vec(), &b[r.clone()].to_vec()))
+                .collect();
+            mean(&q)
+        })
+        .collect();
+    let worst = means.iter().map(|m| (m - target).abs()).fold(0.0, f64::max);
+    let verdict = if worst <= OFFSET_BAND {
+        Verdict::Agrees
+    } else if worst <= 2.0 * OFFSET_BAND {
+        Verdict::Roughly
+    } else {
+        Verdict::Disagrees
+    };
+    let mut values = Vec::new();
+    for (k, r) in thirds.iter().enumerate() {
+        values.push((
+            format!(
+                "mean ratio, third {} (x {:.0}–{:.0})",
+                k + 1,
+                xs[r.start],
+                xs[r.end - 1]
+            ),
+            means[k],
+        ));
+    }
+    Judgement {
+        check: format!(
+            "around {:.0} % lower, fairly constant: pointwise ratio's mean in each third of the axis within ±{:.0} points of {target:.2} (±{:.0} roughly)",
+            100.0 * lower_by,
+            100.0 * OFFSET_BAND,
+            200.0 * OFFSET_BAND
+        ),
+        values,
+        verdict,
+        gap: if verdict == Verdict::Agrees {
+            String::new()
+        } else {
+            format!(
+                "by third {:.3}, {:.3}, {:.3} against {target:.2}",
+                means[0], means[1], means[2]
+            )
+        },
+    }
+}
+
+/// The fractions of its own peak an envelope is timed to.
+pub const DECAY_FRACTIONS: [f64; 4] = [0.5, 0.2, 0.1, 0.05];
+
+/// The last time |y| reaches `f` × its peak: when the envelope (the largest |y| still to come)
+/// falls below that fraction.
+pub fn envelope_time(t: &[f64], y: &[f64], f: f64) -> f64 {
+    let peak = y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    t.iter()
+        .zip(y)
+        .filter(|(_, v)| v.abs() >= f * peak)
+        .map(|(t, _)| *t)
+        .fold(f64::NAN, f64::max)
+}
+
+/// "Faster decrease / quickly reach rest": the claimed-faster history's envelope falls to each
+/// of [`DECAY_FRACTIONS`] of its own peak earlier than the other's (at half of them roughly).
+pub fn faster_decrease(faster: (&[f64], &[f64]), slower: (&[f64], &[f64])) -> Judgement {
+    let mut values = Vec::new();
+    let mut earlier = 0;
+    for f in DECAY_FRACTIONS {
+        let a = envelope_time(faster.0, faster.1, f);
+        let b = envelope_time(slower.0, slower.1, f);
+        values.push((format!("claimed faster: time to {:.0} % (s)", 100.0 * f), a));
+        values.push((format!("other: time to {:.0} % (s)", 100.0 * f), b));
+        earlier += usize::from(a < b);
+    }
+    let verdict = if earlier == DECAY_FRACTIONS.len() {
+        Verdict::Agrees
+    } else if 2 * earlier >= DECAY_FRACTIONS.len() {
+        Verdict::Roughly
+    } else {
+        Verdict::Disagrees
+    };
+    Judgement {
+        check: "faster decrease: times for each envelope (largest |θ| still to come) to fall below 50/20/10/5 % of its own peak, the claimed-faster one earlier at all four (at two roughly)".into(),
+        values,
+        verdict,
+        gap: if verdict == Verdict::Agrees {
+            String::new()
+        } else {
+            format!("earlier at {earlier} of {} fractions", DECAY_FRACTIONS.len())
+        },
+    }
+}
+
+/// "Increases with x": strictly increasing on the grid.
+pub fn increasing(name: &str, curves: &[Vec<f64>]) -> Judgement {
+    let rises: usize = curves
+        .iter()
+        .map(|ys| ys.windows(2).filter(|w| w[1] > w[0]).count())
+        .sum();
+    let steps: usize = curves.iter().map(|ys| ys.len().saturating_sub(1)).sum();
+    let verdict = if rises == steps {
+        Verdict::Agrees
+    } else if 2 * rises >= steps {
+        Verdict::Roughly
+    } else {
+        Verdict::Disagrees
+    };
+    Judgement {
+        check: format!(
+            "increasing: {name} rises at every step of the grid (at half of them roughly)"
+        ),
+        values: vec![
+            ("rising steps".into(), rises as f64),
+            ("steps".into(), steps as f64),
+        ],
+        verdict,
+        gap: if verdict == Verdict::Agrees {
+            String::new()
+        } else {
+            format!("rises at {rises} of {steps} steps")
+        },
+    }
+}
+
+/// "Approximately X": within `APPROX` of X, relative (twice that roughly).
+pub const APPROX: f64 = 0.15;
+
+pub fn approximately(value: f64, stated: f64) -> Judgement {
+    let err = (value - stated).abs() / stated.abs();
+    let verdict = if err <= APPROX {
+        Verdict::Agrees
+    } else if err <= 2.0 * APPROX {
+        Verdict::Roughly
+    } else {
+        Verdict::Disagrees
+    };
+    Judgement {
+        check: format!(
+            "approximately: within {:.0} % of the stated value ({:.0} % roughly)",
+            100.0 * APPROX,
+            200.0 * APPROX
+        ),
+        values: vec![("measured".into(), value), ("stated".into(), stated)],
+        verdict,
+        gap: if verdict == Verdict::Agrees {
+            String::new()
+        } else {
+            format!("{value:.3} against {stated}")
+        },
+    }
+}
+
+/// Energy flowing back from the device: "part of the energy transferred back" = at least 10 %
+/// of what the device took (2 % roughly); "fully prevent" = at most 1 % (5 % roughly).
+pub fn energy_back(returned: f64, claimed_back: bool) -> Judgement {
+    let verdict = match claimed_back {
+        true if returned >= 0.10 => Verdict::Agrees,
+        true if returned >= 0.02 => Verdict::Roughly,
+        false if returned <= 0.01 => Verdict::Agrees,
+        false if returned <= 0.05 => Verdict::Roughly,
+        _ => Verdict::Disagrees,
+    };
+    Judgement {
+        check: "energy back: the device-side energy's drops over its rises (flywheels + clutch spring + device dissipation): a part ≥ 10 % (2 % roughly), none ≤ 1 % (5 % roughly)".into(),
+        values: vec![("returned / taken".into(), returned)],
+        verdict,
+        gap: if verdict == Verdict::Agrees {
+            String::new()
+        } else {
+            format!("{:.1} % returned", 100.0 * returned)
+        },
+    }
+}
+
+/// The verdict of a check over plausible values of what the paper leaves unstated: "agrees
+/// for …; not for …", and each variant's verdict as a value (0 agrees, 1 roughly, 2 disagrees).
+pub fn sensitivity(over: &str, variants: &[(String, Judgement)]) -> (String, Vec<(String, f64)>) {
+    let rank = |v: Verdict| Verdict::ALL.iter().position(|x| *x == v).unwrap_or(3) as f64;
+    let names = |want: Verdict| {
+        variants
+            .iter()
+            .filter(|(_, j)| j.verdict == want)
+            .map(|(n, _)| n.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut parts = Vec::new();
+    for v in [Verdict::Agrees, Verdict::Roughly, Verdict::Disagrees] {
+        let n = names(v);
+        if !n.is_empty() {
+            parts.push(format!("{} for {n}", v.label()));
+        }
+    }
+    let values = variants
+        .iter()
+        .map(|(n, j)| {
+            (
+                format!("sensitivity (0 agrees, 1 roughly, 2 disagrees): {n}"),
+                rank(j.verdict),
+            )
+        })
+        .collect();
+    (
+        format!("sensitivity over the {over}: {}", parts.join("; ")),
+        values,
+    )
+}
+
+/// A claim that cannot be checked here, and why.
+pub fn untestable(why: &str) -> Judgement {
+    Judgement {
+        check: "none".into(),
+        values: Vec::new(),
+        verdict: Verdict::Untestable,
+        gap: why.into(),
+    }
+}
+
+/// The worse of two judgements (a claim about two responses holds as well as its weaker half);
+/// values of both are kept, the second's prefixed.
+pub fn both(a: Judgement, prefix_a: &str, b: Judgement, prefix_b: &str) -> Judgement {
+    let rank = |v: Verdict| Verdict::ALL.iter().position(|x| *x == v).unwrap_or(0);
+    let verdict = if rank(a.verdict) >= rank(b.verdict) {
+        a.verdict
+    } else {
+        b.verdict
+    };
+    let gap = [(prefix_a, &a.gap), (prefix_b, &b.gap)]
+        .iter()
+        .filter(|(_, g)| !g.is_empty())
+        .map(|(p, g)| format!("{p}: {g}"))
+        .collect::<Vec<_>>()
+        .join("; ");
+    let check = if a.check == b.check {
+        format!("{} (for {prefix_a} and {prefix_b})", a.check)
+    } else {
+        format!("{prefix_a}: {}; {prefix_b}: {}", a.check, b.check)
+    };
+    let values = a
+        .values
+        .into_iter()
+        .map(|(k, x)| (format!("{prefix_a}: {k}"), x))
+        .chain(
+            b.values
+                .into_iter()
+                .map(|(k, x)| (format!("{prefix_b}: {k}"), x)),
+        )
+        .collect();
+    Judgement {
+        check,
+        values,
+        verdict,
+        gap,
+    }
+}
+
+pub fn mean(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        f64::NAN
+    } else {
+        v.iter().sum::<f64>() / v.len() as f64
+    }
+}
+
+pub fn peak(v: &Series) -> Option<f64> {
+    v.iter().flatten().copied().reduce(f64::max)
+}
+
+/// The three thirds of an axis of n points (index ranges).
+pub fn thirds(n: usize) -> [std::ops::Range<usize>; 3] {
+    [0..n / 3, n / 3..2 * n / 3, 2 * n / 3..n]
+}

@@ -1,0 +1,314 @@
+//! The scenes the rows run, each run once per process however many rows read it (a cache keyed
+//! by the scene), and the measures rows read from them: one acceleration measure per structure,
+//! the paper's, with the other reported beside it.
+//!
+//! Histories are the ones `rocklab simulate --history` writes: the scene's whole duration,
+//! resampled on the automatic grid (plus event rows), not the solver's steps.
+
+use super::fair::Series;
+use crate::presets::{self, flexible_fig14, rigid_fig8};
+use crate::scene::*;
+use crate::sim::{self, History, SceneResult};
+use rayon::prelude::*;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
+
+/// The process's record library (embedded records, or `--records-dir`).
+fn library() -> anyhow::Result<&'static crate::excitation::Library> {
+    crate::excitation::library::global().map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+fn key(scene: &Scene) -> String {
+    format!("{scene:?}")
+}
+
+type Cache<T> = OnceLock<Mutex<HashMap<String, Arc<T>>>>;
+
+fn cached<T>(
+    cache: &'static Cache<T>,
+    k: String,
+    f: impl FnOnce() -> anyhow::Result<T>,
+) -> anyhow::Result<Arc<T>> {
+    let map = cache.get_or_init(Default::default);
+    if let Some(v) = map.lock().expect("paper cache").get(&k) {
+        return Ok(Arc::clone(v));
+    }
+    let v = Arc::new(f()?);
+    map.lock().expect("paper cache").insert(k, Arc::clone(&v));
+    Ok(v)
+}
+
+/// Run scenes (in parallel, in order), each at most once per process.
+pub fn results(scenes: &[Scene]) -> anyhow::Result<Vec<Arc<SceneResult>>> {
+    static CACHE: Cache<SceneResult> = OnceLock::new();
+    let lib = library()?;
+    scenes
+        .par_iter()
+        .map(|s| {
+            cached(&CACHE, key(s), || {
+                sim::run(s, lib).map_err(|e| anyhow::anyhow!("paper: {e}"))
+            })
+        })
+        .collect()
+}
+
+pub fn result(scene: &Scene) -> anyhow::Result<Arc<SceneResult>> {
+    Ok(results(std::slice::from_ref(scene))?.remove(0))
+}
+
+/// The scene's history as `simulate --history` writes it (whole duration, automatic grid).
+pub fn history(scene: &Scene) -> anyhow::Result<Arc<(SceneResult, History)>> {
+    static CACHE: Cache<(SceneResult, History)> = OnceLock::new();
+    let lib = library()?;
+    cached(&CACHE, key(scene), || {
+        sim::run_history(&sim::history_scene(scene), lib, &sim::Sampling::Auto)
+            .map_err(|e| anyhow::anyhow!("paper: {e}"))
+    })
+}
+
+/// History columns the rows read (the model's names, MODEL.md).
+pub mod col {
+    pub const T: &str = "t";
+    pub const THETA: &str = "theta";
+    pub const FLYWHEEL_A: &str = "flywheel_a_vel";
+    pub const CLUTCH_A: &str = "clutch_force_a";
+    pub const CLUTCH_B: &str = "clutch_force_b";
+    pub const DEVICE_FORCE: &str = "device_force";
+    /// The device-side energy: flywheels + clutch spring and everything the device dissipates.
+    pub const DEVICE_ENERGY: [&str; 5] = [
+        "e_inerter",
+        "e_device_damping",
+        "e_friction",
+        "e_disengagement",
+        "e_reset",
+    ];
+}
+
+/// The sequential law's engagement switch event.
+pub const SEQUENTIAL_SWITCH: &str = "sequential_switch";
+
+pub fn column(h: &History, name: &str) -> anyhow::Result<Vec<f64>> {
+    h.column(name)
+        .ok_or_else(|| anyhow::anyhow!("paper: history has no column {name}"))
+}
+
+/// What a row reads from a scene's result; None where the structure overturned.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Measure {
+    /// |θ|max / α.
+    Rotation,
+    /// Column deformation |u|max (m), flexible structures.
+    Deformation,
+    Drift,
+    /// The paper's acceleration: a rigid block's |θ̈|max/p² between impacts (§3, Fig. 5b,
+    /// Fig. 12), a flexible structure's absolute horizontal acceleration |ẍ + a_g|max/g
+    /// (Fig. 14, Fig. 24).
+    Acceleration,
+    /// The other one, reported beside: |ẍ + a_g|max/g of a rigid block's centre of mass.
+    OtherAcceleration,
+}
+
+impl Measure {
+    pub fn of(self, r: &SceneResult) -> Option<f64> {
+        if r.overturned {
+            return None;
+        }
+        let rigid = r.peaks.angular_acceleration_p2;
+        Some(match self {
+            Measure::Rotation => r.peak_rotation_ratio,
+            Measure::Deformation => r.peaks.deformation,
+            Measure::Drift => r.peaks.drift,
+            Measure::Acceleration => rigid.unwrap_or(r.peaks.abs_acceleration_g),
+            Measure::OtherAcceleration => r.peaks.abs_acceleration_g,
+        })
+    }
+
+    pub fn series(self, rs: &[Arc<SceneResult>]) -> Series {
+        rs.iter().map(|r| self.of(r)).collect()
+    }
+}
+
+/// `from, from + step, …, to`.
+pub fn grid(from: f64, to: f64, step: f64) -> Vec<f64> {
+    let n = ((to - from) / step).round() as usize;
+    (0..=n).map(|i| from + i as f64 * step).collect()
+}
+
+/// The same scene at each ωg/p of `xs`.
+pub fn at_frequencies(scene: &Scene, xs: &[f64]) -> Vec<Scene> {
+    xs.iter()
+        .map(|&r| {
+            let mut s = scene.clone();
+            if let Excitation::Pulse { frequency, .. } = &mut s.excitation {
+                *frequency = Frequency::Ratio(r);
+            }
+            s
+        })
+        .collect()
+}
+
+/// Fig. 12's axis: ωg/p = 2…10, step 0.25.
+pub fn rigid_axis() -> Vec<f64> {
+    grid(2.0, 10.0, 0.25)
+}
+
+/// Figs. 16, 18–23's axis: ωg/p = 3…20, step 1.
+pub fn flexible_axis() -> Vec<f64> {
+    grid(3.0, 20.0, 1.0)
+}
+
+/// Fig. 24's axis: ωn = 2…29 rad/s, step 3.
+pub fn record_axis() -> Vec<f64> {
+    grid(2.0, 29.0, 3.0)
+}
+
+/// The Fig. 12 spectrum (α = 10°, A/(gα) = 1.5, 15 s) of `device`.
+pub fn rigid_spectrum(device: Device) -> anyhow::Result<Vec<Arc<SceneResult>>> {
+    let scene = Scene {
+        duration: 15.0,
+        ..rigid_fig8(device)
+    };
+    results(&at_frequencies(&scene, &rigid_axis()))
+}
+
+/// The §7 spectrum (Fig. 14's structure, 15 s) of `device`.
+pub fn flexible_spectrum(device: Device) -> anyhow::Result<Vec<Arc<SceneResult>>> {
+    flexible_spectrum_at(device, 8.0)
+}
+
+/// The §7 spectrum with the column at ωn/p = `omega_n_p`.
+pub fn flexible_spectrum_at(
+    device: Device,
+    omega_n_p: f64,
+) -> anyhow::Result<Vec<Arc<SceneResult>>> {
+    let scene = Scene {
+        duration: 15.0,
+        structure: presets::flexible_structure(omega_n_p * presets::flexible_p()),
+        ..flexible_fig14(device)
+    };
+    results(&at_frequencies(&scene, &flexible_axis()))
+}
+
+/// The §7 spectrum with the column at ωn/p = `omega_n_p` over the ωg/p of `xs`.
+pub fn flexible_spectrum_on(
+    device: Device,
+    omega_n_p: f64,
+    xs: &[f64],
+) -> anyhow::Result<Vec<Arc<SceneResult>>> {
+    let scene = Scene {
+        duration: 15.0,
+        structure: presets::flexible_structure(omega_n_p * presets::flexible_p()),
+        ..flexible_fig14(device)
+    };
+    results(&at_frequencies(&scene, xs))
+}
+
+/// Table 1's records, in order, and which are the real records (3 and 5 ship as stand-ins,
+/// records/README.md).
+pub const RECORDS: [(&str, bool); 5] = [
+    ("landers", true),
+    ("northridge", true),
+    ("imperial_valley", false),
+    ("superstition_hills", true),
+    ("palm_springs", false),
+];
+
+/// Fig. 24's spectrum of `device` under `record` (60 s).
+pub fn record_spectrum(record: &str, device: Device) -> anyhow::Result<Vec<Arc<SceneResult>>> {
+    let scenes: Vec<Scene> = record_axis()
+        .into_iter()
+        .map(|w| presets::flexible_record(record, w, device.clone(), 60.0))
+        .collect();
+    results(&scenes)
+}
+
+/// The mechanistic clutch (σ = 0.5, paper defaults) changed by `f`.
+pub fn clutch_with(f: impl FnOnce(&mut Clutch)) -> Device {
+    let mut c = Clutch::paper_default(presets::SIGMA);
+    f(&mut c);
+    Device::Mechanistic(c)
+}
+
+/// A change of one setting the paper does not state.
+pub type Unstated = (&'static str, fn(&mut Clutch));
+
+/// The plausible values of the clutch settings the paper leaves unstated, for the sensitivity
+/// runs behind each disagreement: c̄ (rigid block; §5.2 chose 1 s⁻¹ "to obtain comparable
+/// responses"), kθ, ρ, η and the reset rule.
+pub const UNSTATED: [Unstated; 8] = [
+    ("c̄ = 0.5 s⁻¹", |c| c.damping = Damping::CBar(0.5)),
+    ("c̄ = 2 s⁻¹", |c| c.damping = Damping::CBar(2.0)),
+    ("√(kθ/J) = 10 p", |c| {
+        c.stiffness = ClutchStiffness::FrequencyRatio(10.0)
+    }),
+    ("√(kθ/J) = 50 p", |c| {
+        c.stiffness = ClutchStiffness::FrequencyRatio(50.0)
+    }),
+    ("√(kθ/J) = 100 p", |c| {
+        c.stiffness = ClutchStiffness::FrequencyRatio(100.0)
+    }),
+    ("ρ = 0.1 m", |c| c.rho = 0.1),
+    ("η = 1000 s/rad", |c| c.eta = 1000.0),
+    ("strict reset rule", |c| c.reset = ResetRule::Strict),
+];
+
+/// [`UNSTATED`] without the device damping c̄, for rows whose damping the paper states (ξθ)
+/// or whose claim is about the damping.
+pub fn unstated_but_damping() -> Vec<Unstated> {
+    UNSTATED
+        .iter()
+        .filter(|(n, _)| !n.starts_with("c̄"))
+        .copied()
+        .collect()
+}
+
+/// `device` with `change` applied when it is a mechanistic clutch.
+pub fn changed(device: &Device, change: fn(&mut Clutch)) -> Device {
+    match device {
+        Device::Mechanistic(c) => {
+            let mut c = c.clone();
+            change(&mut c);
+            Device::Mechanistic(c)
+        }
+        d => d.clone(),
+    }
+}
+
+/// Judge the same check with each of the `unstated` changes applied to the clutch(es) the
+/// check runs: the reason line ("agrees for …; disagrees for …") and its values.
+pub fn sensitivity(
+    unstated: &[Unstated],
+    check: impl Fn(fn(&mut Clutch)) -> anyhow::Result<super::fair::Judgement>,
+) -> anyhow::Result<(String, Vec<(String, f64)>)> {
+    let variants: Vec<(String, super::fair::Judgement)> = unstated
+        .iter()
+        .map(|(name, change)| Ok((name.to_string(), check(*change)?)))
+        .collect::<anyhow::Result<_>>()?;
+    Ok(super::fair::sensitivity("unstated settings", &variants))
+}
+
+/// No change (the rows' own settings).
+pub fn as_is(_: &mut Clutch) {}
+
+/// Energy the device hands back to the structure over what it took, from the history's
+/// device-side energy D (a drop of D is energy flowing back).
+pub fn returned_fraction(scene: &Scene) -> anyhow::Result<f64> {
+    let h = history(scene)?;
+    let parts: Vec<Vec<f64>> = col::DEVICE_ENERGY
+        .iter()
+        .map(|n| column(&h.1, n))
+        .collect::<anyhow::Result<_>>()?;
+    let d: Vec<f64> = (0..parts[0].len())
+        .map(|i| parts.iter().map(|p| p[i]).sum())
+        .collect();
+    let (mut taken, mut returned) = (0.0, 0.0);
+    for w in d.windows(2) {
+        let delta = w[1] - w[0];
+        if delta > 0.0 {
+            taken += delta;
+        } else {
+            returned -= delta;
+        }
+    }
+    Ok(if taken > 0.0 { returned / taken } else { 0.0 })
+}
