@@ -279,7 +279,8 @@ pub fn run_sampled(
             match model.state_len() {
                 6 => drive::<6, _>(&mut model, &motion, scene, h, watch),
                 8 => drive::<8, _>(&mut model, &motion, scene, h, watch),
-                _ => drive::<10, _>(&mut model, &motion, scene, h, watch),
+                10 => drive::<10, _>(&mut model, &motion, scene, h, watch),
+                n => Err(no_instance("rigid", n)),
             }?
         }
         Structure::Flexible(flex) => {
@@ -299,7 +300,8 @@ pub fn run_sampled(
             match model.state_len() {
                 8 => drive::<8, _>(&mut model, &motion, scene, h, watch),
                 10 => drive::<10, _>(&mut model, &motion, scene, h, watch),
-                _ => drive::<12, _>(&mut model, &motion, scene, h, watch),
+                12 => drive::<12, _>(&mut model, &motion, scene, h, watch),
+                n => Err(no_instance("flexible", n)),
             }?
         }
     };
@@ -308,6 +310,17 @@ pub fn run_sampled(
     result.form_used = form_used;
     result.measured = bounds.measures;
     Ok((result, history.map(Recorder::finish)))
+}
+
+/// The integrator is instantiated for the state sizes the models have (structure coordinates,
+/// two per flywheel, four accumulators). A model of another size (a new device, say) must get
+/// its instance in [`run_sampled`]'s dispatch; until then it is refused here, loudly, instead of
+/// running with a wrong N.
+fn no_instance(structure: &str, n: usize) -> SimError {
+    SimError::Invalid(format!(
+        "internal: no integrator instance for a {structure} model with {n} state components \
+         (add `drive::<{n}>` to sim::run_sampled's dispatch)"
+    ))
 }
 
 /// The event loop, generic over the model and its state size N. The energy accumulators are
