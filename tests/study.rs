@@ -262,3 +262,72 @@ fn flexible_omega_ratio_becomes_omega_n_and_records_become_scenes() {
         e => panic!("{e:?}"),
     }
 }
+
+/// Issue 29: a name in front of a value is accepted only where the schema has that name
+/// (closed per field), a key is never given twice (a range's included), and a raw string
+/// holding a quote does not blind the reading. Each was read as the plain value before.
+#[test]
+fn a_wrapper_or_key_that_means_nothing_is_refused_where_it_is_written() {
+    let mech = "mechanistic(sigma: 0.5, cbar: 1.0)";
+    for (from, to, line, name) in [
+        (mech, "mechanistic(sigma: xi(0.5), cbar: 1.0)", 7, "xi"),
+        ("alpha_ratio(1.5)", "alpha_ratio(g(1.5))", 11, "g"),
+        (
+            mech,
+            "mechanistic(sigma: 0.5, cbar: 1.0, play: sine(0.001))",
+            7,
+            "sine",
+        ),
+        ("alpha: 0.1745", "alpha: p(0.2)", 4, "p"),
+        (
+            "ratio((from: 1.0, to: 10.0, steps: 10))",
+            "ratio(ratio(4.0))",
+            12,
+            "ratio",
+        ),
+        (
+            "mechanistic(sigma: 0.5,",
+            "mechanistic(sigma: [0.5, rigid(0.2)],",
+            7,
+            "rigid",
+        ),
+        (
+            "ratio((from: 1.0, to: 10.0, steps: 10))",
+            "ratio((from: 1.0, steps: 3, to: 12.0, from: 2.0))",
+            12,
+            "from",
+        ),
+        ("sigma: 0.5", "sigma: Some(xi(0.5))", 7, "xi"),
+    ] {
+        assert!(GOOD.contains(from), "{from}");
+        let e = error_of(&GOOD.replacen(from, to, 1));
+        assert_eq!(e.line, Some(line), "{to}: {e}");
+        let text = e.to_string();
+        assert!(text.contains(&format!("`{name}")), "{to}: {text}");
+        assert!(e.hint.is_some() && e.field.is_some(), "{to}: {text}");
+        let column = e.column.unwrap();
+        let written = GOOD.replacen(from, to, 1);
+        let at_line = written.lines().nth(line - 1).unwrap();
+        assert!(
+            at_line[column - 1..].starts_with(name),
+            "{to}: column {column} of `{at_line}`"
+        );
+    }
+    // A raw string with a quote in it, then a wrong name: still found.
+    let text = GOOD.replacen(
+        "name: \"bad\",",
+        "name: \"bad\", description: r#\"tricky \" quote\"#,",
+        1,
+    );
+    assert!(Study::from_ron_str(&text, "ok.ron").is_ok());
+    let e = error_of(&text.replacen("alpha_ratio(1.5)", "alpha_ratio(foo(1.5))", 1));
+    assert!(e.to_string().contains("`foo("), "{e}");
+    // The names that do mean something, and `Some`, stay accepted.
+    for ok in [
+        GOOD.replacen("alpha: 0.1745", "alpha: deg(10)", 1),
+        GOOD.replacen("cbar: 1.0", "cbar: Some(1.0)", 1),
+        GOOD.replacen("cbar: 1.0)", "cbar: 1.0, label: Some(\"m\"))", 1),
+    ] {
+        Study::from_ron_str(&ok, "ok.ron").unwrap_or_else(|e| panic!("{e}\n{ok}"));
+    }
+}

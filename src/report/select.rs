@@ -5,6 +5,7 @@
 
 use super::aggregate::Group;
 use crate::numfmt::fmt_digits;
+use crate::ron_syntax::{self as syntax, Value, flat};
 use crate::study::{DeviceKind, Values};
 use std::fmt::Write as _;
 
@@ -41,35 +42,58 @@ pub enum Wanted {
 const EXAMPLE: &str = "e.g. `mechanistic`, `bare`, `mechanistic(k_theta: 3.0, play: [0.0, 0.005])`";
 
 impl Selector {
+    /// Read a selector with the study's RON reading: a value takes no name in front of it
+    /// (`friction: foo(0.0)` is refused, not read as 0.0), and no key is given twice.
     pub fn parse(text: &str) -> Result<Selector, SelectError> {
         let trimmed = text.trim();
         let bad = |why: &str| SelectError(format!("invalid selector `{text}`: {why}; {EXAMPLE}"));
-        let (device, args) = match trimmed.find('(') {
-            Some(open) => {
-                let Some(inner) = trimmed[open + 1..].strip_suffix(')') else {
-                    return Err(bad("the parameter list must end with `)`"));
-                };
-                (trimmed[..open].trim(), Some(inner))
+        if !trimmed.contains(['(', ')', '[', ']', ',', ':']) {
+            // A device kind or a variant's label, which may hold spaces.
+            if trimmed.is_empty() {
+                return Err(bad("name a device first"));
             }
-            None => (trimmed, None),
+            return Ok(Selector {
+                text: trimmed.to_string(),
+                device: trimmed.trim_matches('"').to_string(),
+                filters: Vec::new(),
+            });
+        }
+        let doc = syntax::parse(trimmed, false)
+            .map_err(|e| bad(&format!("{} (at column {})", e.message, e.span.column)))?;
+        let (device, items) = match &doc.root {
+            Value::Atom(name, _) => (name.as_str(), &[][..]),
+            Value::Group {
+                name, open, items, ..
+            } if *open == '(' => (name.as_str(), &items[..]),
+            _ => return Err(bad("name a device first")),
         };
-        if device.is_empty() {
+        if device.is_empty() || !doc.header.is_empty() || !doc.footer.is_empty() {
             return Err(bad("name a device first"));
         }
         let mut filters: Vec<Filter> = Vec::new();
-        for field in args.map(split_top_level).unwrap_or_default() {
-            let Some((id, value)) = field.split_once(':') else {
-                return Err(bad(&format!("`{field}` is not `field: value`")));
+        for item in items {
+            let value = &item.value;
+            let Some(id) = item.key() else {
+                return Err(bad(&format!("`{}` is not `field: value`", flat(value))));
             };
-            let (id, value) = (id.trim(), value.trim());
             let id = if id == "names" { "record" } else { id };
             if filters.iter().any(|f| f.id == id) {
                 return Err(bad(&format!("`{id}` is given twice")));
             }
+            if let Some((key, _)) = value.duplicate_key() {
+                return Err(bad(&format!("`{key}` is given twice in `{id}`")));
+            }
             let wanted = if id == "record" {
                 Wanted::Names(record_names(value))
             } else {
-                let values: Values = ron::from_str(value).map_err(|e| {
+                if let Some((name, _)) = value.first_name() {
+                    return Err(bad(&format!(
+                        "`{name}(…)` in `{id}` means nothing: give a number, a list [a, b] or \
+                         a range (from: a, to: b, steps: n) with no name in front"
+                    )));
+                }
+                let value = flat(value);
+                let values: Values = ron::from_str(&value).map_err(|e| {
                     bad(&format!(
                         "`{id}: {value}` is not a number, list or range ({e})"
                     ))
@@ -86,7 +110,7 @@ impl Selector {
         }
         Ok(Selector {
             text: trimmed.to_string(),
-            device: device.to_string(),
+            device: device.trim_matches('"').to_string(),
             filters,
         })
     }
@@ -103,43 +127,21 @@ impl Selector {
     }
 }
 
-/// Split `a: 1, b: [1, 2], c: (from: 1, to: 2, steps: 3)` at its top-level commas.
-fn split_top_level(args: &str) -> Vec<String> {
-    let mut out = Vec::new();
-    let (mut depth, mut current) = (0i32, String::new());
-    for c in args.chars() {
-        match c {
-            '(' | '[' => depth += 1,
-            ')' | ']' => depth -= 1,
-            ',' if depth == 0 => {
-                out.push(std::mem::take(&mut current));
-                continue;
-            }
-            _ => {}
-        }
-        current.push(c);
-    }
-    out.push(current);
-    out.into_iter()
-        .map(|s| s.trim().to_string())
-        .filter(|s| !s.is_empty())
-        .collect()
-}
-
 /// `landers`, `"landers"` or `["landers", northridge]`.
-fn record_names(value: &str) -> Vec<String> {
-    let inner = value
-        .strip_prefix('[')
-        .and_then(|v| v.strip_suffix(']'))
-        .unwrap_or(value);
-    inner
-        .split(',')
-        .map(|n| n.trim().trim_matches('"').to_string())
+fn record_names(value: &Value) -> Vec<String> {
+    let names: Vec<&Value> = match value {
+        Value::Group {
+            open: '[', items, ..
+        } => items.iter().map(|i| &i.value).collect(),
+        _ => vec![value],
+    };
+    names
+        .into_iter()
+        .map(|n| flat(n).trim_matches('"').to_string())
         .filter(|n| !n.is_empty())
         .collect()
 }
 
-/// Significant digits the user wrote in `v` (its shortest exact form).
 fn written_digits(v: f64) -> usize {
     let sci = format!("{v:e}");
     let mantissa = sci.split('e').next().unwrap_or("");
@@ -340,6 +342,11 @@ mod tests {
             "mechanistic(k_theta 3)",
             "mechanistic(k_theta: abc)",
             "mechanistic(play: 1, play: 2)",
+            // The study's strict reading: no name before a value, no key twice in a range.
+            "mechanistic(friction: foo(0.0))",
+            "mechanistic(friction: [xi(0.0)])",
+            "mechanistic(xi_theta: (from: 0.0, to: 0.2, steps: 3, from: 0.1))",
+            "",
         ] {
             assert!(Selector::parse(bad).is_err(), "{bad}");
         }

@@ -387,10 +387,12 @@ impl Study {
         // A byte-order mark (some Windows editors write one) is no part of the study.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         strict::check_names(text, origin)?;
-        let text = strict::resolve_degrees(text, origin)?;
-        ron_options()
-            .from_str(&text)
-            .map_err(|e| StudyError::from_ron(e, origin))
+        let resolved = strict::resolve_degrees(text, origin)?;
+        let study = ron_options()
+            .from_str(&resolved)
+            .map_err(|e| StudyError::from_ron(e, origin))?;
+        strict::check_meaning(text, &study, origin)?;
+        Ok(study)
     }
 
     pub fn load(path: &Path) -> Result<Study, StudyError> {

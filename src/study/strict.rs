@@ -11,6 +11,7 @@ use super::error::StudyError;
 use super::{AmplitudeAxis, Axis, DeviceVariant, ExcitationFamily, FrequencyAxis};
 use super::{RecordScaling, StructureFamily};
 use crate::excitation::{KinkPolicy, PulseShape};
+use crate::ron_syntax::{self as syntax, Kind, SyntaxError, Token};
 use crate::scene::{Coupling, Form, Impact, ResetRule};
 use serde::Deserialize;
 use serde::de::{self, Visitor};
@@ -75,97 +76,44 @@ pub fn wrapper_names() -> Vec<&'static str> {
 
 /// `(line, column, name)` of every identifier directly followed by `(`, outside strings and
 /// comments (1-based positions).
-fn calls(text: &str) -> Vec<(usize, usize, String)> {
-    let chars: Vec<char> = text.chars().collect();
-    let (mut line, mut col) = (1, 1);
-    let mut out = Vec::new();
-    let mut i = 0;
-    let advance = |c: char, line: &mut usize, col: &mut usize| {
-        if c == '\n' {
-            *line += 1;
-            *col = 1;
-        } else {
-            *col += 1;
-        }
-    };
-    while i < chars.len() {
-        let c = chars[i];
-        if c == '/' && chars.get(i + 1) == Some(&'/') {
-            while i < chars.len() && chars[i] != '\n' {
-                advance(chars[i], &mut line, &mut col);
-                i += 1;
-            }
-        } else if c == '/' && chars.get(i + 1) == Some(&'*') {
-            let mut depth = 0;
-            while i < chars.len() {
-                if chars[i] == '/' && chars.get(i + 1) == Some(&'*') {
-                    depth += 1;
-                } else if chars[i] == '*' && chars.get(i + 1) == Some(&'/') {
-                    depth -= 1;
-                    if depth == 0 {
-                        advance('*', &mut line, &mut col);
-                        advance('/', &mut line, &mut col);
-                        i += 2;
-                        break;
-                    }
-                }
-                advance(chars[i], &mut line, &mut col);
-                i += 1;
-            }
-        } else if c == '"' {
-            advance(c, &mut line, &mut col);
-            i += 1;
-            while i < chars.len() && chars[i] != '"' {
-                if chars[i] == '\\' {
-                    advance(chars[i], &mut line, &mut col);
-                    i += 1;
-                }
-                if i < chars.len() {
-                    advance(chars[i], &mut line, &mut col);
-                    i += 1;
-                }
-            }
-            if i < chars.len() {
-                advance(chars[i], &mut line, &mut col);
-                i += 1;
-            }
-        } else if c.is_alphabetic() || c == '_' {
-            let (start_line, start_col) = (line, col);
-            let start = i;
-            while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
-                advance(chars[i], &mut line, &mut col);
-                i += 1;
-            }
-            let name: String = chars[start..i].iter().collect();
-            let mut j = i;
-            while j < chars.len() && chars[j].is_whitespace() {
-                j += 1;
-            }
-            // A raw string r"…" / r#"…"# is not a call; neither is a number's exponent.
-            if chars.get(j) == Some(&'(') {
-                out.push((start_line, start_col, name));
-            }
-        } else if c.is_ascii_digit() {
-            // Skip a number whole (1e5, 0x1F) so its letters are not read as a name.
-            while i < chars.len()
-                && (chars[i].is_alphanumeric() || chars[i] == '.' || chars[i] == '_')
-            {
-                advance(chars[i], &mut line, &mut col);
-                i += 1;
-            }
-        } else {
-            advance(c, &mut line, &mut col);
-            i += 1;
-        }
+fn calls(text: &str, tokens: &[Token]) -> Vec<(usize, usize, String)> {
+    tokens
+        .windows(2)
+        .filter(|w| w[0].is_name(text) && w[1].kind == Kind::Punct('('))
+        .map(|w| {
+            (
+                w[0].span.line,
+                w[0].span.column,
+                w[0].text(text).to_string(),
+            )
+        })
+        .collect()
+}
+
+/// The tokens of `text` without its comments; none if the text cannot be read (an unclosed
+/// string): then RON reports it, in its own words, and nothing else is checked.
+fn tokens(text: &str) -> Vec<Token> {
+    let mut tokens = syntax::lex(text).unwrap_or_default();
+    tokens.retain(|t| t.kind != Kind::Comment);
+    tokens
+}
+
+fn syntax_error(e: SyntaxError, origin: &str) -> StudyError {
+    StudyError {
+        origin: origin.to_string(),
+        line: Some(e.span.line),
+        column: Some(e.span.column),
+        field: None,
+        message: e.message,
+        hint: Some("close every string with `\"` and every `/*` comment with `*/`".into()),
     }
-    out
 }
 
 /// The first `name(` in `text` that is not a variant of the schema (or `deg`, see
 /// [`resolve_degrees`]), as a located error.
 pub fn check_names(text: &str, origin: &str) -> Result<(), StudyError> {
     let valid = wrapper_names();
-    for (line, column, name) in calls(text) {
+    for (line, column, name) in calls(text, &tokens(text)) {
         if name != DEGREES && !valid.contains(&name.as_str()) {
             return Err(StudyError {
                 origin: origin.to_string(),
@@ -185,6 +133,128 @@ pub fn check_names(text: &str, origin: &str) -> Result<(), StudyError> {
     Ok(())
 }
 
+/// The strict reading of a parsed study, on the text it was read from: every key appears once
+/// in its group (a range's `from`, `to`, `steps` included), and every `name(` stands where the
+/// study, written back, has the same name. RON reads a parameter's value with
+/// `deserialize_any`, which drops the name in front of it, so `sigma: xi(0.5)` or
+/// `ratio(ratio(4.0))` would read as the plain number: the closed set of names a field takes
+/// is what serde writes there, so it follows the schema (new fields included) by itself.
+pub fn check_meaning(text: &str, study: &super::Study, origin: &str) -> Result<(), StudyError> {
+    let doc = syntax::parse(text, false).map_err(|e| syntax_error(e, origin))?;
+    let written = super::ron_options()
+        .to_string(study)
+        .expect("studies serialise");
+    let fresh = syntax::parse(&written, false).expect("ron writes RON");
+    Meaning { origin }.walk(&doc.root, Some(&fresh.root), "")
+}
+
+struct Meaning<'a> {
+    origin: &'a str,
+}
+
+/// `Some(x)` as `x`: implicit or not, the same value.
+fn unwrap_some(value: &syntax::Value) -> &syntax::Value {
+    match value {
+        syntax::Value::Group { name, items, .. }
+            if name == "Some" && items.len() == 1 && items[0].key.is_none() =>
+        {
+            unwrap_some(&items[0].value)
+        }
+        _ => value,
+    }
+}
+
+impl Meaning<'_> {
+    fn error(&self, at: syntax::Span, field: &str, message: String, hint: String) -> StudyError {
+        StudyError {
+            origin: self.origin.to_string(),
+            line: Some(at.line),
+            column: Some(at.column),
+            field: (!field.is_empty()).then(|| field.to_string()),
+            message,
+            hint: Some(hint),
+        }
+    }
+
+    /// Check `ours` (as written) against `theirs` (the study written back; None where the
+    /// study keeps nothing of the value).
+    fn walk(
+        &self,
+        ours: &syntax::Value,
+        theirs: Option<&syntax::Value>,
+        field: &str,
+    ) -> Result<(), StudyError> {
+        use syntax::Value;
+        let mut ours = unwrap_some(ours);
+        let theirs = theirs.map(unwrap_some);
+        if let Value::Group { name, items, .. } = ours
+            && name == DEGREES
+            && items.len() == 1
+        {
+            // Resolved into radians before serde: `deg(…)` stands for its argument.
+            ours = &items[0].value;
+        }
+        let Value::Group {
+            name, at, items, ..
+        } = ours
+        else {
+            return Ok(());
+        };
+        if !name.is_empty() && !matches!(theirs, Some(Value::Group { name: n, .. }) if n == name) {
+            let expected = match theirs {
+                Some(Value::Group { name: n, .. }) if !n.is_empty() => {
+                    format!("here the study takes `{n}(…)`")
+                }
+                Some(_) => "give the value alone here: a number, a list [a, b, …] or a range \
+                            (from: a, to: b, steps: n), with no name in front"
+                    .to_string(),
+                None => "remove it: nothing of this value is used".to_string(),
+            };
+            return Err(self.error(
+                *at,
+                field,
+                format!("`{name}(…)` means nothing here, and would be read as its content alone"),
+                expected,
+            ));
+        }
+        let mut seen: Vec<(&str, syntax::Span)> = Vec::new();
+        let theirs_items = theirs.map_or(&[][..], Value::items);
+        for (i, item) in items.iter().enumerate() {
+            let (label, counterpart) = match &item.key {
+                Some((key, at)) => {
+                    if let Some((_, first)) = seen.iter().find(|(k, _)| k == key) {
+                        return Err(self.error(
+                            *at,
+                            field,
+                            format!("`{key}` is given twice (first on line {})", first.line),
+                            format!("give `{key}` once; a later value would not add to the first"),
+                        ));
+                    }
+                    seen.push((key, *at));
+                    let counterpart = theirs_items.iter().find(|t| t.key() == Some(key));
+                    let label = if field.is_empty() {
+                        key.clone()
+                    } else {
+                        format!("{field}.{key}")
+                    };
+                    (label, counterpart)
+                }
+                None => (
+                    format!("{field}[{i}]"),
+                    theirs_items.get(i).filter(|t| t.key.is_none()),
+                ),
+            };
+            let label = if item.key.is_none() && !name.is_empty() && items.len() == 1 {
+                field.to_string()
+            } else {
+                label
+            };
+            self.walk(&item.value, counterpart.map(|t| &t.value), &label)?;
+        }
+        Ok(())
+    }
+}
+
 /// The wrapper that gives an angle in degrees: `alpha: deg(10)`.
 const DEGREES: &str = "deg";
 
@@ -194,113 +264,6 @@ pub const ANGLE_FIELDS: &[&str] = &["alpha"];
 /// The keys of a range (`(from: a, to: b, steps: n, log: true)`), which belong to the field
 /// the range is the value of.
 const RANGE_KEYS: &[&str] = &["from", "to", "steps", "log"];
-
-/// A token of a study file: its byte span, 1-based line and column, and kind.
-#[derive(Clone, Debug)]
-struct Token {
-    start: usize,
-    end: usize,
-    line: usize,
-    column: usize,
-    kind: Kind,
-}
-
-#[derive(Clone, Debug, PartialEq)]
-enum Kind {
-    Name,
-    Number,
-    Text,
-    Punct(char),
-}
-
-/// The tokens of `text`, comments and whitespace left out.
-fn tokens(text: &str) -> Vec<Token> {
-    let bytes: Vec<(usize, char)> = text.char_indices().collect();
-    let at = |i: usize| bytes.get(i).map(|b| b.1);
-    let offset = |i: usize| bytes.get(i).map_or(text.len(), |b| b.0);
-    let (mut line, mut column) = (1, 1);
-    let mut out = Vec::new();
-    let mut i = 0;
-    // Move `i` to `to`, keeping line and column.
-    let skip_to = |i: &mut usize, to: usize, line: &mut usize, column: &mut usize| {
-        while *i < to {
-            if bytes[*i].1 == '\n' {
-                *line += 1;
-                *column = 1;
-            } else {
-                *column += 1;
-            }
-            *i += 1;
-        }
-    };
-    while i < bytes.len() {
-        let c = bytes[i].1;
-        let start = i;
-        let (start_line, start_column) = (line, column);
-        let mut end = i + 1;
-        let kind = if c.is_whitespace() {
-            None
-        } else if c == '/' && at(i + 1) == Some('/') {
-            while end < bytes.len() && bytes[end].1 != '\n' {
-                end += 1;
-            }
-            None
-        } else if c == '/' && at(i + 1) == Some('*') {
-            let mut depth = 1;
-            end = i + 2;
-            while end < bytes.len() && depth > 0 {
-                if bytes[end].1 == '/' && at(end + 1) == Some('*') {
-                    depth += 1;
-                    end += 1;
-                } else if bytes[end].1 == '*' && at(end + 1) == Some('/') {
-                    depth -= 1;
-                    end += 1;
-                }
-                end += 1;
-            }
-            None
-        } else if c == '"' {
-            while end < bytes.len() && bytes[end].1 != '"' {
-                end += if bytes[end].1 == '\\' { 2 } else { 1 };
-            }
-            end = (end + 1).min(bytes.len());
-            Some(Kind::Text)
-        } else if c.is_alphabetic() || c == '_' {
-            while end < bytes.len() && (bytes[end].1.is_alphanumeric() || bytes[end].1 == '_') {
-                end += 1;
-            }
-            Some(Kind::Name)
-        } else if c.is_ascii_digit()
-            || ((c == '-' || c == '+' || c == '.')
-                && at(i + 1).is_some_and(|d| d.is_ascii_digit() || d == '.'))
-        {
-            while end < bytes.len() {
-                let d = bytes[end].1;
-                let sign_of_exponent =
-                    (d == '-' || d == '+') && matches!(bytes[end - 1].1, 'e' | 'E');
-                if d.is_alphanumeric() || d == '.' || d == '_' || sign_of_exponent {
-                    end += 1;
-                } else {
-                    break;
-                }
-            }
-            Some(Kind::Number)
-        } else {
-            Some(Kind::Punct(c))
-        };
-        skip_to(&mut i, end, &mut line, &mut column);
-        if let Some(kind) = kind {
-            out.push(Token {
-                start: offset(start),
-                end: offset(end),
-                line: start_line,
-                column: start_column,
-                kind,
-            });
-        }
-    }
-    out
-}
 
 /// `text` with every `deg(…)` replaced by the same angles in radians: `alpha: deg(10)`,
 /// `alpha: deg([5, 10])`, `alpha: deg((from: 5, to: 15, steps: 3))` (a range's `steps` and
@@ -315,19 +278,19 @@ pub fn resolve_degrees<'a>(
     let tokens = tokens(text);
     if !tokens
         .iter()
-        .any(|t| t.kind == Kind::Name && &text[t.start..t.end] == DEGREES)
+        .any(|t| t.is_name(text) && t.text(text) == DEGREES)
     {
         return Ok(std::borrow::Cow::Borrowed(text));
     }
     let error = |t: &Token, field: Option<&str>, message: String, hint: &str| StudyError {
         origin: origin.to_string(),
-        line: Some(t.line),
-        column: Some(t.column),
+        line: Some(t.span.line),
+        column: Some(t.span.column),
         field: field.map(str::to_string),
         message,
         hint: Some(hint.to_string()),
     };
-    let word = |t: &Token| &text[t.start..t.end];
+    let word = |t: &Token| t.text(text);
     let mut out = String::with_capacity(text.len());
     let mut copied = 0;
     // The key being given at each nesting level.
@@ -337,7 +300,7 @@ pub fn resolve_degrees<'a>(
         let t = &tokens[i];
         let next = tokens.get(i + 1).map(|n| &n.kind);
         match &t.kind {
-            Kind::Name if next == Some(&Kind::Punct(':')) => {
+            Kind::Atom if t.is_name(text) && next == Some(&Kind::Punct(':')) => {
                 if let Some(top) = keys.last_mut() {
                     *top = Some(word(t));
                 }
@@ -349,7 +312,7 @@ pub fn resolve_degrees<'a>(
                     keys.push(None);
                 }
             }
-            Kind::Name if word(t) == DEGREES && next == Some(&Kind::Punct('(')) => {
+            Kind::Atom if word(t) == DEGREES && next == Some(&Kind::Punct('(')) => {
                 let field = keys
                     .iter()
                     .rev()
@@ -375,7 +338,7 @@ pub fn resolve_degrees<'a>(
                 let mut depth = 0;
                 let mut j = i + 1;
                 let mut converted = String::new();
-                let mut from = tokens[i + 1].end;
+                let mut from = tokens[i + 1].span.end;
                 let mut key: Option<&str> = None;
                 let mut numbers = 0;
                 loop {
@@ -391,16 +354,16 @@ pub fn resolve_degrees<'a>(
                         Kind::Punct('(' | '[') => depth += 1,
                         Kind::Punct(')' | ']') => depth -= 1,
                         Kind::Punct(',' | ':') => {}
-                        Kind::Name if RANGE_KEYS.contains(&word(a)) => key = Some(word(a)),
-                        Kind::Name if matches!(word(a), "true" | "false") => {}
-                        Kind::Number if key == Some("steps") => numbers += 1,
-                        Kind::Number => {
+                        Kind::Atom if RANGE_KEYS.contains(&word(a)) => key = Some(word(a)),
+                        Kind::Atom if matches!(word(a), "true" | "false") => {}
+                        Kind::Atom if !a.is_name(text) && key == Some("steps") => numbers += 1,
+                        Kind::Atom if !a.is_name(text) => {
                             let radians = parse_angle(&format!("{}deg", word(a))).map_err(|e| {
                                 error(a, field, e, "write the angle in degrees as deg(10)")
                             })?;
-                            converted.push_str(&text[from..a.start]);
+                            converted.push_str(&text[from..a.span.start]);
                             converted.push_str(&format!("{radians:?}"));
-                            from = a.end;
+                            from = a.span.end;
                             numbers += 1;
                         }
                         _ => {
@@ -428,10 +391,10 @@ pub fn resolve_degrees<'a>(
                 }
                 // `deg(` … `)` becomes the converted argument alone.
                 let close = &tokens[j];
-                converted.push_str(&text[from..close.start]);
-                out.push_str(&text[copied..t.start]);
+                converted.push_str(&text[from..close.span.start]);
+                out.push_str(&text[copied..t.span.start]);
                 out.push_str(&converted);
-                copied = close.end;
+                copied = close.span.end;
                 i = j + 1;
                 continue;
             }
@@ -487,8 +450,12 @@ mod tests {
     #[test]
     fn calls_skip_strings_comments_and_numbers() {
         let text = "a(b: \"x(\", // y(\n /* z( */ c (1e5))";
-        let found: Vec<String> = calls(text).into_iter().map(|c| c.2).collect();
+        let found: Vec<String> = calls(text, &tokens(text))
+            .into_iter()
+            .map(|c| c.2)
+            .collect();
         assert_eq!(found, ["a", "c"]);
-        assert_eq!(calls("\n  foo(1)")[0], (2, 3, "foo".to_string()));
+        let text = "\n  foo(1)";
+        assert_eq!(calls(text, &tokens(text))[0], (2, 3, "foo".to_string()));
     }
 }

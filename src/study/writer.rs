@@ -16,10 +16,8 @@
 //! same study ([`Study::parse_ron`]), whatever the opened file held.
 
 use super::Study;
-
-/// Lines are kept within this many columns where they can be.
-pub const WIDTH: usize = 100;
-const INDENT: usize = 4;
+pub use crate::ron_syntax::WIDTH;
+use crate::ron_syntax::{self as syntax, Document, Item, Value, render};
 
 /// A study as text, and the comments of the opened file it could not keep.
 #[derive(Clone, Debug, PartialEq)]
@@ -29,293 +27,23 @@ pub struct Written {
     pub lost: Vec<String>,
 }
 
-#[derive(Clone, Debug, PartialEq)]
-enum Tok {
-    /// A comment, and whether it starts its line.
-    Comment(String, bool),
-    Atom(String),
-    Punct(char),
-}
-
-/// Tokens of RON text: comments kept, whitespace dropped. None if the text holds something
-/// this writer does not read (a raw string, an unclosed comment or string).
-fn lex(text: &str) -> Option<Vec<(Tok, bool)>> {
-    let chars: Vec<char> = text.chars().collect();
-    let mut out = Vec::new();
-    let mut i = 0;
-    let mut line_start = true;
-    while i < chars.len() {
-        let c = chars[i];
-        if c == '\n' {
-            line_start = true;
-            i += 1;
-            continue;
-        }
-        if c.is_whitespace() {
-            i += 1;
-            continue;
-        }
-        let start = i;
-        if c == '/' && chars.get(i + 1) == Some(&'/') {
-            while i < chars.len() && chars[i] != '\n' {
-                i += 1;
-            }
-            let comment: String = chars[start..i].iter().collect();
-            out.push((
-                Tok::Comment(comment.trim_end().to_string(), line_start),
-                line_start,
-            ));
-        } else if c == '/' && chars.get(i + 1) == Some(&'*') {
-            let mut depth = 0;
-            loop {
-                if i + 1 >= chars.len() {
-                    return None;
-                }
-                if chars[i] == '/' && chars[i + 1] == '*' {
-                    depth += 1;
-                    i += 2;
-                } else if chars[i] == '*' && chars[i + 1] == '/' {
-                    depth -= 1;
-                    i += 2;
-                    if depth == 0 {
-                        break;
-                    }
-                } else {
-                    i += 1;
-                }
-            }
-            let comment: String = chars[start..i].iter().collect();
-            out.push((Tok::Comment(comment, line_start), line_start));
-        } else if c == '"' {
-            i += 1;
-            while i < chars.len() && chars[i] != '"' {
-                i += if chars[i] == '\\' { 2 } else { 1 };
-            }
-            if i >= chars.len() {
-                return None;
-            }
-            i += 1;
-            out.push((Tok::Atom(chars[start..i].iter().collect()), line_start));
-        } else if "()[]{},:".contains(c) {
-            i += 1;
-            out.push((Tok::Punct(c), line_start));
-        } else {
-            let ends_atom = |i: usize| {
-                let c = chars[i];
-                c.is_whitespace()
-                    || "()[]{},:\"".contains(c)
-                    || (c == '/' && matches!(chars.get(i + 1), Some('/' | '*')))
-            };
-            while i < chars.len() && !ends_atom(i) {
-                i += 1;
-            }
-            let atom: String = chars[start..i].iter().collect();
-            // A raw string (r"…", r#"…"#) would need its own rules: not read here.
-            if atom.starts_with("r#") || (atom == "r" && chars.get(i) == Some(&'"')) {
-                return None;
-            }
-            out.push((Tok::Atom(atom), line_start));
-        }
-        line_start = false;
-    }
-    Some(out)
-}
-
-#[derive(Clone, Debug, PartialEq)]
-enum Value {
-    Atom(String),
-    Group {
-        /// The name before the bracket (`rigid`, `ratio`), or empty.
-        name: String,
-        open: char,
-        items: Vec<Item>,
-        /// Comments after the last item, before the closing bracket.
-        tail: Vec<String>,
-        /// Whether the file had the group over several lines (None: not from a file).
-        broken: Option<bool>,
-    },
-}
-
-#[derive(Clone, Debug, PartialEq)]
-struct Item {
-    key: Option<String>,
-    value: Value,
-    /// Comments on the lines above the item.
-    before: Vec<String>,
-    /// A comment after the item on its line.
-    after: Option<String>,
-}
-
-struct Parser {
-    toks: Vec<Tok>,
-    /// Whether each token starts its line.
-    starts_line: Vec<bool>,
-    /// Record how groups were broken over lines (for a file, not for generated text).
-    keep_layout: bool,
-    at: usize,
-}
-
-impl Parser {
-    fn peek(&self) -> Option<&Tok> {
-        self.toks.get(self.at)
-    }
-
-    fn peek_at(&self, ahead: usize) -> Option<&Tok> {
-        self.toks.get(self.at + ahead)
-    }
-
-    /// Comments that start their lines (`own_line`), or the one comment after a token on
-    /// its line.
-    fn comments(&mut self, own_line: bool) -> Vec<String> {
-        let mut out = Vec::new();
-        while let Some(Tok::Comment(text, starts_line)) = self.peek() {
-            if *starts_line != own_line {
-                break;
-            }
-            out.push(text.clone());
-            self.at += 1;
-            if !own_line {
-                break;
-            }
-        }
-        out
-    }
-
-    fn value(&mut self) -> Option<Value> {
-        match self.peek()?.clone() {
-            Tok::Atom(a) => {
-                self.at += 1;
-                if let Some(Tok::Punct(open @ ('(' | '[' | '{'))) = self.peek().cloned() {
-                    self.at += 1;
-                    return self.group(a, open);
-                }
-                Some(Value::Atom(a))
-            }
-            Tok::Punct(open @ ('(' | '[' | '{')) => {
-                self.at += 1;
-                self.group(String::new(), open)
-            }
-            _ => None,
-        }
-    }
-
-    fn group(&mut self, name: String, open: char) -> Option<Value> {
-        let close = match open {
-            '(' => ')',
-            '[' => ']',
-            _ => '}',
-        };
-        let mut items = Vec::new();
-        // Whether an item or the closing bracket starts a line.
-        let mut broken = false;
-        loop {
-            // Comments before an item (or after the bracket, on its line) go above it.
-            let mut before = Vec::new();
-            while let Some(Tok::Comment(text, _)) = self.peek() {
-                before.push(text.clone());
-                self.at += 1;
-            }
-            broken |= self.starts_line.get(self.at) == Some(&true);
-            if self.peek() == Some(&Tok::Punct(close)) {
-                let broken = self.keep_layout.then_some(broken);
-                self.at += 1;
-                return Some(Value::Group {
-                    name,
-                    open,
-                    items,
-                    tail: before,
-                    broken,
-                });
-            }
-            let key = match (self.peek(), self.peek_at(1)) {
-                (Some(Tok::Atom(k)), Some(Tok::Punct(':'))) => {
-                    let k = k.clone();
-                    self.at += 2;
-                    Some(k)
-                }
-                _ => None,
-            };
-            let value = self.value()?;
-            let mut after = self.comments(false).pop();
-            match self.peek() {
-                Some(Tok::Punct(',')) => self.at += 1,
-                Some(Tok::Punct(c)) if *c == close => {}
-                _ => return None,
-            }
-            if after.is_none() {
-                after = self.comments(false).pop();
-            }
-            items.push(Item {
-                key,
-                value,
-                before,
-                after,
-            });
-        }
-    }
-}
-
-/// A RON document: the text before the root value (comments, blank lines), the root, and
-/// what follows it.
-struct Document {
-    header: String,
-    root: Value,
-    footer: Vec<String>,
-}
-
+/// The tree of a RON text (see [`syntax`]), None if it cannot be read.
 fn parse(text: &str, keep_layout: bool) -> Option<Document> {
-    let (toks, starts_line): (Vec<Tok>, Vec<bool>) = lex(text)?.into_iter().unzip();
-    let first = toks.iter().position(|t| !matches!(t, Tok::Comment(..)))?;
-    // The header is kept as written: everything up to the root's first character.
-    let root_start = root_offset(text)?;
-    let mut parser = Parser {
-        toks,
-        starts_line,
-        keep_layout,
-        at: first,
-    };
-    let root = parser.value()?;
-    let footer = parser.comments(true);
-    if parser.at != parser.toks.len() {
-        return None;
-    }
-    Some(Document {
-        header: text[..root_start].to_string(),
-        root,
-        footer,
-    })
-}
-
-/// Byte offset of the first character that is neither whitespace nor in a comment.
-fn root_offset(text: &str) -> Option<usize> {
-    let mut rest = text;
-    loop {
-        let trimmed = rest.trim_start();
-        if let Some(after) = trimmed.strip_prefix("//") {
-            rest = after.find('\n').map_or("", |n| &after[n..]);
-        } else if let Some(after) = trimmed.strip_prefix("/*") {
-            rest = &after[after.find("*/")? + 2..];
-        } else {
-            return (!trimmed.is_empty()).then(|| text.len() - trimmed.len());
-        }
-    }
+    syntax::parse(text, keep_layout).ok()
 }
 
 /// Where an item sits: its key, or its position and variant name in a list.
 fn step(index: usize, item: &Item) -> String {
-    match (&item.key, &item.value) {
-        (Some(k), _) => k.clone(),
-        (None, Value::Group { name, .. }) | (None, Value::Atom(name)) => {
+    match (item.key(), &item.value) {
+        (Some(k), _) => k.to_string(),
+        (None, Value::Group { name, .. }) | (None, Value::Atom(name, _)) => {
             format!("[{index}]{name}")
         }
     }
 }
 
 fn children(value: &Value) -> &[Item] {
-    match value {
-        Value::Group { items, .. } => items,
-        Value::Atom(_) => &[],
-    }
+    value.items()
 }
 
 /// The item at `path` under `value`.
@@ -341,7 +69,7 @@ fn group_items<'a>(root: &'a mut Value, path: &[String]) -> Option<&'a mut Vec<I
     };
     match value {
         Value::Group { items, .. } => Some(items),
-        Value::Atom(_) => None,
+        Value::Atom(..) => None,
     }
 }
 
@@ -375,15 +103,17 @@ fn paths(value: &Value, prefix: &[String], out: &mut Vec<Vec<String>>) {
 /// A value without its comments.
 fn bare(value: &Value) -> Value {
     match value {
-        Value::Atom(a) => Value::Atom(a.clone()),
+        Value::Atom(..) => value.clone(),
         Value::Group {
             name,
+            at,
             open,
             items,
             broken,
             ..
         } => Value::Group {
             broken: *broken,
+            at: *at,
             name: name.clone(),
             open: *open,
             items: items
@@ -398,160 +128,6 @@ fn bare(value: &Value) -> Value {
             tail: Vec::new(),
         },
     }
-}
-
-fn close_of(open: char) -> char {
-    match open {
-        '(' => ')',
-        '[' => ']',
-        _ => '}',
-    }
-}
-
-/// One line, comments ignored.
-fn flat(value: &Value) -> String {
-    match value {
-        Value::Atom(a) => a.clone(),
-        Value::Group {
-            name, open, items, ..
-        } => {
-            let inner: Vec<String> = items.iter().map(flat_item).collect();
-            format!("{name}{open}{}{}", inner.join(", "), close_of(*open))
-        }
-    }
-}
-
-fn flat_item(item: &Item) -> String {
-    match &item.key {
-        Some(k) => format!("{k}: {}", flat(&item.value)),
-        None => flat(&item.value),
-    }
-}
-
-fn has_comments(value: &Value) -> bool {
-    match value {
-        Value::Atom(_) => false,
-        Value::Group { items, tail, .. } => {
-            !tail.is_empty()
-                || items
-                    .iter()
-                    .any(|i| !i.before.is_empty() || i.after.is_some() || has_comments(&i.value))
-        }
-    }
-}
-
-/// Lay `value` out starting at column `column` (after a key), its lines indented by
-/// `indent`, with `suffix` (a comma) after it.
-fn layout(value: &Value, indent: usize, column: usize, suffix: &str, out: &mut String) {
-    let flat_text = flat(value);
-    let Value::Group {
-        name,
-        open,
-        items,
-        tail,
-        broken,
-    } = value
-    else {
-        out.push_str(&flat_text);
-        out.push_str(suffix);
-        return;
-    };
-    let nested = items
-        .iter()
-        .filter(|i| matches!(i.value, Value::Group { .. }))
-        .count();
-    let fits = column + flat_text.chars().count() + suffix.len() <= WIDTH;
-    // As the file had it, if it comes from the file; else on one line when it fits and holds
-    // at most one nested group.
-    let one_line = match broken {
-        Some(broken) => !broken,
-        None => fits && nested <= 1,
-    };
-    if indent > 0 && one_line && !has_comments(value) {
-        out.push_str(&flat_text);
-        out.push_str(suffix);
-        return;
-    }
-    let inner = indent + INDENT;
-    let pad = " ".repeat(inner);
-    out.push_str(name);
-    out.push(*open);
-    out.push('\n');
-    let plain_list = items.iter().all(|i| {
-        i.key.is_none()
-            && matches!(i.value, Value::Atom(_))
-            && i.before.is_empty()
-            && i.after.is_none()
-    });
-    if plain_list && !items.is_empty() {
-        // Numbers (or names) fill their lines.
-        let mut line = String::new();
-        for item in items {
-            let word = format!("{},", flat(&item.value));
-            if !line.is_empty() && inner + line.len() + 1 + word.len() > WIDTH {
-                out.push_str(&pad);
-                out.push_str(&line);
-                out.push('\n');
-                line.clear();
-            }
-            if !line.is_empty() {
-                line.push(' ');
-            }
-            line.push_str(&word);
-        }
-        out.push_str(&pad);
-        out.push_str(&line);
-        out.push('\n');
-    } else {
-        for item in items {
-            for comment in &item.before {
-                push_comment(comment, &pad, out);
-            }
-            out.push_str(&pad);
-            let mut column = inner;
-            if let Some(k) = &item.key {
-                out.push_str(k);
-                out.push_str(": ");
-                column += k.chars().count() + 2;
-            }
-            layout(&item.value, inner, column, ",", out);
-            if let Some(after) = &item.after {
-                out.push(' ');
-                out.push_str(after);
-            }
-            out.push('\n');
-        }
-    }
-    for comment in tail {
-        push_comment(comment, &pad, out);
-    }
-    out.push_str(&" ".repeat(indent));
-    out.push(close_of(*open));
-    out.push_str(suffix);
-}
-
-/// A comment on its own lines at `pad`; a block comment's later lines as written.
-fn push_comment(comment: &str, pad: &str, out: &mut String) {
-    out.push_str(pad);
-    out.push_str(comment);
-    out.push('\n');
-}
-
-fn render(header: &str, root: &Value, footer: &[String]) -> String {
-    let mut out = header.to_string();
-    layout(
-        root,
-        0,
-        header.lines().last().map_or(0, str::len),
-        "",
-        &mut out,
-    );
-    out.push('\n');
-    for comment in footer {
-        out.push_str(comment);
-        out.push('\n');
-    }
-    out
 }
 
 /// Whether `text` reads back as `study`.
@@ -645,7 +221,7 @@ pub fn write(study: &Study, original: Option<&str>) -> Written {
         let theirs = find(&old.root, path).expect("listed");
         let tail = match &theirs.value {
             Value::Group { tail, .. } => tail.clone(),
-            Value::Atom(_) => Vec::new(),
+            Value::Atom(..) => Vec::new(),
         };
         if theirs.before.is_empty() && theirs.after.is_none() && tail.is_empty() {
             continue;
