@@ -265,3 +265,98 @@ fn a_task_is_not_requeued_when_cancelled_or_out_of_requeues() {
     assert_eq!(task.run(0, false), Some(0));
     assert_eq!(task.read("scontrol.txt"), "");
 }
+
+/// Every value that reaches a job script, hostile: Slurm names are refused, paths that an
+/// `#SBATCH` line cannot hold are refused, a study's free-text name is reduced to a job name,
+/// and the words of the shell body are quoted so that bash reads them back unchanged.
+#[test]
+fn hostile_values_never_reach_a_script_as_code() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("d");
+    for (flag, value) in [
+        ("--partition", "p\n#SBATCH --wrap=evil"),
+        ("--partition", "p;id"),
+        ("--account", "a b;id"),
+        ("--account", "$(id)"),
+        ("--out", "/tmp/x\n#SBATCH --wrap=evil"),
+        ("--out", "/tmp/my out"),
+    ] {
+        let mut args = vec!["slurm", "default", "--out", out.to_str().unwrap()];
+        args.extend_from_slice(&[flag, value]);
+        let o = rocklab(&args);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{flag} {value:?}: {stderr}");
+        assert!(
+            stderr.contains(flag) || stderr.contains("Slurm name"),
+            "{stderr}"
+        );
+    }
+    // A study whose name is hostile: the directives stay the ones rocklab writes.
+    let study = dir.path().join("evil study $(id).ron");
+    let text = std::fs::read_to_string("studies/default.ron")
+        .unwrap()
+        .replacen(
+            "name: \"default\"",
+            "name: \"x\\n#SBATCH --wrap=evil $(id) `id`\"",
+            1,
+        );
+    assert!(
+        text.contains("--wrap=evil"),
+        "the default study's name moved"
+    );
+    std::fs::write(&study, text).unwrap();
+    let o = rocklab(&[
+        "slurm",
+        study.to_str().unwrap(),
+        "--tasks",
+        "2",
+        "--partition",
+        "short,long",
+        "--account",
+        "quake-lab.1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for script in ["array.sh", "merge.sh"] {
+        let text = written(&out, script);
+        let directives: Vec<&str> = text.lines().filter(|l| l.starts_with("#SBATCH")).collect();
+        assert!(
+            directives
+                .iter()
+                .all(|l| !l.contains("wrap") && !l.contains('$')),
+            "{text}"
+        );
+        assert!(
+            directives.contains(&"#SBATCH --partition=short,long"),
+            "{text}"
+        );
+        assert!(
+            directives.contains(&"#SBATCH --account=quake-lab.1"),
+            "{text}"
+        );
+        assert!(
+            text.lines().all(|l| !l.starts_with("#SBATCH --wrap")),
+            "{text}"
+        );
+        // The study path is one quoted word: bash reads it back as written.
+        if script == "array.sh" {
+            let line = text.lines().find(|l| l.contains(" run ")).unwrap();
+            let word = line
+                .split(" run ")
+                .nth(1)
+                .unwrap()
+                .split(" --out")
+                .next()
+                .unwrap();
+            let echo = Command::new("bash")
+                .args(["-c", &format!("printf %s {word}")])
+                .output()
+                .unwrap();
+            assert_eq!(
+                String::from_utf8_lossy(&echo.stdout),
+                std::fs::canonicalize(&study).unwrap().to_str().unwrap()
+            );
+        }
+    }
+}

@@ -36,9 +36,11 @@ pub struct SlurmArgs {
     /// Time limit per task: minutes, MM:SS, HH:MM:SS, D-HH, D-HH:MM or D-HH:MM:SS.
     #[arg(long, default_value = "01:00:00", value_parser = parse_time)]
     pub time: u64,
-    #[arg(long)]
+    /// Slurm partition(s): names of letters, digits, `_`, `-`, `.`, comma-separated.
+    #[arg(long, value_parser = slurm_name)]
     pub partition: Option<String>,
-    #[arg(long)]
+    /// Slurm account: a name of letters, digits, `_`, `-`, `.`.
+    #[arg(long, value_parser = slurm_name)]
     pub account: Option<String>,
     /// Times a task stopped before its time limit requeues itself to resume.
     #[arg(long, default_value_t = 3)]
@@ -134,6 +136,60 @@ pub fn format_time(seconds: u64) -> String {
     }
 }
 
+/// A Slurm partition or account name, checked before it goes into an `#SBATCH` line (those
+/// lines are not shell words and cannot be quoted: a newline would add a directive).
+pub fn slurm_name(text: &str) -> Result<String, String> {
+    let ok = |c: char| c.is_ascii_alphanumeric() || "_-.,".contains(c);
+    if !text.is_empty() && text.len() <= 64 && text.chars().all(ok) {
+        Ok(text.to_string())
+    } else {
+        Err(format!(
+            "{:?} is not a Slurm name: use letters, digits, `_`, `-` and `.` (partitions may be \
+             a comma-separated list), at most 64 characters",
+            text
+        ))
+    }
+}
+
+/// The study's name as a Slurm job name and a comment: anything but letters, digits and
+/// `_-.` becomes `_` (a study name is free text; a newline in it must not reach a script).
+fn job_word(text: &str) -> String {
+    let word: String = text
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "_-.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .take(64)
+        .collect();
+    if word.is_empty() {
+        "study".into()
+    } else {
+        word
+    }
+}
+
+/// A path in an `#SBATCH` line: sbatch splits these at white space and reads no shell
+/// quoting, so a path that holds white space, a quote or a control character is refused
+/// (`what` names the flag or place it came from).
+fn sbatch_path(path: &Path, what: &str) -> anyhow::Result<String> {
+    let text = path.display().to_string();
+    if text
+        .chars()
+        .any(|c| c.is_whitespace() || c.is_control() || "\"'\\".contains(c))
+    {
+        return Err(UsageError::new(format!(
+            "{what} {text:?} holds white space, a quote or a control character, which an \
+             #SBATCH line cannot hold; choose a path of plain characters"
+        ))
+        .into());
+    }
+    Ok(text)
+}
+
 /// A word for bash: single-quoted unless it is plainly safe.
 fn quote(text: &str) -> String {
     let safe = |c: char| c.is_ascii_alphanumeric() || "/._-+=:,@".contains(c);
@@ -184,11 +240,11 @@ impl Plan {
         for line in lines {
             let _ = writeln!(out, "#SBATCH {line}");
         }
-        if let Some(p) = &self.partition {
-            let _ = writeln!(out, "#SBATCH --partition={p}");
-        }
-        if let Some(a) = &self.account {
-            let _ = writeln!(out, "#SBATCH --account={a}");
+        // Checked by `slurm_name` (and again here: a Plan may be built by hand).
+        for (flag, name) in [("partition", &self.partition), ("account", &self.account)] {
+            if let Some(name) = name.as_deref().and_then(|n| slurm_name(n).ok()) {
+                let _ = writeln!(out, "#SBATCH --{flag}={name}");
+            }
         }
         let _ = writeln!(
             out,
@@ -205,8 +261,8 @@ impl Plan {
         let _ = writeln!(
             s,
             "# Written by `rocklab slurm` for study {} (hash {}): {} scenes in {}.",
-            self.study_name,
-            self.study_hash,
+            job_word(&self.study_name),
+            job_word(&self.study_hash),
             self.scenes,
             self.tasks_text()
         );
@@ -215,7 +271,7 @@ impl Plan {
         );
         self.common_header(
             &mut s,
-            &format!("rocklab-{}", self.study_name),
+            &format!("rocklab-{}", job_word(&self.study_name)),
             "array-%A_%a.log",
             self.cpus_per_task,
         );
@@ -270,11 +326,12 @@ exit "$status"
         let _ = writeln!(
             s,
             "# Written by `rocklab slurm` for study {} (hash {}): merges the {n} shards of the array.",
-            self.study_name, self.study_hash
+            job_word(&self.study_name),
+            job_word(&self.study_hash)
         );
         self.common_header(
             &mut s,
-            &format!("rocklab-{}-merge", self.study_name),
+            &format!("rocklab-{}-merge", job_word(&self.study_name)),
             "merge-%j.log",
             1,
         );
@@ -380,6 +437,8 @@ pub fn run(args: &SlurmArgs) -> anyhow::Result<()> {
         out,
         workdir: std::env::current_dir()?,
     };
+    sbatch_path(&plan.logs_dir(), "--out")?;
+    sbatch_path(&plan.workdir, "the working directory")?;
     let logs = plan.logs_dir();
     std::fs::create_dir_all(&logs).with_context(|| format!("cannot create {}", logs.display()))?;
     let array = plan.scripts_dir().join("array.sh");
