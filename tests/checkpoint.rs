@@ -524,3 +524,85 @@ fn merge_refuses_shards_of_different_builds_unless_forced() {
     let same = merge(vec![part((0, 2), "aaaa"), part((1, 2), "aaaa")], false).unwrap();
     assert_eq!(same.build, "aaaa");
 }
+
+/// `run --force` of studies A, B, then C into one directory: A's results are set aside as
+/// results.json.previous, B's beside them as results.json.previous.2; none is overwritten.
+#[test]
+fn forced_runs_never_overwrite_set_aside_results() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    for name in ["a", "b", "c"] {
+        let study = dir.path().join(format!("{name}.ron"));
+        let text = format!(
+            "(version: 1, name: \"{name}\", structure: rigid(p: 2.0, alpha: 0.2), \
+             devices: [none], excitation: pulse(shape: sine, amplitude: alpha_ratio(2.0), \
+             frequency: ratio([2.0, 4.0])), duration: 2.0)"
+        );
+        std::fs::write(&study, text).unwrap();
+        let o = rocklab(&[
+            "run",
+            study.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--force",
+            "--quiet",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let name = |file: &str| {
+        let r = rocklab::sweep::load_results(&out.join(file)).unwrap();
+        r.study.unwrap().name
+    };
+    assert_eq!(name("results.json"), "c");
+    assert_eq!(name("results.json.previous"), "a");
+    assert_eq!(name("results.json.previous.2"), "b");
+}
+
+/// A journal line edited on disk (a peak changed to 7.0) fails its checksum: the rerun says
+/// so, recomputes that scene, and the results are the ones of the untouched run.
+#[test]
+fn an_edited_journal_line_is_recomputed_not_reused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let study = dir.path().join("s.ron");
+    std::fs::write(
+        &study,
+        "(version: 1, name: \"s\", structure: rigid(p: 2.0, alpha: 0.2), devices: [none], \
+         excitation: pulse(shape: sine, amplitude: alpha_ratio(2.0), frequency: ratio([2.0, \
+         4.0, 8.0])), duration: 2.0)",
+    )
+    .unwrap();
+    let o = crate::util::run_into(study.to_str().unwrap(), &out);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let before = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let journal_path = out.join("results.journal");
+    let text = std::fs::read_to_string(&journal_path).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let field = "\"peak_rotation_ratio\":";
+    let at = lines[2].find(field).expect("a peak in the line") + field.len();
+    let end = at + lines[2][at..].find([',', '}']).unwrap();
+    assert_ne!(&lines[2][at..end], "7.0");
+    lines[2].replace_range(at..end, "7.0");
+    std::fs::write(&journal_path, lines.join("\n") + "\n").unwrap();
+    assert_eq!(
+        journal::read_journal(&journal_path, false)
+            .unwrap()
+            .damaged_lines,
+        1
+    );
+
+    let o = crate::util::run_into(study.to_str().unwrap(), &out);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    assert!(stderr.contains("1 damaged line"), "{stderr}");
+    assert_eq!(
+        std::fs::read_to_string(out.join("results.csv")).unwrap(),
+        before
+    );
+    assert_eq!(
+        journal::read_journal(&journal_path, false)
+            .unwrap()
+            .damaged_lines,
+        1
+    );
+}

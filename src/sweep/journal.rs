@@ -11,6 +11,11 @@
 //! uses, and the file stays readable with `head`/`jq` on a cluster login node. Scene data
 //! (the expanded point) is not repeated: the study in the header re-expands to the points.
 //!
+//! Every scene line carries a checksum of itself (`{"sum":"…","index":…}`: the first 16 hex
+//! digits of the SHA-256 of the line from its `"index"` on, with the leading `{`), so a line
+//! changed on disk (a flipped bit, an edit) is found, reported and its scene recomputed, never
+//! reused; the line stays one JSON object for `jq`.
+//!
 //! Durability against power loss: the data is synced at most once a second and on close, so
 //! a power cut loses at most the last second of scenes; a sync per scene would cost a disk
 //! flush per scene.
@@ -27,8 +32,49 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-/// The journal format version.
-pub const JOURNAL_FORMAT: u32 = 1;
+/// The journal format version (2: scene lines carry a checksum).
+pub const JOURNAL_FORMAT: u32 = 2;
+
+/// The start of a checked scene line, before its checksum.
+const SUM_PREFIX: &[u8] = b"{\"sum\":\"";
+/// Hex digits of a line's checksum.
+const SUM_DIGITS: usize = 16;
+
+/// The checksum of a scene line's body (`{"index":…}`).
+fn checksum(body: &[u8]) -> String {
+    use sha2::{Digest, Sha256};
+    let digest = Sha256::digest(body);
+    digest[..SUM_DIGITS / 2]
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// A scene entry's JSON as a checked line: `{"sum":"…",` then the body after its `{`.
+fn checked_line(body: &[u8]) -> Vec<u8> {
+    let mut line = Vec::with_capacity(body.len() + SUM_PREFIX.len() + SUM_DIGITS + 3);
+    line.extend_from_slice(SUM_PREFIX);
+    line.extend_from_slice(checksum(body).as_bytes());
+    line.extend_from_slice(b"\",");
+    line.extend_from_slice(&body[1..]);
+    line.push(b'\n');
+    line
+}
+
+/// Whether a scene line (newline included or not) matches its checksum.
+fn line_is_intact(line: &[u8]) -> bool {
+    let line = line.strip_suffix(b"\n").unwrap_or(line);
+    let Some(rest) = line.strip_prefix(SUM_PREFIX) else {
+        return false;
+    };
+    if rest.len() < SUM_DIGITS + 2 || &rest[SUM_DIGITS..SUM_DIGITS + 2] != b"\"," {
+        return false;
+    }
+    let mut body = Vec::with_capacity(rest.len() - SUM_DIGITS - 1);
+    body.push(b'{');
+    body.extend_from_slice(&rest[SUM_DIGITS + 2..]);
+    checksum(&body).as_bytes() == &rest[..SUM_DIGITS]
+}
 
 /// What the scene lines of a journal belong to.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -111,10 +157,7 @@ impl Journal {
     /// written: the sweep then stops starting scenes.
     pub fn append(&self, index: usize, key: &str, result: &Result<SceneResult, String>) -> bool {
         // Serialise outside the lock: workers only queue for the write itself.
-        let line = serde_json::to_vec(&EntryOut { index, key, result }).map(|mut l| {
-            l.push(b'\n');
-            l
-        });
+        let line = serde_json::to_vec(&EntryOut { index, key, result }).map(|b| checked_line(&b));
         let Ok(mut appender) = self.file.lock() else {
             return false;
         };
@@ -161,7 +204,8 @@ pub struct JournalContents {
     pub header: JournalHeader,
     /// Finished scenes, keyed by scene key (the last line wins for a key written twice).
     pub entries: HashMap<String, Entry>,
-    /// Lines that could not be read (a torn tail from a power loss, damaged lines).
+    /// Lines that could not be read or fail their checksum (a torn tail from a power loss,
+    /// a line changed on disk): their scenes are recomputed.
     pub damaged_lines: usize,
 }
 
@@ -214,6 +258,10 @@ pub fn read_journal(path: &Path, repair: bool) -> anyhow::Result<JournalContents
             break;
         }
         offset += n as u64;
+        if !line_is_intact(&line) {
+            damaged_lines += 1;
+            continue;
+        }
         match serde_json::from_slice::<Entry>(&line) {
             Ok(entry) => {
                 entries.insert(entry.key.clone(), entry);
@@ -248,7 +296,8 @@ pub fn count_journal(path: &Path) -> anyhow::Result<(JournalHeader, JournalCount
     let mut counts = JournalCounts::default();
     for line in reader.lines().skip(1) {
         let Ok(line) = line else { break };
-        if let Ok(entry) = serde_json::from_str::<Light>(&line)
+        if line_is_intact(line.as_bytes())
+            && let Ok(entry) = serde_json::from_str::<Light>(&line)
             && seen.insert(entry.index)
         {
             match entry.result {
@@ -304,4 +353,25 @@ pub fn results_from_journal(path: &Path) -> anyhow::Result<SweepResults> {
         build: header.build,
         inferred: inferred.unwrap_or_default(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_line_changed_anywhere_fails_its_checksum() {
+        let body = br#"{"index":3,"key":"ab","result":{"Ok":{"peak_rotation_ratio":0.0}}}"#;
+        let line = checked_line(body);
+        assert!(line_is_intact(&line));
+        assert!(line.starts_with(SUM_PREFIX) && line.ends_with(b"}\n"));
+        let entry: serde_json::Value = serde_json::from_slice(&line).unwrap();
+        assert_eq!(entry["index"], 3);
+        for at in SUM_PREFIX.len()..line.len() - 1 {
+            let mut bad = line.clone();
+            bad[at] = if bad[at] == b'7' { b'8' } else { b'7' };
+            assert!(!line_is_intact(&bad), "a change at byte {at} went unseen");
+        }
+        assert!(!line_is_intact(&body[..]));
+    }
 }

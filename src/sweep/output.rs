@@ -204,7 +204,7 @@ pub fn open_output(
         if !opts.force {
             return Err(other_study(&results_path, name.as_deref(), &other_hash).into());
         }
-        let aside = results_path.with_extension("json.previous");
+        let aside = free_aside(&results_path);
         std::fs::rename(&results_path, &aside)
             .with_context(|| format!("cannot move {} aside", results_path.display()))?;
         notes.push(format!(
@@ -338,4 +338,18 @@ fn probe_writable(dir: &Path) -> std::io::Result<()> {
         .tempfile_in(dir)?;
     probe.write_all(&[0u8; 4096])?;
     probe.as_file().sync_all()
+}
+
+/// Where results set aside by `--force` go: `results.json.previous`, or the first free
+/// `results.json.previous.N` (N ≥ 2) if that is taken, so that no set-aside results are ever
+/// overwritten by a later `--force`.
+fn free_aside(results: &Path) -> PathBuf {
+    let first = results.with_extension("json.previous");
+    if !first.exists() {
+        return first;
+    }
+    (2..)
+        .map(|n| results.with_extension(format!("json.previous.{n}")))
+        .find(|p| !p.exists())
+        .expect("some number is free")
 }
