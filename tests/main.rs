@@ -27,6 +27,7 @@ mod robustness;
 mod saving;
 mod scene_history;
 mod slurm;
+mod strict_inputs;
 mod studies;
 mod study;
 mod suites;

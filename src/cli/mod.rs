@@ -170,6 +170,7 @@ pub fn main() -> ExitCode {
                 | Command::Compare(_)
                 | Command::Plot(_)
                 | Command::Status(_)
+                | Command::Table(_)
         )
     ) {
         quiet_on_broken_pipe();

@@ -23,6 +23,10 @@ pub struct PlotArgs {
     /// PNG resolution in dots per inch (SVG is resolution independent).
     #[arg(long, default_value_t = 300.0, value_parser = parse_dpi)]
     pub dpi: f64,
+    /// Largest PNG, in megapixels, that --size and --dpi may ask for (each megapixel takes
+    /// 3 MB of memory while it is drawn).
+    #[arg(long, default_value_t = 100.0)]
+    pub max_megapixels: f64,
     /// Draw only the series that match, as `compare --a/--b` selects: a device kind or label
     /// with parameter values in the study's syntax, e.g. `mechanistic`, `bare`,
     /// `mechanistic(k_theta: 3.0, play: [0.0, 0.005])`, `sequential(record: landers)`.
@@ -64,7 +68,31 @@ fn parse_dpi(text: &str) -> Result<f64, String> {
     }
 }
 
+/// A PNG of `--size` at `--dpi` must fit in `--max-megapixels`: checked before anything is
+/// drawn or allocated (plotters would try to allocate it, or panic past its limits).
+fn check_pixels(args: &PlotArgs) -> Result<(), UsageError> {
+    let (Some(size), Some(_)) = (args.size, &args.png) else {
+        return Ok(());
+    };
+    let options = FigureOptions {
+        format: ImageFormat::Png,
+        size: Some(size),
+        dpi: args.dpi,
+    };
+    let (w, h) = options.canvas(size).pixels;
+    let megapixels = f64::from(w) * f64::from(h) / 1e6;
+    if !(args.max_megapixels > 0.0) || megapixels > args.max_megapixels {
+        return Err(UsageError::new(format!(
+            "--size {:.0}x{:.0}mm at --dpi {} is a {w}×{h} px PNG ({megapixels:.0} megapixels), \
+             over the limit of {} megapixels; lower --size or --dpi, or raise --max-megapixels",
+            size.width_mm, size.height_mm, args.dpi, args.max_megapixels
+        )));
+    }
+    Ok(())
+}
+
 pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
+    check_pixels(args)?;
     let results_path = super::compare::resolve_results(&args.results);
     let results = report::load_results(&results_path)?;
     // A fragility study's report sits beside its results.

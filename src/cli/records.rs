@@ -72,7 +72,10 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
     if let Some(dir) = &args.records_dir {
         super::existing_records_dir(dir)?;
     }
-    let dir = args.records_dir.clone().or_else(Library::default_dir);
+    let dir = match &args.records_dir {
+        Some(dir) => Some(dir.clone()),
+        None => Library::checked_default_dir()?,
+    };
     let library = Library::open(dir)?;
     if let Some(suite) = &args.suite {
         return super::records_suite::run(&library, suite, args);

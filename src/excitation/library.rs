@@ -217,11 +217,12 @@ impl Library {
         };
         let index: Vec<RecordMeta> = ron::from_str(&text).map_err(|e| {
             RecordError::Parse(ParseError {
-                origin,
+                origin: origin.clone(),
                 line: e.span.start.line,
                 message: format!("{}", e.code),
             })
         })?;
+        check_index(&index, &text, &origin)?;
         let suites = read_suites(dir.as_deref())?;
         Ok(Library {
             dir,
@@ -260,6 +261,24 @@ impl Library {
         std::env::var_os(RECORDS_ENV)
             .map(PathBuf::from)
             .or_else(|| Some(PathBuf::from("records")).filter(|p| p.join("index.ron").is_file()))
+    }
+
+    /// [`Library::default_dir`], refusing a `$ROCKLAB_RECORDS` that is not a directory (as
+    /// `--records-dir` is refused): a mistyped variable must not silently fall back.
+    pub fn checked_default_dir() -> Result<Option<PathBuf>, RecordError> {
+        if let Some(dir) = std::env::var_os(RECORDS_ENV) {
+            let dir = PathBuf::from(dir);
+            if !dir.is_dir() {
+                return Err(RecordError::Io {
+                    path: dir.display().to_string(),
+                    message: format!(
+                        "${RECORDS_ENV} names no directory (hint: point it at a folder of \
+                         record files with an index.ron, or unset it)"
+                    ),
+                });
+            }
+        }
+        Ok(Self::default_dir())
     }
 
     pub fn dir(&self) -> Option<&Path> {
@@ -349,7 +368,15 @@ impl Library {
                 d.display().to_string()
             });
         if let Some(meta) = self.find_entry(name) {
-            let (source, series) = match self.read_data(&meta.file, meta.dt)? {
+            let expected = reader::Expected {
+                dt: meta.dt,
+                units: Some(
+                    reader::Units::from_word(&meta.units)
+                        .map_err(|why| index_error(&meta.name, why))?,
+                ),
+                npts: meta.npts,
+            };
+            let (source, series) = match self.read_data(&meta.file, &expected)? {
                 Some(found) => found,
                 None => match meta.stand_in {
                     Some(s) => (Source::StandIn(s), s.checked(&meta.name)?.series()),
@@ -392,7 +419,7 @@ impl Library {
             .chain(top_level_embedded())
             .find(|f| is_data_file(f) && stem(f).eq_ignore_ascii_case(name));
         if let Some(file) = by_stem
-            && let Some((source, series)) = self.read_data(&file, None)?
+            && let Some((source, series)) = self.read_data(&file, &reader::Expected::default())?
         {
             return Ok(Record {
                 name: stem(&file).to_string(),
@@ -423,18 +450,23 @@ impl Library {
     fn read_data(
         &self,
         file: &str,
-        dt: Option<f64>,
+        expected: &reader::Expected,
     ) -> Result<Option<(Source, Series)>, RecordError> {
         if let Some(dir) = &self.dir {
             let path = dir.join(file);
             if path.is_file() {
-                return Ok(Some((Source::File(path.clone()), read_path(&path, dt)?)));
+                let text = std::fs::read_to_string(&path).map_err(|e| RecordError::Io {
+                    path: path.display().to_string(),
+                    message: e.to_string(),
+                })?;
+                let series = reader::parse_expecting(&text, &path.display().to_string(), expected)?;
+                return Ok(Some((Source::File(path.clone()), series)));
             }
         }
         match embedded_file(file) {
             Some(text) => Ok(Some((
                 Source::Embedded(file.to_string()),
-                reader::parse(text, &format!("embedded {file}"), dt)?,
+                reader::parse_expecting(text, &format!("embedded {file}"), expected)?,
             ))),
             None => Ok(None),
         }
@@ -479,6 +511,70 @@ fn read_suites(dir: Option<&Path>) -> Result<Vec<SuiteRecord>, RecordError> {
     Ok(out)
 }
 
+fn index_error(name: &str, message: String) -> RecordError {
+    RecordError::Parse(ParseError {
+        origin: "index.ron".into(),
+        line: 0,
+        message: format!("record '{name}': {message}"),
+    })
+}
+
+/// The strict reading of a records index: no name (or Table 1 row) given to two entries,
+/// since a name must pick one file; and units an acceleration has. Errors name the line.
+fn check_index(index: &[RecordMeta], text: &str, origin: &str) -> Result<(), RecordError> {
+    // Line of each entry's key (from the text's tree; 0 where the text cannot say).
+    let tree = crate::ron_syntax::parse(text, false).ok();
+    let line_of = |entry: usize, key: &str| {
+        tree.as_ref()
+            .and_then(|t| t.root.items().get(entry))
+            .and_then(|item| item.value.items().iter().find(|i| i.key() == Some(key)))
+            .map_or(0, |i| i.value.span().line)
+    };
+    let error = |entry: usize, key: &str, message: String| {
+        RecordError::Parse(ParseError {
+            origin: origin.to_string(),
+            line: line_of(entry, key),
+            message,
+        })
+    };
+    for (i, meta) in index.iter().enumerate() {
+        if let Some(first) = index[..i]
+            .iter()
+            .position(|m| m.name.eq_ignore_ascii_case(&meta.name))
+        {
+            return Err(error(
+                i,
+                "name",
+                format!(
+                    "name: \"{}\" is given to two entries (the first on line {}); a name \
+                     must pick one record: rename one",
+                    meta.name,
+                    line_of(first, "name")
+                ),
+            ));
+        }
+        if let Some(row) = meta.table1
+            && let Some(first) = index[..i].iter().position(|m| m.table1 == Some(row))
+        {
+            return Err(error(
+                i,
+                "table1",
+                format!(
+                    "table1: {row} is given to '{}' and to '{}' (line {}); a Table 1 row \
+                     names one record",
+                    meta.name,
+                    index[first].name,
+                    line_of(first, "table1")
+                ),
+            ));
+        }
+        if let Err(why) = reader::Units::from_word(&meta.units) {
+            return Err(error(i, "units", format!("record '{}': {why}", meta.name)));
+        }
+    }
+    Ok(())
+}
+
 fn embedded_file(name: &str) -> Option<&'static str> {
     embedded::EMBEDDED
         .iter()
@@ -510,7 +606,10 @@ pub fn set_records_dir(dir: PathBuf) -> bool {
 /// records in as an argument, so a scene depends on no hidden state.
 pub fn global() -> Result<&'static Library, RecordError> {
     GLOBAL
-        .get_or_init(|| Library::open(DIR_OVERRIDE.get().cloned().or_else(Library::default_dir)))
+        .get_or_init(|| match DIR_OVERRIDE.get() {
+            Some(dir) => Library::open(Some(dir.clone())),
+            None => Library::open(Library::checked_default_dir()?),
+        })
         .as_ref()
         .map_err(Clone::clone)
 }

@@ -42,22 +42,58 @@ impl Units {
         }
     }
 
-    /// Units named in free header text ("IN UNITS OF G", "# units: cm/s2 ..."), if any.
-    fn named_in(text: &str) -> Option<Units> {
+    /// Units named in free header text ("IN UNITS OF G", "# units: cm/s2 ..."): None if the
+    /// text names no units, an error message if it names units that are not an acceleration's
+    /// (a velocity record, `furlongs`).
+    pub fn named_in(text: &str) -> Option<Result<Units, String>> {
         let t = text.to_ascii_lowercase();
         let tail = t
             .split_once("units of")
             .or_else(|| t.split_once("units:"))
             .map(|(_, rest)| rest.trim())?;
-        let word = tail.split_whitespace().next().unwrap_or("");
-        if word.starts_with("cm/s") || word.starts_with("cm/sec") || word == "gal" {
-            Some(Units::CmPerS2)
-        } else if word.starts_with("m/s") {
-            Some(Units::MPerS2)
-        } else if word == "g" || word.starts_with("g,") || word.starts_with("g(") {
-            Some(Units::G)
+        let word = tail
+            .split_whitespace()
+            .next()
+            .unwrap_or("")
+            .trim_end_matches([',', '.', ';', ')', '(']);
+        Some(Units::from_word(word))
+    }
+
+    /// Units of acceleration by name (`g`, `cm/s2`, `gal`, `m/s^2`, …).
+    pub fn from_word(word: &str) -> Result<Units, String> {
+        let w = word
+            .to_ascii_lowercase()
+            .replace("sec", "s")
+            .replace("**", "^");
+        let per_s2 = |unit: &str| {
+            ["s2", "s^2", "s/s"]
+                .iter()
+                .any(|tail| w == format!("{unit}/{tail}"))
+        };
+        if w == "g" || w.starts_with("g(") {
+            Ok(Units::G)
+        } else if per_s2("cm") || w == "gal" {
+            Ok(Units::CmPerS2)
+        } else if per_s2("m") {
+            Ok(Units::MPerS2)
+        } else if ["cm/s", "m/s", "in/s", "cm", "m", "in"].contains(&w.as_str()) {
+            Err(format!(
+                "units '{word}' are a velocity's or a displacement's: rocklab reads ground \
+                 acceleration (g, cm/s2 or m/s2)"
+            ))
         } else {
-            None
+            Err(format!(
+                "unknown units '{word}': expected g, cm/s2 (gal) or m/s2"
+            ))
+        }
+    }
+
+    /// The unit's name as an index or header writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Units::G => "g",
+            Units::CmPerS2 => "cm/s2",
+            Units::MPerS2 => "m/s2",
         }
     }
 }
@@ -143,11 +179,38 @@ pub fn numbers_in(line: &str, origin: &str, line_no: usize) -> Result<Vec<f64>, 
     Ok(out)
 }
 
+/// What a records index says of a file, checked against what the file says of itself.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Expected {
+    /// Time step; a one-column file without a `# dt:` line takes it.
+    pub dt: Option<f64>,
+    /// Units; a file that names none takes them, one that names others is refused.
+    pub units: Option<Units>,
+    /// Number of samples.
+    pub npts: Option<usize>,
+}
+
 /// Read an acceleration history. The format is detected from the content: a line mentioning
 /// NPTS among the first six makes it an AT2 file; otherwise `#` comment lines may give
-/// `dt:` and `units:`, and the data are one column (a, needs a dt from the header or from
-/// `dt`) or two columns (t, a; uniform spacing required). Units default to g.
+/// `dt:`, `units:` and `npts:`, and the data are one column (a, needs a dt from the header or
+/// from `dt`) or two columns (t, a; uniform spacing required). Units default to g.
 pub fn parse(text: &str, origin: &str, dt: Option<f64>) -> Result<Series, ParseError> {
+    parse_expecting(
+        text,
+        origin,
+        &Expected {
+            dt,
+            ..Expected::default()
+        },
+    )
+}
+
+/// [`parse`], refusing a file whose units or sample count disagree with `expected`.
+pub fn parse_expecting(
+    text: &str,
+    origin: &str,
+    expected: &Expected,
+) -> Result<Series, ParseError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     if text.trim().is_empty() {
         return Err(err(origin, 0, "the file is empty"));
@@ -156,18 +219,63 @@ pub fn parse(text: &str, origin: &str, dt: Option<f64>) -> Result<Series, ParseE
         .lines()
         .take(6)
         .any(|l| !l.trim_start().starts_with('#') && l.to_ascii_uppercase().contains("NPTS"));
-    if is_at2 {
-        parse_at2(text, origin)
+    let (series, named_units) = if is_at2 {
+        parse_at2(text, origin, expected.units)?
     } else {
-        parse_columns(text, origin, dt)
+        parse_columns(text, origin, expected)?
+    };
+    if let (Some(want), Some((line, got))) = (expected.units, named_units)
+        && want != got
+    {
+        return Err(err(
+            origin,
+            line,
+            format!(
+                "the file gives its values in {} but the records index says units: \"{}\"",
+                got.name(),
+                want.name()
+            ),
+        ));
+    }
+    if let Some(npts) = expected.npts
+        && npts != series.npts()
+    {
+        return Err(err(
+            origin,
+            0,
+            format!(
+                "the records index says npts: {npts} but the file holds {} samples",
+                series.npts()
+            ),
+        ));
+    }
+    Ok(series)
+}
+
+/// The units a header line names, with its line number (1-based), or the line's error.
+fn header_units(
+    line: &str,
+    line_no: usize,
+    origin: &str,
+) -> Result<Option<(usize, Units)>, ParseError> {
+    match Units::named_in(line) {
+        None => Ok(None),
+        Some(Ok(u)) => Ok(Some((line_no, u))),
+        Some(Err(why)) => Err(err(origin, line_no, why)),
     }
 }
 
 /// PEER NGA AT2: free header lines, then a line with NPTS and DT in either the NGA-West1
 /// style (`1991    0.0100    NPTS, DT`) or the NGA-West2 style (`NPTS=  1991, DT=   .0100 SEC`),
-/// then the values in g (or in the units the header names), any number per line. Values past
-/// NPTS (padding some writers add) are ignored.
-fn parse_at2(text: &str, origin: &str) -> Result<Series, ParseError> {
+/// then the values in g (or in the units the header names), the same number on every line
+/// but the last. A header naming velocity or displacement is refused; values past NPTS are
+/// refused unless they are zeros filling the line that completes NPTS (padding some writers
+/// add).
+fn parse_at2(
+    text: &str,
+    origin: &str,
+    default_units: Option<Units>,
+) -> Result<(Series, Option<(usize, Units)>), ParseError> {
     let lines: Vec<&str> = text.lines().collect();
     let header_idx = lines
         .iter()
@@ -176,24 +284,98 @@ fn parse_at2(text: &str, origin: &str) -> Result<Series, ParseError> {
         .expect("checked by the caller");
     let header_line = header_idx + 1;
     let (npts, dt) = at2_npts_dt(lines[header_idx], origin, header_line)?;
-    let units = lines[..header_idx]
-        .iter()
-        .find_map(|l| Units::named_in(l))
-        .unwrap_or(Units::G);
+    let mut named = None;
+    for (i, line) in lines[..header_idx].iter().enumerate() {
+        let upper = line.to_ascii_uppercase();
+        if (upper.contains("VELOCITY") || upper.contains("DISPLACEMENT"))
+            && !upper.contains("ACCELERATION")
+        {
+            return Err(err(
+                origin,
+                i + 1,
+                format!(
+                    "the header says '{}': rocklab reads ground acceleration (an AT2 file), \
+                     not velocity (VT2) or displacement (DT2)",
+                    line.trim()
+                ),
+            ));
+        }
+        if named.is_none() {
+            named = header_units(line, i + 1, origin)?;
+        }
+    }
+    let units = named.map(|n| n.1).or(default_units).unwrap_or(Units::G);
     let dt = checked_dt(dt, origin, header_line, "DT")?;
     // Never trust the header with the allocation (NPTS = 1E12 asked for 8 TB): reserve what
     // the text can hold at most (two bytes per number), then compare with NPTS.
     let mut values = Vec::with_capacity(npts.min(text.len() / 2 + 1));
     let mut last_data_line = header_line;
+    // (line, count) of the first data line: every later line but the last has as many.
+    let mut width: Option<(usize, usize)> = None;
+    let mut short_line: Option<usize> = None;
     for (i, line) in lines.iter().enumerate().skip(header_idx + 1) {
-        if values.len() >= npts {
-            break;
-        }
         let nums = numbers_in(line, origin, i + 1)?;
-        if !nums.is_empty() {
-            last_data_line = i + 1;
+        if nums.is_empty() {
+            continue;
         }
-        values.extend(nums);
+        if values.len() >= npts {
+            return Err(err(
+                origin,
+                i + 1,
+                format!(
+                    "the header (line {header_line}) says NPTS = {npts}, but the data go on \
+                     past value {npts} (here); fix NPTS or remove the extra values"
+                ),
+            ));
+        }
+        if let Some(short) = short_line {
+            return Err(err(
+                origin,
+                short,
+                format!(
+                    "{} values on this line but {} on line {}: only the last data line may be \
+                     shorter (a value missing here would shift every later sample)",
+                    numbers_in(lines[short - 1], origin, short)?.len(),
+                    width.map_or(0, |w| w.1),
+                    width.map_or(0, |w| w.0)
+                ),
+            ));
+        }
+        match width {
+            None => width = Some((i + 1, nums.len())),
+            Some((first, n)) if nums.len() > n => {
+                return Err(err(
+                    origin,
+                    i + 1,
+                    format!(
+                        "{} values on this line but {n} on line {first}, the first data line: \
+                         every data line holds as many values (the last may hold fewer)",
+                        nums.len()
+                    ),
+                ));
+            }
+            Some((_, n)) if nums.len() < n => short_line = Some(i + 1),
+            Some(_) => {}
+        }
+        last_data_line = i + 1;
+        let room = npts - values.len();
+        if nums.len() > room {
+            // Past NPTS on the line that completes it: allowed as zero padding only.
+            if nums[room..].iter().any(|v| *v != 0.0) {
+                return Err(err(
+                    origin,
+                    i + 1,
+                    format!(
+                        "the header (line {header_line}) says NPTS = {npts}, but this line holds \
+                         {} values past the last one; fix NPTS or remove the extra values",
+                        nums.len() - room
+                    ),
+                ));
+            }
+            values.extend_from_slice(&nums[..room]);
+        } else {
+            values.extend(nums);
+        }
     }
     if values.len() < npts {
         return Err(err(
@@ -205,9 +387,8 @@ fn parse_at2(text: &str, origin: &str) -> Result<Series, ParseError> {
             ),
         ));
     }
-    values.truncate(npts);
     let accel = scaled(values.into_iter(), units.to_mps2(), origin)?;
-    Ok(Series::new(0.0, dt, accel))
+    Ok((Series::new(0.0, dt, accel), named))
 }
 
 fn at2_npts_dt(line: &str, origin: &str, line_no: usize) -> Result<(usize, f64), ParseError> {
@@ -258,25 +439,76 @@ fn at2_npts_dt(line: &str, origin: &str, line_no: usize) -> Result<(usize, f64),
     Ok((npts as usize, dt))
 }
 
-fn parse_columns(text: &str, origin: &str, dt_given: Option<f64>) -> Result<Series, ParseError> {
-    let mut dt_header = None;
-    let mut units = Units::G;
+/// `# key: value` comment lines of a column file; each key may appear once.
+#[derive(Default)]
+struct ColumnHeader {
+    dt: Option<(usize, f64)>,
+    units: Option<(usize, Units)>,
+    npts: Option<(usize, usize)>,
+}
+
+impl ColumnHeader {
+    /// Read one comment (`#` removed); other comments are free text.
+    fn read(&mut self, comment: &str, line: usize, origin: &str) -> Result<(), ParseError> {
+        let c = comment.trim().to_ascii_lowercase();
+        let value_of = |key: &str| {
+            let rest = c.strip_prefix(key)?.trim_start();
+            let rest = rest.strip_prefix(':').or_else(|| rest.strip_prefix('='))?;
+            Some(rest.split_whitespace().next().unwrap_or("").to_string())
+        };
+        let twice = |key: &str, first: usize| {
+            err(
+                origin,
+                line,
+                format!("a second '# {key}:' line (the first is line {first}); give it once"),
+            )
+        };
+        if let Some(v) = value_of("dt") {
+            if let Some((first, _)) = self.dt {
+                return Err(twice("dt", first));
+            }
+            let dt = v
+                .parse::<f64>()
+                .ok()
+                .filter(|d| *d > 0.0 && d.is_finite())
+                .ok_or_else(|| err(origin, line, format!("bad '# dt:' value '{v}'")))?;
+            self.dt = Some((line, dt));
+        } else if let Some(v) = value_of("units") {
+            if let Some((first, _)) = self.units {
+                return Err(twice("units", first));
+            }
+            let units = Units::from_word(v.trim_end_matches([',', '.', ';']))
+                .map_err(|why| err(origin, line, why))?;
+            self.units = Some((line, units));
+        } else if let Some(v) = value_of("npts") {
+            if let Some((first, _)) = self.npts {
+                return Err(twice("npts", first));
+            }
+            let n = v.parse::<usize>().map_err(|_| {
+                err(
+                    origin,
+                    line,
+                    format!("bad '# npts:' value '{v}': a count of samples"),
+                )
+            })?;
+            self.npts = Some((line, n));
+        }
+        Ok(())
+    }
+}
+
+fn parse_columns(
+    text: &str,
+    origin: &str,
+    expected: &Expected,
+) -> Result<(Series, Option<(usize, Units)>), ParseError> {
+    let dt_given = expected.dt;
+    let mut header = ColumnHeader::default();
     let mut rows: Vec<(usize, Vec<f64>)> = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let trimmed = line.trim();
         if let Some(comment) = trimmed.strip_prefix('#') {
-            let c = comment.trim().to_ascii_lowercase();
-            if let Some(v) = c.strip_prefix("dt:").or_else(|| c.strip_prefix("dt =")) {
-                let v = v.split_whitespace().next().unwrap_or("");
-                dt_header = Some(
-                    v.parse::<f64>()
-                        .ok()
-                        .filter(|d| *d > 0.0 && d.is_finite())
-                        .ok_or_else(|| err(origin, i + 1, format!("bad '# dt:' value '{v}'")))?,
-                );
-            } else if let Some(u) = Units::named_in(&c) {
-                units = u;
-            }
+            header.read(comment, i + 1, origin)?;
             continue;
         }
         if trimmed.is_empty() {
@@ -285,6 +517,24 @@ fn parse_columns(text: &str, origin: &str, dt_given: Option<f64>) -> Result<Seri
         let nums = numbers_in(trimmed, origin, i + 1)?;
         rows.push((i + 1, nums));
     }
+    if let Some((line, n)) = header.npts
+        && n != rows.len()
+    {
+        return Err(err(
+            origin,
+            line,
+            format!(
+                "'# npts: {n}' but the file holds {} data rows; fix the count or the data",
+                rows.len()
+            ),
+        ));
+    }
+    let dt_header = header.dt.map(|d| d.1);
+    let units = header
+        .units
+        .map(|u| u.1)
+        .or(expected.units)
+        .unwrap_or(Units::G);
     let Some((first_line, first)) = rows.first() else {
         return Err(err(
             origin,
@@ -329,7 +579,7 @@ fn parse_columns(text: &str, origin: &str, dt_given: Option<f64>) -> Result<Seri
                 })?;
             let dt = checked_dt(dt, origin, 0, "dt")?;
             let accel = scaled(rows.iter().map(|(_, r)| r[0]), scale, origin)?;
-            Ok(Series::new(0.0, dt, accel))
+            Ok((Series::new(0.0, dt, accel), header.units))
         }
         2 => {
             let n = rows.len();
@@ -369,7 +619,7 @@ fn parse_columns(text: &str, origin: &str, dt_given: Option<f64>) -> Result<Seri
                 }
             }
             let accel = scaled(rows.iter().map(|(_, r)| r[1]), scale, origin)?;
-            Ok(Series::new(t0, dt, accel))
+            Ok((Series::new(t0, dt, accel), header.units))
         }
         _ => Err(err(
             origin,

@@ -113,11 +113,33 @@ pub fn motion_for(scene: &Scene, library: &Library) -> Result<Motion, SimError> 
                 .load(name, *baseline)
                 .map_err(|e| SimError::Invalid(e.to_string()))?;
             let series = Arc::clone(&record.series);
-            let factor = scale.factor(series.pga(), series.pgv(), alpha, p);
+            let (pga, pgv) = (series.pga(), series.pgv());
+            let factor = scale.factor(pga, pgv, alpha, p);
             if !factor.is_finite() {
-                return Err(SimError::Invalid(format!(
-                    "record '{name}' is all zeros and cannot be scaled to a target PGA or PGV"
-                )));
+                let corrected = if *baseline {
+                    " after baseline correction"
+                } else {
+                    ""
+                };
+                return Err(SimError::Invalid(
+                    if !(pga.is_finite() && pgv.is_finite()) {
+                        format!(
+                            "record '{name}' cannot be scaled: its PGA or PGV overflows{corrected} \
+                         (values near {:.1e} m/s²); check the file's units and values",
+                            series.samples().iter().fold(0.0f64, |m, a| m.max(a.abs()))
+                        )
+                    } else if pga == 0.0 || pgv == 0.0 {
+                        format!(
+                            "record '{name}' is all zeros{corrected} and cannot be scaled to a \
+                         target PGA or PGV"
+                        )
+                    } else {
+                        format!(
+                            "record '{name}' cannot be scaled by {factor:e}: the factor overflows \
+                         (PGA {pga:.3e} m/s², PGV {pgv:.3e} m/s)"
+                        )
+                    },
+                ));
             }
             Ok(Motion::Record(RecordMotion {
                 factor,

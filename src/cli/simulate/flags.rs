@@ -142,7 +142,15 @@ impl SimulateArgs {
             closed_form_contact: !self.integrate_contact,
             method: self.method,
         };
-        scene.validate().map_err(UsageError::from_invalid)?;
+        scene.validate().map_err(|e| match self.p {
+            // The size was derived from --p: name the flag the user gave.
+            Some(p) if e.field == "size" => UsageError::invalid(
+                "--p",
+                p,
+                &format!("gives a size R = {size:e} m, which {}", e.expected),
+            ),
+            _ => UsageError::from_invalid(e),
+        })?;
         Ok(scene)
     }
 

@@ -1,0 +1,155 @@
+//! Issue 29's silently different inputs, each now refused where it is written: record files
+//! whose counts, headers, units or repeated lines disagree with their data, a records index
+//! with a name or Table 1 row given twice or units that are not an acceleration's (or not
+//! the file's), and a `$ROCKLAB_RECORDS` that names no directory.
+
+use crate::util::rocklab_command;
+use rocklab::excitation::library::{Library, RecordError};
+use rocklab::excitation::reader;
+use std::path::Path;
+
+/// The error of a record text that must be refused: (line, message).
+fn refused(text: &str) -> (usize, String) {
+    match reader::parse(text, "r.AT2", None) {
+        Ok(s) => panic!("accepted ({} samples):\n{text}", s.npts()),
+        Err(e) => {
+            assert_eq!(e.origin, "r.AT2");
+            (e.line, e.message)
+        }
+    }
+}
+
+const AT2: &str = "PEER NGA STRONG MOTION DATABASE RECORD\nLANDERS\n\
+                   ACCELERATION TIME HISTORY IN UNITS OF G\n\
+                   NPTS=    6, DT=   .0100 SEC\n\
+                   0.1 0.2 0.3\n0.4 0.5 0.6\n";
+
+#[test]
+fn record_files_that_disagree_with_themselves_are_refused() {
+    let ok = reader::parse(AT2, "r.AT2", None).unwrap();
+    assert_eq!(ok.samples().len(), 6);
+    assert!((ok.samples()[5] - 0.6 * rocklab::excitation::G).abs() < 1e-12);
+    // Zeros filling the line that completes NPTS are padding, not data.
+    let padded = AT2
+        .replace("NPTS=    6", "NPTS=    5")
+        .replace("0.5 0.6", "0.5 0.0");
+    assert_eq!(reader::parse(&padded, "r", None).unwrap().npts(), 5);
+
+    // NPTS smaller than the data: not truncated.
+    let (line, m) = refused(&AT2.replace("NPTS=    6", "NPTS=    4"));
+    assert_eq!(line, 6, "{m}");
+    assert!(m.contains("NPTS = 4"), "{m}");
+    // An extra value on a line would shift every later sample.
+    let (line, m) = refused(&AT2.replace("0.4 0.5 0.6", "0.4 0.5 0.6 0.7"));
+    assert_eq!(line, 6, "{m}");
+    let (line, m) = refused(&AT2.replace("0.4 0.5 0.6\n", "0.4 0.5\n0.6\n"));
+    assert!(
+        line == 6 && m.contains("2 values on this line but 3"),
+        "{line}: {m}"
+    );
+    // A velocity record is not an acceleration.
+    let (line, m) = refused(&AT2.replace(
+        "ACCELERATION TIME HISTORY IN UNITS OF G",
+        "VELOCITY TIME HISTORY IN UNITS OF CM/S",
+    ));
+    assert_eq!(line, 3, "{m}");
+    assert!(m.contains("velocity"), "{m}");
+    let (line, m) = refused(&AT2.replace("UNITS OF G", "UNITS OF FURLONGS"));
+    assert!(line == 3 && m.contains("furlongs"), "{line}: {m}");
+
+    // Column files: a header line given twice, a count that disagrees, velocity units.
+    let col = "# dt: 0.01\n# units: g\n# npts: 3\n0.1\n0.2\n0.3\n";
+    assert_eq!(reader::parse(col, "c", None).unwrap().npts(), 3);
+    for (from, to, line, word) in [
+        ("# dt: 0.01\n", "# dt: 0.01\n# dt: 0.02\n", 2, "dt"),
+        ("# units: g\n", "# units: g\n# units: g\n", 3, "units"),
+        ("# npts: 3", "# npts: 10", 3, "npts: 10"),
+        ("# units: g", "# units: cm/s", 2, "velocity"),
+        ("# units: g", "# units: furlongs", 2, "furlongs"),
+    ] {
+        let text = col.replace(from, to);
+        let e = reader::parse(&text, "c.txt", None).expect_err(&text);
+        assert_eq!(e.line, line, "{e}");
+        assert!(e.message.contains(word), "{e}");
+    }
+    let e = reader::parse(&col.replace("0.2\n", "0.2 0.25\n"), "c", None).unwrap_err();
+    assert_eq!(e.line, 5, "{e}");
+}
+
+/// A copy of the shipped records directory with `index.ron` edited by `edit`.
+fn records_with(edit: impl Fn(&str) -> String) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let from = Path::new(env!("CARGO_MANIFEST_DIR")).join("records");
+    for entry in std::fs::read_dir(&from).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, dir.path().join(path.file_name().unwrap())).unwrap();
+    }
+    let index = std::fs::read_to_string(from.join("index.ron")).unwrap();
+    let edited = edit(&index);
+    assert_ne!(edited, index, "the edit changed nothing");
+    std::fs::write(dir.path().join("index.ron"), edited).unwrap();
+    dir
+}
+
+fn open_error(dir: &Path) -> (usize, String) {
+    match Library::open(Some(dir.to_path_buf())) {
+        Ok(_) => panic!("index accepted"),
+        Err(RecordError::Parse(e)) => {
+            assert!(e.origin.ends_with("index.ron"), "{e}");
+            (e.line, e.message)
+        }
+        Err(e) => panic!("{e}"),
+    }
+}
+
+#[test]
+fn a_records_index_that_names_twice_or_mislabels_units_is_refused() {
+    let lib = Library::open(Some(Path::new(env!("CARGO_MANIFEST_DIR")).join("records"))).unwrap();
+    assert!(lib.load("landers", false).is_ok());
+
+    let twice = records_with(|t| t.replacen("name: \"northridge\"", "name: \"landers\"", 1));
+    let (line, m) = open_error(twice.path());
+    assert_eq!(line, 33, "{m}");
+    assert!(m.contains("landers") && m.contains("line 14"), "{m}");
+
+    let row = records_with(|t| t.replacen("table1: Some(2)", "table1: Some(1)", 1));
+    let (line, m) = open_error(row.path());
+    assert_eq!(line, 34, "{m}");
+    assert!(m.contains("table1: 1"), "{m}");
+
+    let furlongs = records_with(|t| t.replacen("units: \"g\"", "units: \"furlongs\"", 1));
+    let (line, m) = open_error(furlongs.path());
+    assert!(line == 29 && m.contains("furlongs"), "{line}: {m}");
+
+    // Units the file itself contradicts (it says `# units: g`).
+    let cms2 = records_with(|t| t.replacen("units: \"g\"", "units: \"cm/s2\"", 1));
+    let lib = Library::open(Some(cms2.path().to_path_buf())).unwrap();
+    let e = lib.load("landers", false).unwrap_err().to_string();
+    assert!(e.contains("cm/s2") && e.contains("RSN879"), "{e}");
+    // A sample count the file contradicts.
+    let npts = records_with(|t| t.replacen("npts: Some(9625)", "npts: Some(9626)", 1));
+    let lib = Library::open(Some(npts.path().to_path_buf())).unwrap();
+    let e = lib.load("landers", false).unwrap_err().to_string();
+    assert!(e.contains("9626") && e.contains("9625"), "{e}");
+}
+
+#[test]
+fn a_records_variable_that_names_no_directory_is_an_error() {
+    for args in [
+        &["records"][..],
+        &[
+            "simulate", "--record", "landers", "--alpha", "0.2", "--p", "2",
+        ][..],
+    ] {
+        let o = rocklab_command(args)
+            .env("ROCKLAB_RECORDS", "/nonexistent/records")
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("ROCKLAB_RECORDS") && stderr.contains("/nonexistent/records"),
+            "{args:?}: {stderr}"
+        );
+    }
+}
