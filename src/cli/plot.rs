@@ -81,7 +81,7 @@ fn check_pixels(args: &PlotArgs) -> Result<(), UsageError> {
     };
     let (w, h) = options.canvas(size).pixels;
     let megapixels = f64::from(w) * f64::from(h) / 1e6;
-    if !(args.max_megapixels > 0.0) || megapixels > args.max_megapixels {
+    if args.max_megapixels.is_nan() || megapixels > args.max_megapixels {
         return Err(UsageError::new(format!(
             "--size {:.0}x{:.0}mm at --dpi {} is a {w}×{h} px PNG ({megapixels:.0} megapixels), \
              over the limit of {} megapixels; lower --size or --dpi, or raise --max-megapixels",
