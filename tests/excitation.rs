@@ -198,9 +198,11 @@ fn parsing_round_trips_in_every_format() {
     for (a, b) in s.samples().iter().zip(back.samples()) {
         assert!((a - b).abs() <= 1e-15 * G, "{a} {b}");
     }
-    // NGA-West1 header style, values run together, trailing values past NPTS.
-    let west1 = "NORTHRIDGE, 1/17/94 12:31, RINALDI RECEIVING STA, 228\nsecond line\nACCELERATION TIME HISTORY IN UNITS OF G\n5    0.0200    NPTS, DT\n1.5E-01-2.5E-01 3.0E-01\n-4.0E-01  5.0D-01  9.9E+00 8.8E+00\n";
+    // NGA-West1 header style, values run together, zeros padding the last line past NPTS
+    // (data past NPTS are refused: tests/strict_inputs.rs).
+    let west1 = "NORTHRIDGE, 1/17/94 12:31, RINALDI RECEIVING STA, 228\nsecond line\nACCELERATION TIME HISTORY IN UNITS OF G\n5    0.0200    NPTS, DT\n1.5E-01-2.5E-01 3.0E-01\n-4.0E-01  5.0D-01  0.0E+00\n";
     let w1 = parse(west1, "west1.AT2", None).unwrap();
+    assert!(parse(&west1.replace("0.0E+00", "9.9E+00"), "west1.AT2", None).is_err());
     assert_eq!(w1.dt(), 0.02);
     let want = [0.15, -0.25, 0.3, -0.4, 0.5];
     assert_eq!(w1.npts(), 5);

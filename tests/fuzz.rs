@@ -111,6 +111,10 @@ fn study_token() -> impl Strategy<Value = String> {
         Just(":".to_string()),
         Just("\"".to_string()),
         Just("linspace(".to_string()),
+        Just("xi(".to_string()),
+        Just("ratio(".to_string()),
+        Just("r#\"a \" b\"#".to_string()),
+        Just("from: 2.0, ".to_string()),
         Just("(from: 1e-300, to: 1e300, steps: 3, log: true)".to_string()),
         Just("(from: 0.0, to: 1.0, steps: 1000001)".to_string()),
         Just("mavroeidis_papageorgiou(gamma: 1e308, nu: 0.0)".to_string()),
@@ -251,6 +255,70 @@ proptest! {
                 !matches!(run, Err(rocklab::sweep::Guarded::Panic(_))),
                 "{:?}: {:?}", args, run
             );
+        }
+    }
+}
+
+const BASE_INDEX: &str = include_str!("../records/index.ron");
+
+/// Tokens an index edit may splice in: duplicate names and rows, units, counts, hostile text.
+fn index_token() -> impl Strategy<Value = String> {
+    prop_oneof![
+        Just("name: \"landers\", ".to_string()),
+        Just("table1: Some(1), ".to_string()),
+        Just("\"furlongs\"".to_string()),
+        Just("\"cm/s\"".to_string()),
+        Just("\"cm/s2\"".to_string()),
+        Just("npts: Some(1), ".to_string()),
+        Just("Some(1e308)".to_string()),
+        Just("(".to_string()),
+        Just(")".to_string()),
+        Just(",".to_string()),
+        Just("\"".to_string()),
+        Just("/*".to_string()),
+        "[a-z_]{1,8}".prop_map(|s| s),
+        (-1e3f64..1e3).prop_map(|v| format!("{v}")),
+    ]
+}
+
+proptest! {
+    #![proptest_config(config(64))]
+
+    /// The records index: any edit gives a library whose every record loads or fails with
+    /// an error, never a panic; names stay unique (a name picks one record).
+    #[test]
+    fn the_records_index_never_panics(
+        edits in proptest::collection::vec((0.0f64..1.0, 0usize..8, index_token()), 1..3)
+    ) {
+        let mut text = BASE_INDEX.to_string();
+        for (at, cut, token) in edits {
+            let mut i = ((text.len() as f64) * at) as usize;
+            while !text.is_char_boundary(i) {
+                i -= 1;
+            }
+            let mut j = (i + cut).min(text.len());
+            while !text.is_char_boundary(j) {
+                j += 1;
+            }
+            text.replace_range(i..j, &token);
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let records = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("records");
+        for entry in std::fs::read_dir(&records).unwrap() {
+            let path = entry.unwrap().path();
+            std::fs::copy(&path, dir.path().join(path.file_name().unwrap())).unwrap();
+        }
+        std::fs::write(dir.path().join("index.ron"), &text).unwrap();
+        if let Ok(lib) = rocklab::excitation::library::Library::open(Some(dir.path().to_path_buf())) {
+            let mut names: Vec<String> =
+                lib.index().iter().map(|m| m.name.to_ascii_lowercase()).collect();
+            let n = names.len();
+            names.sort();
+            names.dedup();
+            prop_assert_eq!(names.len(), n);
+            for meta in lib.index() {
+                let _ = lib.load(&meta.name, false);
+            }
         }
     }
 }

@@ -1,7 +1,8 @@
-//! Issue 29's silently different inputs, each now refused where it is written: record files
-//! whose counts, headers, units or repeated lines disagree with their data, a records index
-//! with a name or Table 1 row given twice or units that are not an acceleration's (or not
-//! the file's), and a `$ROCKLAB_RECORDS` that names no directory.
+//! Issue 29's cases: silently different inputs, each now refused where it is written (record
+//! files whose counts, headers, units or repeated lines disagree with their data, a records
+//! index with a name or Table 1 row given twice or units that are not an acceleration's or
+//! not the file's, a `$ROCKLAB_RECORDS` that names no directory), and bounded resources (a
+//! history capped before it fills memory, shard counts and figure sizes bounded).
 
 use crate::util::rocklab_command;
 use rocklab::excitation::library::{Library, RecordError};
@@ -152,4 +153,84 @@ fn a_records_variable_that_names_no_directory_is_an_error() {
             "{args:?}: {stderr}"
         );
     }
+}
+
+/// More shards than scenes is refused (a shard of no scene would write an empty results set).
+#[test]
+fn a_shard_count_above_the_scene_count_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let o = crate::util::rocklab(&[
+        "run",
+        "default",
+        "--shard",
+        "0/1000000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--shard 0/1000000") && stderr.contains("36 scenes"),
+        "{stderr}"
+    );
+    assert!(!out.join("results.shard-0-of-1000000.json").exists());
+}
+
+/// The issue's endless-impact scene with a 1e300 s duration: the history stops at its cap
+/// (named in the message with the flag that raises it) instead of growing to gigabytes.
+#[test]
+fn a_history_stops_at_its_row_cap() {
+    let dir = tempfile::tempdir().unwrap();
+    let h = dir.path().join("h.csv");
+    let o = crate::util::rocklab(&[
+        "simulate",
+        "--alpha",
+        "10deg",
+        "--p",
+        "2",
+        "--theta0",
+        "0.1",
+        "--restitution",
+        "1",
+        "--amplitude-g",
+        "0",
+        "--frequency",
+        "1",
+        "--duration",
+        "1e300",
+        "--history",
+        h.to_str().unwrap(),
+        "--max-history-rows",
+        "5000",
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("cap of 5000 rows") && stderr.contains("--max-history-rows"),
+        "{stderr}"
+    );
+    assert!(!h.exists());
+}
+
+/// A PNG of --size at --dpi over the pixel cap is refused before anything is drawn.
+#[test]
+fn a_figure_over_the_pixel_cap_is_refused_before_drawing() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = crate::util::rocklab(&[
+        "plot",
+        "/nonexistent/results.json",
+        "--png",
+        dir.path().to_str().unwrap(),
+        "--size",
+        "2000x2000mm",
+        "--dpi",
+        "2400",
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--max-megapixels") && stderr.contains("100 megapixels"),
+        "{stderr}"
+    );
 }

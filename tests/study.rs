@@ -286,12 +286,6 @@ fn a_wrapper_or_key_that_means_nothing_is_refused_where_it_is_written() {
             "ratio",
         ),
         (
-            "mechanistic(sigma: 0.5,",
-            "mechanistic(sigma: [0.5, rigid(0.2)],",
-            7,
-            "rigid",
-        ),
-        (
             "ratio((from: 1.0, to: 10.0, steps: 10))",
             "ratio((from: 1.0, steps: 3, to: 12.0, from: 2.0))",
             12,

@@ -192,6 +192,15 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     if let Some((i, n)) = args.shard {
         refuse_adaptive_shards(&study, &format!("shard {i}/{n}"))?;
         refuse_design_shards(&study, &format!("shard {i}/{n}"))?;
+        if n > points.len() {
+            return Err(UsageError::new(format!(
+                "--shard {i}/{n}: the study has {} scenes, so at most {} shards (a shard of \
+                 no scene would write an empty results file)",
+                points.len(),
+                points.len()
+            ))
+            .into());
+        }
     }
     if args.dry_run {
         let mut groups: Vec<(String, usize)> = Vec::new();

@@ -366,8 +366,7 @@ pub fn maps(results: &SweepResults) -> Vec<OverturningMap> {
                     continue;
                 };
                 let (x, y) = (params[ixp].values[at[ixp]], params[iyp].values[at[iyp]]);
-                let ix = xs.iter().position(|v| *v == x);
-                let iy = ys.iter().position(|v| *v == y);
+                let (ix, iy) = (sorted_position(&xs, x), sorted_position(&ys, y));
                 if let (Some(ix), Some(iy)) = (ix, iy) {
                     cells[iy][ix] = o.result.as_ref().ok().map(|r| r.overturned);
                     outcomes[iy][ix] = Some(i);
@@ -375,8 +374,7 @@ pub fn maps(results: &SweepResults) -> Vec<OverturningMap> {
             }
             for (at, overturned) in inferred.get(&key).into_iter().flatten() {
                 let (x, y) = (params[ixp].values[at[ixp]], params[iyp].values[at[iyp]]);
-                let ix = xs.iter().position(|v| *v == x);
-                let iy = ys.iter().position(|v| *v == y);
+                let (ix, iy) = (sorted_position(&xs, x), sorted_position(&ys, y));
                 if let (Some(ix), Some(iy)) = (ix, iy)
                     && outcomes[iy][ix].is_none()
                 {
@@ -430,6 +428,15 @@ pub fn sparkline(values: &[Option<f64>]) -> String {
             _ => ' ',
         })
         .collect()
+}
+
+/// Where `v` sits in `sorted` (sorted by `total_cmp`): a binary search, so that placing every
+/// scene of an n-cell map costs n·log n, not n·√n scans.
+fn sorted_position(sorted: &[f64], v: f64) -> Option<usize> {
+    sorted
+        .binary_search_by(|x| x.total_cmp(&v))
+        .ok()
+        .or_else(|| sorted.iter().position(|x| *x == v))
 }
 
 #[cfg(test)]

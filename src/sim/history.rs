@@ -75,6 +75,9 @@ pub(super) struct Recorder {
     history: History,
     /// None: one row per solver point ([`Sampling::Steps`]).
     grid: Option<Grid>,
+    /// Rows kept at most, and whether a row was refused for it.
+    max_rows: usize,
+    full: bool,
 }
 
 impl Recorder {
@@ -97,6 +100,23 @@ impl Recorder {
         Recorder {
             history: History::default(),
             grid,
+            max_rows: usize::MAX,
+            full: false,
+        }
+    }
+
+    /// Keep at most `rows` rows; past them the recorder is full ([`Recorder::within_cap`]).
+    pub fn with_max_rows(mut self, rows: usize) -> Self {
+        self.max_rows = rows;
+        self
+    }
+
+    /// An error once a row was refused for the cap: the run stops there, memory bounded.
+    pub fn within_cap(&self, t: f64) -> Result<(), super::SimError> {
+        if self.full {
+            Err(super::SimError::HistoryCap(self.max_rows, t))
+        } else {
+            Ok(())
         }
     }
 
@@ -105,6 +125,10 @@ impl Recorder {
     }
 
     fn push<const N: usize, M: SimModel<N>>(&mut self, model: &M, t: f64, y: &[f64; N]) {
+        if self.history.rows.len() >= self.max_rows {
+            self.full = true;
+            return;
+        }
         self.history.rows.push(model.history_row(t, y));
     }
 
@@ -150,8 +174,13 @@ impl Recorder {
             return;
         };
         let Some(dense) = dense else { return };
+        let room = self.max_rows.saturating_sub(self.history.rows.len());
         let mut rows = Vec::new();
         while let Some(g) = grid.peek() {
+            if rows.len() >= room {
+                self.full = true;
+                break;
+            }
             let inside = if at_event {
                 g < t1 - grid.slack
             } else {
@@ -192,8 +221,13 @@ impl Recorder {
     /// block rides the ground; the ground acceleration column still moves).
     pub fn hold<const N: usize, M: SimModel<N>>(&mut self, model: &M, until: f64, y: &[f64; N]) {
         let Some(grid) = &mut self.grid else { return };
+        let room = self.max_rows.saturating_sub(self.history.rows.len());
         let mut rows = Vec::new();
         while let Some(g) = grid.peek().filter(|g| *g < until - grid.slack) {
+            if rows.len() >= room {
+                self.full = true;
+                break;
+            }
             rows.push(model.history_row(g, y));
             grid.next += 1;
         }

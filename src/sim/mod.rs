@@ -38,7 +38,13 @@ pub enum SimError {
     #[error("stopped (cancelled while running)")]
     Cancelled,
     #[error(
-        "wall-clock limit of {0:.0} s per scene reached at t = {1:.6} s (raise it with --scene-time-limit)"
+        "the history reached its cap of {0} rows at t = {1:.6} s (an event every few steps, or \
+         --dt steps over a long run); raise the cap with --max-history-rows, give a coarser \
+         --dt or a shorter --duration"
+    )]
+    HistoryCap(usize, f64),
+    #[error(
+        "wall-clock limit of {0} s per scene reached at t = {1:.6} s (raise it with --scene-time-limit)"
     )]
     TimeLimit(f64, f64),
 }
@@ -166,7 +172,14 @@ pub struct Bounds<'a> {
     pub measures: Measures,
     /// Measure the time in the integrator's stages (`Stats::stage_nanos`; the bench).
     pub time_stages: bool,
+    /// Most rows a recorded history may hold (None: [`DEFAULT_HISTORY_ROWS`]): a run that
+    /// would record more stops with [`SimError::HistoryCap`] instead of filling memory.
+    pub history_rows: Option<usize>,
 }
+
+/// Rows a recorded history holds at most unless raised (`simulate --max-history-rows`): about
+/// 200 MB for the widest rows.
+pub const DEFAULT_HISTORY_ROWS: usize = 2_000_000;
 
 /// The bounds of a scene that started at `started`, checked every few steps.
 struct Watch<'a> {
@@ -278,7 +291,9 @@ pub fn run_sampled(
             scene.duration / MAX_GRID_ROWS
         )));
     }
-    let mut history = sampling.map(|s| Recorder::new(s, scene.duration, &motion));
+    let rows = bounds.history_rows.unwrap_or(DEFAULT_HISTORY_ROWS);
+    let mut history =
+        sampling.map(|s| Recorder::new(s, scene.duration, &motion).with_max_rows(rows));
     let started = Instant::now();
     let watch = &Watch {
         bounds,
@@ -462,6 +477,7 @@ fn drive<const N: usize, M: SimModel<N>>(
             if let Some(h) = history.as_deref_mut() {
                 let at_event = matches!(outcome, StepOutcome::Event(_));
                 h.step(model, dense.as_ref(), t, &y, at_event);
+                h.within_cap(t)?;
             }
             if ledger {
                 let e = model.energy(&y);
@@ -581,6 +597,9 @@ impl<const N: usize, M: SimModel<N>> Run<'_, N, M> {
             *t = t1;
             *steps += 1;
             watch.check(*steps + integrated, *t)?;
+            if let Some(h) = self.history.as_deref() {
+                h.within_cap(*t)?;
+            }
             if self.ledger {
                 let e = self.model.energy(y);
                 *self.energy_scale = self

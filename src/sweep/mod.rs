@@ -214,6 +214,7 @@ pub fn run_checkpointed(
         time_limit: scene_time_limit,
         measures,
         time_stages: false,
+        history_rows: None,
     };
     let selected: Vec<&ScenePoint> = points
         .iter()

@@ -216,6 +216,10 @@ pub struct SimulateArgs {
     /// 1, 2 or 5 × 10ᵏ s.
     #[arg(long, value_parser = parse_sampling, requires = "history")]
     pub dt: Option<sim::Sampling>,
+    /// Most rows --history may hold: a run that would record more stops with an error naming
+    /// this cap, before it fills memory (each row is about 100 bytes).
+    #[arg(long, default_value_t = sim::DEFAULT_HISTORY_ROWS, requires = "history")]
+    pub max_history_rows: usize,
     /// Print exactly one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
@@ -317,6 +321,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let library = library::global()?;
     let bounds = sim::Bounds {
         measures,
+        history_rows: Some(args.max_history_rows),
         ..Default::default()
     };
     let (result, history, check, timing, differs) = crate::sweep::guarded(|| {
