@@ -584,12 +584,8 @@ fn an_edited_journal_line_is_recomputed_not_reused() {
     assert_ne!(&lines[2][at..end], "7.0");
     lines[2].replace_range(at..end, "7.0");
     std::fs::write(&journal_path, lines.join("\n") + "\n").unwrap();
-    assert_eq!(
-        journal::read_journal(&journal_path, false)
-            .unwrap()
-            .damaged_lines,
-        1
-    );
+    // The edited line counts as no scene (as `rocklab status` counts them).
+    assert_eq!(journalled(&journal_path), 2);
 
     let o = crate::util::run_into(study.to_str().unwrap(), &out);
     let stderr = String::from_utf8_lossy(&o.stderr);
@@ -599,10 +595,5 @@ fn an_edited_journal_line_is_recomputed_not_reused() {
         std::fs::read_to_string(out.join("results.csv")).unwrap(),
         before
     );
-    assert_eq!(
-        journal::read_journal(&journal_path, false)
-            .unwrap()
-            .damaged_lines,
-        1
-    );
+    assert_eq!(journalled(&journal_path), 3);
 }

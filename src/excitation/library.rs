@@ -399,7 +399,14 @@ impl Library {
         }
         if let Some(entry) = self.suite_entry(name) {
             let (source, series) = self
-                .read_data(&entry.path(), Some(entry.row.dt))?
+                .read_data(
+                    &entry.path(),
+                    &reader::Expected {
+                        dt: Some(entry.row.dt),
+                        units: None,
+                        npts: Some(entry.row.npts),
+                    },
+                )?
                 .ok_or_else(|| RecordError::Missing {
                     name: entry.id(),
                     file: entry.path(),
