@@ -354,7 +354,10 @@ fn hostile_values_never_reach_a_script_as_code() {
         );
         // The study path is one quoted word: bash reads it back as written.
         if script == "array.sh" {
-            let line = text.lines().find(|l| l.contains(" run ")).unwrap();
+            let line = text
+                .lines()
+                .find(|l| l.contains(" run ") && l.contains(" --out "))
+                .unwrap();
             let word = line
                 .split(" run ")
                 .nth(1)

@@ -83,6 +83,9 @@ fn records_with(edit: impl Fn(&str) -> String) -> tempfile::TempDir {
     let from = Path::new(env!("CARGO_MANIFEST_DIR")).join("records");
     for entry in std::fs::read_dir(&from).unwrap() {
         let path = entry.unwrap().path();
+        if !path.is_file() {
+            continue;
+        }
         std::fs::copy(&path, dir.path().join(path.file_name().unwrap())).unwrap();
     }
     let index = std::fs::read_to_string(from.join("index.ron")).unwrap();

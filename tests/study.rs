@@ -291,7 +291,6 @@ fn a_wrapper_or_key_that_means_nothing_is_refused_where_it_is_written() {
             12,
             "from",
         ),
-        ("sigma: 0.5", "sigma: Some(xi(0.5))", 7, "xi"),
     ] {
         assert!(GOOD.contains(from), "{from}");
         let e = error_of(&GOOD.replacen(from, to, 1));
