@@ -208,10 +208,7 @@ fn a_stopped_adaptive_map_resumes_from_its_journal() {
             None,
             &study,
             points.len(),
-            OpenOptions {
-                fresh: false,
-                force: false,
-            },
+            OpenOptions { fresh: false },
         )
         .unwrap()
     };

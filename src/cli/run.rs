@@ -4,7 +4,7 @@
 use super::UsageError;
 use crate::report;
 use crate::study::Study;
-use crate::sweep::{self, OpenOptions, OutputError, Progress, SweepOptions, SweepResults};
+use crate::sweep::{self, OpenOptions, Progress, SweepOptions, SweepResults};
 use anyhow::Context;
 use clap::Args;
 use std::io::IsTerminal;
@@ -32,8 +32,9 @@ pub struct RunArgs {
     /// place until the new run has finished.
     #[arg(long)]
     pub fresh: bool,
-    /// Use an output directory that holds another study's results (they are moved aside).
-    #[arg(long)]
+    /// No longer needed (kept for old scripts): another study's results in --out (an edited
+    /// study's, most often) are set aside and their unchanged scenes reused.
+    #[arg(long, hide = true)]
     pub force: bool,
     /// Wall-clock limit of one scene in seconds (0: none); a scene over it is recorded as
     /// failed with the reason.
@@ -203,17 +204,8 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         .iter()
         .filter(|p| sweep::in_shard(p.index, args.shard))
         .count();
-    let open = OpenOptions {
-        fresh: args.fresh,
-        force: args.force,
-    };
-    let mut output =
-        sweep::open_output(&out, args.shard, &study, total, open).map_err(|e| match e
-            .downcast_ref::<OutputError>()
-        {
-            Some(OutputError::OtherStudy { .. }) => UsageError::new(e.to_string()).into(),
-            _ => e,
-        })?;
+    let open = OpenOptions { fresh: args.fresh };
+    let mut output = sweep::open_output(&out, args.shard, &study, total, open)?;
     for note in &output.notes {
         say(&format!("note: {note}"));
     }
@@ -275,8 +267,10 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         print_out(&report::summary(&results))?;
     }
     say(&format!(
-        "{} scenes in {:.1} s; results in {}",
+        "{} scenes ({} reused, {} new) in {:.1} s; results in {}",
         results.outcomes.len(),
+        output.reused,
+        results.outcomes.len() - output.reused,
         elapsed.as_secs_f64(),
         results_path.display()
     ));
