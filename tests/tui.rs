@@ -197,7 +197,7 @@ pub(crate) fn small_map_study(app: &mut App) {
     );
 }
 
-fn run_to_completion(app: &mut App) {
+pub(crate) fn run_to_completion(app: &mut App) {
     key(app, KeyCode::Char('r'));
     assert_eq!(app.screen, Screen::Run);
     assert!(
