@@ -15,20 +15,17 @@ struct Example {
     output: Vec<String>,
 }
 
-/// The README's indented blocks (lines indented by 4, and blank lines between them).
+/// The README's indented blocks: runs of lines indented by 4 (a blank line ends one).
 fn blocks(readme: &str) -> Vec<(usize, Vec<String>)> {
     let mut out: Vec<(usize, Vec<String>)> = Vec::new();
     let mut current: Option<(usize, Vec<String>)> = None;
     for (i, line) in readme.lines().enumerate() {
-        if let Some(code) = line.strip_prefix("    ") {
-            current
+        match line.strip_prefix("    ") {
+            Some(code) if !code.trim().is_empty() => current
                 .get_or_insert_with(|| (i + 1, Vec::new()))
                 .1
-                .push(code.to_string());
-        } else if !line.trim().is_empty() {
-            out.extend(current.take());
-        } else if let Some((_, lines)) = &mut current {
-            lines.push(String::new());
+                .push(code.to_string()),
+            _ => out.extend(current.take()),
         }
     }
     out.extend(current);
@@ -49,13 +46,10 @@ fn examples(readme: &str) -> Vec<Example> {
                 last.push_str(l.trim());
             } else if command && output.is_empty() {
                 commands.push(l.trim().to_string());
-            } else if !commands.is_empty() && !(output.is_empty() && l.is_empty()) {
+            } else if !commands.is_empty() {
                 output.push(l.trim_end().to_string());
             }
             continued = l.ends_with('\\');
-        }
-        while output.last().is_some_and(String::is_empty) {
-            output.pop();
         }
         if !output.is_empty() {
             out.push(Example {

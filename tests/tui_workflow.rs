@@ -113,20 +113,28 @@ fn an_invalid_study_opens_in_the_editor_with_its_error() {
     let dir = tempfile::tempdir().unwrap();
     let good = save_default_as(dir.path(), "bad");
     let text = std::fs::read_to_string(&good).unwrap();
-    assert!(text.contains("sigma: 0.5"), "{text}");
-    std::fs::write(&good, text.replacen("sigma: 0.5", "sigma: -0.5", 1)).unwrap();
+    let at = text.find("duration: ").expect("a duration");
+    let end = at + text[at..].find(',').unwrap();
+    std::fs::write(
+        &good,
+        format!("{}duration: -5.0{}", &text[..at], &text[end..]),
+    )
+    .unwrap();
     let (study, why) = rocklab::tui::open_study(&good).unwrap();
     let why = why.expect("invalid");
-    assert!(why.contains("bad.ron:") && why.contains("sigma"), "{why}");
+    assert!(
+        why.contains("bad.ron:") && why.contains("duration"),
+        "{why}"
+    );
     let mut app = App::new(study, Some(good.clone()), Options::default());
     app.show_invalid(why.clone());
     assert!(matches!(app.shared.check, Check::Invalid(_)));
     let shown = text_of(&app);
-    assert!(shown.contains("sigma"), "{shown}");
+    assert!(shown.contains("duration"), "{shown}");
     key(&mut app, KeyCode::Char('r'));
     assert!(app.message.as_ref().unwrap().0.contains("cannot run"));
     // Fixed in the editor, it runs.
-    set_field(&mut app, "sigma", "0.5");
+    set_field(&mut app, "duration", "8.0");
     assert!(
         matches!(app.shared.check, Check::Ok(_)),
         "{:?} {:?}",
