@@ -104,7 +104,7 @@ fn run(command: &str, dir: &Path, readme: &str) -> String {
         {
             make_results(name, dir, readme);
         }
-        if a.ends_with(".ron") && !a.starts_with("studies/") {
+        if a.ends_with(".ron") && !a.contains('/') {
             let text = readme_study(readme, a).unwrap_or_else(|| panic!("no `// {a}` block"));
             std::fs::write(dir.join(a), text).unwrap();
         }
