@@ -347,32 +347,60 @@ fn two_runs_cannot_write_one_directory() {
     assert!(String::from_utf8_lossy(&s.stdout).contains(&format!("running (pid {})", first.id())));
     signal(&first, "TERM");
     finish(first);
+}
 
-    // Another study into the same directory is refused (exit 2) unless --force.
-    let other = dir.path().join("other.ron");
-    std::fs::write(&other, STUDY.replace("steps: 20", "steps: 3")).unwrap();
-    let o = rocklab(&[
-        "run",
-        other.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(
-        err.contains("another study") && err.contains("--force"),
-        "{err}"
+/// A small rigid-block study: 2 devices × 6 frequencies.
+const SMALL: &str = r#"(
+    version: 1,
+    name: "small",
+    structure: rigid(p: 2.0, alpha: 0.2),
+    devices: [none, sequential(sigma: 0.5)],
+    excitation: pulse(shape: sine, amplitude: alpha_ratio(1.5), frequency: ratio((from: 2.0, to: 7.0, steps: 6))),
+    duration: 6.0,
+)"#;
+
+/// An edited study run into the same directory (`rocklab run` again) reuses every finished
+/// scene whose scene is unchanged, whatever else changed, says "N reused, M new", journals
+/// the reused ones under the new study and gives what a fresh run gives. Another study's
+/// results there are set aside (kept), never refused.
+#[test]
+fn an_edited_study_reuses_its_unchanged_scenes() {
+    let dir = tempfile::tempdir().unwrap();
+    let (study, out) = (dir.path().join("small.ron"), dir.path().join("out"));
+    let run = |text: &str| {
+        std::fs::write(&study, text).unwrap();
+        let o = crate::util::run_into(study.to_str().unwrap(), &out);
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        assert!(o.status.success(), "{err}");
+        err
+    };
+    let err = run(SMALL);
+    assert!(err.contains("12 scenes (0 reused, 12 new)"), "{err}");
+    // A device added: the first run's 12 scenes are unchanged.
+    let edited = SMALL.replace(
+        "sequential(sigma: 0.5)]",
+        "sequential(sigma: 0.5), mechanistic(sigma: 0.5)]",
     );
-    let o = rocklab(&[
-        "run",
-        other.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--force",
-        "--quiet",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert_eq!(outcomes(&out.join("results.json")).len(), 3 * 3 * 5);
+    let err = run(&edited);
+    assert!(err.contains("18 scenes (12 reused, 6 new)"), "{err}");
+    assert!(err.contains("an earlier version of 'small'"), "{err}");
+    assert_eq!(lines(&out.join("results.journal")), 1 + 18);
+    let fresh = dir.path().join("fresh");
+    let o = crate::util::run_into(study.to_str().unwrap(), &fresh);
+    assert!(o.status.success());
+    assert_eq!(
+        outcomes(&out.join("results.json")),
+        outcomes(&fresh.join("results.json"))
+    );
+    // A longer duration changes every scene: nothing is reused.
+    let longer = edited.replace("duration: 6.0", "duration: 7.0");
+    let err = run(&longer);
+    assert!(err.contains("18 scenes (0 reused, 18 new)"), "{err}");
+    // Another study (another name) into the directory: its results are set aside, kept.
+    let err = run(&longer.replace("\"small\"", "\"other\""));
+    assert!(err.contains("study 'small'"), "{err}");
+    assert!(err.contains("18 scenes (18 reused, 0 new)"), "{err}");
+    assert!(out.join("results.json.previous").exists());
 }
 
 /// A small tmpfs mounted for the test (root only), unmounted when dropped.

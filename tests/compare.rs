@@ -469,3 +469,70 @@ fn compare_json_reports_the_pairs_of_a_results_file() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("k_theta (kθ): 1, 3"), "{err}");
 }
+
+/// `compare` without `--a/--b` pairs as the workbench does (sequential vs mechanistic here)
+/// and starts with what it compares, no empty line; A and B the same grid compare its first
+/// member with each other one in every situation, with the hand-computed ratios.
+#[test]
+fn compare_defaults_as_the_workbench_and_a_grid_against_its_first_member() {
+    let dir = tempfile::tempdir().unwrap();
+    report::save_results(&dir.path().join("results.json"), &grid_results()).unwrap();
+    let compare = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_rocklab"))
+            .args(["compare", dir.path().to_str().unwrap()])
+            .args(args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr).to_string();
+        assert!(out.status.success(), "{err}");
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let text = compare(&[]);
+    assert!(
+        text.starts_with("A = sequential, B = mechanistic\n"),
+        "{text}"
+    );
+    assert_eq!(text, compare(&["--a", "sequential", "--b", "mechanistic"]));
+
+    let results = grid_results();
+    let spectra = report::spectra(&results);
+    let pairs = compare::compare_spectra(
+        &spectra,
+        Quantity::PeakRotationRatio,
+        &sel("mechanistic"),
+        &sel("mechanistic"),
+    )
+    .unwrap();
+    // Per α, kθ = 1 (the first) against kθ = 3: 0.8 / 0.5 where both survive.
+    let names: Vec<(&str, &str)> = pairs.iter().map(|p| (p.a.as_str(), p.b.as_str())).collect();
+    assert_eq!(
+        names,
+        [
+            ("mechanistic kθ=1 α=0.1", "mechanistic kθ=3 α=0.1"),
+            ("mechanistic kθ=1 α=0.2", "mechanistic kθ=3 α=0.2"),
+        ]
+    );
+    assert!(
+        close(pairs[0].stats.median_ratio, 1.6),
+        "{:?}",
+        pairs[0].stats
+    );
+    let named = rocklab::report::naming::pair_names(&names);
+    assert_eq!(named.shared, "A kθ=1 · B kθ=3 · mechanistic");
+    assert_eq!(named.names, ["α=0.1", "α=0.2"]);
+    // A single variant against itself says so.
+    let one = GRID.replace("k_theta: [1.0, 3.0]", "k_theta: 1.0");
+    {
+        let study = Study::from_ron_str(&one, "one.ron").unwrap();
+        let results = synthetic(&study, |_| Fake::Peak(1.0));
+        let spectra = report::spectra(&results);
+        let err = compare::compare_spectra(
+            &spectra,
+            Quantity::PeakRotationRatio,
+            &sel("mechanistic"),
+            &sel("mechanistic"),
+        )
+        .unwrap_err();
+        assert!(err.0.contains("same single variant"), "{}", err.0);
+    }
+}

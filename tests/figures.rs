@@ -328,7 +328,7 @@ fn selectors_pick_series_and_facets_split_them_into_rows() {
         &results,
         &spectra,
         &PlotChoice {
-            select: vec!["sequential".into()],
+            select: vec!["bare".into()],
             ..Default::default()
         },
     )

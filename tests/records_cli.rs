@@ -192,3 +192,79 @@ fn a_records_directory_from_the_environment_or_flag_replaces_a_stand_in() {
         assert_eq!(landers["source"], "embedded");
     }
 }
+
+/// The stand-in records (Imperial Valley and N. Palm Springs here) are flagged in every
+/// output: summary.txt, results.csv (`record_source`), results.json (`stand_in_records`),
+/// `compare` (text and JSON) and `simulate --json`; a real record is not.
+#[test]
+fn stand_in_records_are_flagged_in_every_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("standin.ron");
+    std::fs::write(
+        &study,
+        r#"(version: 1, name: "standin",
+            structure: flexible(r0: 10.0, alpha: 0.2, xi: 0.02, omega_n: [5.0, 10.0]),
+            devices: [none, sequential(sigma: 0.5)],
+            excitation: record(names: ["landers", "imperial_valley"], scale: 1.0),
+            quantities: [peak_rotation_ratio], spectrum: omega_n, duration: 3.0)"#,
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let o = crate::util::run_into(study.to_str().unwrap(), &out);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let note = rocklab::excitation::library::STAND_IN_NOTE;
+    let summary = std::fs::read_to_string(out.join("summary.txt")).unwrap();
+    assert!(
+        summary.contains(&format!("{note}: imperial_valley\n")),
+        "{summary}"
+    );
+
+    let mut csv = csv::Reader::from_path(out.join("results.csv")).unwrap();
+    let headers = csv.headers().unwrap().clone();
+    let col = |name: &str| headers.iter().position(|h| h == name).unwrap();
+    let (excitation, source) = (col("excitation"), col("record_source"));
+    let rows: Vec<csv::StringRecord> = csv.records().map(Result::unwrap).collect();
+    assert_eq!(rows.len(), 8);
+    for row in &rows {
+        let stand_in = &row[excitation] == "imperial_valley";
+        assert_eq!(&row[source] == "stand-in", stand_in, "{row:?}");
+    }
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("results.json")).unwrap()).unwrap();
+    assert_eq!(
+        json["stand_in_records"],
+        serde_json::json!(["imperial_valley"])
+    );
+
+    let o = crate::util::rocklab(&["compare", out.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains(&format!("{note}: imperial_valley")), "{text}");
+    let json = crate::util::rocklab_json(&["compare", out.to_str().unwrap(), "--json"]);
+    assert_eq!(
+        json["stand_in_records"],
+        serde_json::json!(["imperial_valley"])
+    );
+
+    let sim = |record: &str| {
+        crate::util::rocklab_json(&[
+            "simulate",
+            "--structure",
+            "flexible",
+            "--size",
+            "10",
+            "--alpha",
+            "0.2",
+            "--xi",
+            "0.02",
+            "--omega-n",
+            "10",
+            "--record",
+            record,
+            "--duration",
+            "2",
+            "--json",
+        ])
+    };
+    assert_eq!(sim("imperial_valley")["record_source"], "stand-in");
+    assert_ne!(sim("landers")["record_source"], "stand-in");
+}

@@ -445,7 +445,7 @@ fn run_prints_a_summary_and_compare_and_plot_read_the_results() {
     // Not a terminal: plain progress lines instead of a bar.
     let log = String::from_utf8(out.stderr).unwrap();
     assert!(log.contains("progress: 0/16 scenes"), "{log}");
-    assert!(log.contains("16 scenes in"), "{log}");
+    assert!(log.contains("16 scenes (0 reused, 16 new) in"), "{log}");
     let summary = String::from_utf8(out.stdout).unwrap();
     assert!(summary.contains("study small"), "{summary}");
     assert!(summary.contains("mechanistic kθ=3"), "{summary}");

@@ -197,7 +197,7 @@ pub(crate) fn small_map_study(app: &mut App) {
     );
 }
 
-fn run_to_completion(app: &mut App) {
+pub(crate) fn run_to_completion(app: &mut App) {
     key(app, KeyCode::Char('r'));
     assert_eq!(app.screen, Screen::Run);
     assert!(
@@ -912,7 +912,7 @@ fn quitting_mid_sweep_asks_and_a_restart_reuses_the_finished_scenes() {
     key(&mut again, KeyCode::Char('2'));
     let shown = text(&render(&again, Theme::COLOR, SMALL));
     assert!(
-        shown.contains(&format!("{kept} reused from cache")),
+        shown.contains(&format!("{kept} reused, {} new", total - kept)),
         "{shown}"
     );
     let resumed = again.shared.results.as_ref().unwrap();

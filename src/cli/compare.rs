@@ -17,12 +17,15 @@ pub struct CompareArgs {
     /// Results file (results.json) or the directory holding it.
     pub results: PathBuf,
     /// Reference variant: a device, optionally with parameter values in the study's syntax,
-    /// e.g. `sequential`, `bare`, `mechanistic(k_theta: 3.0, play: 0.005)`.
+    /// e.g. `sequential`, `bare`, `mechanistic(k_theta: 3.0, play: 0.005)`. Default, as in
+    /// the workbench: sequential if there with mechanistic, else the pair of devices with
+    /// most points where both survive; with a single device, its first grid member.
     #[arg(long)]
-    pub a: String,
+    pub a: Option<String>,
     /// Variant compared against it; it may be a grid (`mechanistic`: one row per member).
+    /// The same as A: the first member of the grid against each other one.
     #[arg(long)]
-    pub b: String,
+    pub b: Option<String>,
     /// Quantity to compare (default: the study's first), or `all`.
     #[arg(long)]
     pub quantity: Option<String>,
@@ -67,15 +70,27 @@ struct Comparison {
     pairs: Vec<SpectrumPair>,
     suites: Vec<SuitePair>,
     maps: Vec<MapComparison>,
+    /// Records that ran as stand-ins, not the real ground motions.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    stand_in_records: Vec<String>,
 }
 
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let results = report::load_results(&resolve_results(&args.results))?;
     let quantities = selected_quantities(args, &report::quantities(&results))?;
     let usage = |e: report::select::SelectError| UsageError::new(format!("{e}"));
-    let a = Selector::parse(&args.a).map_err(|e| UsageError::new(format!("--a: {e}")))?;
-    let b = Selector::parse(&args.b).map_err(|e| UsageError::new(format!("--b: {e}")))?;
     let spectra = report::spectra(&results);
+    let (default_a, default_b) = {
+        let rows: Vec<&report::Spectrum> = spectra
+            .iter()
+            .filter(|s| Some(&s.quantity) == quantities.first())
+            .collect();
+        compare::default_sides(&rows).unwrap_or_default()
+    };
+    let a = args.a.clone().unwrap_or(default_a);
+    let b = args.b.clone().unwrap_or(default_b);
+    let a = Selector::parse(&a).map_err(|e| UsageError::new(format!("--a: {e}")))?;
+    let b = Selector::parse(&b).map_err(|e| UsageError::new(format!("--b: {e}")))?;
     let suites = compare::suite_spectra(&results, &spectra);
     let mut all = Comparison {
         a: a.text.clone(),
@@ -83,9 +98,21 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         pairs: vec![],
         suites: vec![],
         maps: vec![],
+        stand_in_records: report::stand_in_records(&results),
     };
-    let mut text = String::new();
-    for &q in &quantities {
+    let mut text = format!("A = {}, B = {}\n", a.text, b.text);
+    if !all.stand_in_records.is_empty() {
+        let _ = writeln!(
+            text,
+            "{}: {}",
+            crate::excitation::library::STAND_IN_NOTE,
+            all.stand_in_records.join(", ")
+        );
+    }
+    for (i, &q) in quantities.iter().enumerate() {
+        if i > 0 {
+            text.push('\n');
+        }
         let mut pairs = compare::compare_spectra(&spectra, q, &a, &b).map_err(usage)?;
         let grid = is_grid(&pairs);
         sort_pairs(
@@ -171,7 +198,7 @@ fn pairs_text(q: Quantity, pairs: &[SpectrumPair], details: bool) -> String {
     let axis = pairs.first().map_or("", |p| p.axis.as_str());
     let _ = writeln!(
         s,
-        "\n{} ({}) over {axis}: B/A for {} pair{}",
+        "{} ({}) over {axis}: B/A for {} pair{}",
         q.label(),
         q.name(),
         pairs.len(),

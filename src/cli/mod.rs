@@ -82,12 +82,20 @@ fn tui(args: &TuiArgs) -> anyhow::Result<()> {
     let results = path
         .as_deref()
         .filter(|p| crate::tui::app::is_results_path(p));
-    let study = match &path {
-        _ if results.is_some() => crate::study::Study::builtin_default(),
-        Some(path) => {
-            crate::study::Study::load(path).map_err(|e| UsageError::new(e.to_string()))?
-        }
-        None => crate::study::Study::builtin_default(),
+    if let Some(p) = &path
+        && !p.exists()
+    {
+        return Err(UsageError::new(format!(
+            "{}: no such file or directory (hint: `rocklab tui` opens the built-in default \
+             study, `rocklab tui out/<study>` the results of a run)",
+            p.display()
+        ))
+        .into());
+    }
+    let (study, invalid) = match &path {
+        _ if results.is_some() => (crate::study::Study::builtin_default(), None),
+        Some(path) => crate::tui::open_study(path).map_err(UsageError::new)?,
+        None => (crate::study::Study::builtin_default(), None),
     };
     use std::io::IsTerminal;
     if !std::io::stdout().is_terminal() || !std::io::stdin().is_terminal() {
@@ -98,7 +106,7 @@ fn tui(args: &TuiArgs) -> anyhow::Result<()> {
     }
     match results {
         Some(results) => crate::tui::run_results(results, args.mono),
-        None => crate::tui::run(study, path, args.mono),
+        None => crate::tui::run(study, path, invalid, args.mono),
     }
 }
 

@@ -4,7 +4,7 @@
 use super::UsageError;
 use crate::report;
 use crate::study::Study;
-use crate::sweep::{self, OpenOptions, OutputError, Progress, SweepResults};
+use crate::sweep::{self, OpenOptions, Progress, SweepResults};
 use anyhow::Context;
 use clap::Args;
 use std::io::IsTerminal;
@@ -32,8 +32,9 @@ pub struct RunArgs {
     /// place until the new run has finished.
     #[arg(long)]
     pub fresh: bool,
-    /// Use an output directory that holds another study's results (they are moved aside).
-    #[arg(long)]
+    /// No longer needed (kept for old scripts): another study's results in --out (an edited
+    /// study's, most often) are set aside and their unchanged scenes reused.
+    #[arg(long, hide = true)]
     pub force: bool,
     /// Wall-clock limit of one scene in seconds (0: none); a scene over it is recorded as
     /// failed with the reason.
@@ -242,17 +243,8 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         .iter()
         .filter(|p| sweep::in_shard(p.index, args.shard))
         .count();
-    let open = OpenOptions {
-        fresh: args.fresh,
-        force: args.force,
-    };
-    let output =
-        sweep::DirRun::open(&out, args.shard, &study, total, open).map_err(|e| match e
-            .downcast_ref::<OutputError>()
-        {
-            Some(OutputError::OtherStudy { .. }) => UsageError::new(e.to_string()).into(),
-            _ => e,
-        })?;
+    let open = OpenOptions { fresh: args.fresh };
+    let output = sweep::DirRun::open(&out, args.shard, &study, total, open)?;
     for note in output.notes() {
         say(&format!("note: {note}"));
     }
@@ -277,14 +269,17 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let finished = results?;
     finished.written?;
     let results = finished.results;
+    let reused = finished.reused;
     drop(points);
     let elapsed = started.elapsed();
     if !args.quiet {
         print_out(&report::summary(&results))?;
     }
     say(&format!(
-        "{} scenes in {:.1} s; results in {}",
+        "{} scenes ({} reused, {} new) in {:.1} s; results in {}",
         results.outcomes.len(),
+        reused,
+        results.outcomes.len() - reused,
         elapsed.as_secs_f64(),
         results_path.display()
     ));

@@ -118,6 +118,10 @@ pub enum Source {
     StandIn(StandIn),
 }
 
+/// What every output says of a stand-in record (results, summary, compare, simulate).
+pub const STAND_IN_NOTE: &str = "stand-in records (not the real ground motions: \
+Mavroeidis–Papageorgiou pulses fitted to Table 1's Tp and PGV, records/README.md)";
+
 impl Source {
     pub fn label(&self) -> String {
         match self {

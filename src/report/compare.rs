@@ -28,13 +28,24 @@ pub fn same_situation(a: &Group, b: &Group, free: &[&str]) -> bool {
 }
 
 /// Pairs (index of A, index of B) of `groups`: every group the A selector picks with every
-/// group the B selector picks that describes the same situation ([`same_situation`]).
+/// group the B selector picks that describes the same situation ([`same_situation`]). Where A
+/// and B pick the same groups (one device's grid), the first member of each situation is
+/// compared with each other one.
 pub fn pair_groups(
     groups: &[&Group],
     a: &Selector,
     b: &Selector,
 ) -> Result<Vec<(usize, usize)>, SelectError> {
     let (sa, sb) = (select(groups, a)?, select(groups, b)?);
+    if sa == sb {
+        return first_against_others(groups, &sa).ok_or_else(|| {
+            SelectError(format!(
+                "A and B (`{}`) are the same single variant in every situation: pick another \
+                 B (`b`, or `--b`) to compare with",
+                a.text
+            ))
+        });
+    }
     let free: Vec<&str> = a.ids().chain(b.ids()).collect();
     let pairs: Vec<(usize, usize)> = sa
         .iter()
@@ -48,6 +59,36 @@ pub fn pair_groups(
         )));
     }
     Ok(pairs)
+}
+
+/// One selection against itself: in each situation, its first group (in study order) paired
+/// with every other one. None if no situation has two groups.
+fn first_against_others(groups: &[&Group], picked: &[usize]) -> Option<Vec<(usize, usize)>> {
+    // Device settings (the grid) are what the members differ in.
+    let free: Vec<&str> = picked
+        .iter()
+        .flat_map(|&i| &groups[i].settings)
+        .filter(|s| s.part == Part::Device)
+        .map(|s| s.id.as_str())
+        .collect();
+    let same = |i: usize, j: usize| {
+        groups[i].variant == groups[j].variant
+            && same_situation(groups[i], groups[j], &free)
+            && same_situation(groups[j], groups[i], &free)
+    };
+    let mut pairs = Vec::new();
+    for (k, &first) in picked.iter().enumerate() {
+        if picked[..k].iter().any(|&e| same(e, first)) {
+            continue;
+        }
+        pairs.extend(
+            picked[k + 1..]
+                .iter()
+                .filter(|&&other| same(first, other))
+                .map(|&other| (first, other)),
+        );
+    }
+    (!pairs.is_empty()).then_some(pairs)
 }
 
 /// The default pair of a list of spectra (for the workbench): sequential vs mechanistic in
@@ -73,6 +114,17 @@ pub fn default_pair(rows: &[&Spectrum]) -> Option<(usize, usize)> {
         }
     }
     best.map(|(_, a, b)| (a, b))
+}
+
+/// The devices (variant labels) A and B are when the user names neither, as `compare` and
+/// the workbench choose them: [`default_pair`]'s, each side its whole device; with a single
+/// device, that device on both sides (its first grid member against each other one).
+pub fn default_sides(rows: &[&Spectrum]) -> Option<(String, String)> {
+    let (a, b) = match default_pair(rows) {
+        Some((a, b)) => (rows[a], rows[b]),
+        None => (*rows.first()?, *rows.last()?),
+    };
+    Some((a.group.device_label.clone(), b.group.device_label.clone()))
 }
 
 /// One point of the spectrum axis seen from both sides.

@@ -13,12 +13,16 @@ use std::path::Path;
 struct Derived {
     spectra: Vec<Spectrum>,
     maps: Vec<OverturningMap>,
+    /// Records that ran as stand-ins ([`stand_in_records`]); absent when none did.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    stand_in_records: Vec<String>,
 }
 
 pub fn results_json(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
     let derived = Derived {
         spectra: spectra(results),
         maps: maps(results),
+        stand_in_records: stand_in_records(results),
     };
     crate::sweep::results_file_json(results, &derived)
 }
@@ -185,7 +189,7 @@ pub enum CsvLayout {
     Wide,
 }
 
-const ID_COLUMNS: [(&str, &str, &str); 5] = [
+const ID_COLUMNS: [(&str, &str, &str); 6] = [
     ("scene", "index of the scene in the study's expansion", ""),
     (
         "key",
@@ -199,6 +203,13 @@ const ID_COLUMNS: [(&str, &str, &str); 5] = [
     ),
     ("device", "device kind", ""),
     ("excitation", "record name or pulse shape", ""),
+    (
+        "record_source",
+        "where a record's samples come from: file, embedded, or stand-in (a \
+         Mavroeidis–Papageorgiou pulse fitted to Table 1, not the real ground motion); empty \
+         for pulses",
+        "",
+    ),
 ];
 
 const STATUS_COLUMNS: [(&str, &str, &str); 2] = [
@@ -221,6 +232,7 @@ pub fn results_csv_layout(results: &SweepResults, layout: CsvLayout) -> anyhow::
     let axes = axes_of(results);
     let quantities = quantities(results);
     let mut w = csv::Writer::from_writer(Vec::new());
+    let sources = record_sources(results);
     let mut header: Vec<String> = ID_COLUMNS.iter().map(|c| c.0.to_string()).collect();
     header.extend(axes.iter().map(|a| parameter(a).name));
     match layout {
@@ -236,6 +248,7 @@ pub fn results_csv_layout(results: &SweepResults, layout: CsvLayout) -> anyhow::
             o.point.group.clone(),
             o.point.scene.device.name().to_string(),
             excitation_name(&o.point.scene.excitation),
+            record_source(&o.point.scene.excitation, &sources),
         ];
         for axis in &axes {
             ids.push(
@@ -339,6 +352,15 @@ pub fn summary(results: &SweepResults) -> String {
             ""
         }
     );
+    let stand_ins = stand_in_records(results);
+    if !stand_ins.is_empty() {
+        let _ = writeln!(
+            s,
+            "{}: {}",
+            crate::excitation::library::STAND_IN_NOTE,
+            stand_ins.join(", ")
+        );
+    }
     for o in results
         .outcomes
         .iter()
@@ -504,6 +526,47 @@ fn plot_note(series: usize, has_maps: bool) -> String {
         "figures: `rocklab plot DIR --png FIGS` draws {spectra}{maps}; results.csv has every \
          scene (`rocklab table DIR --wide`: one column per quantity)"
     )
+}
+
+/// Where each record of `results` comes from in the records library of this process
+/// ([`crate::excitation::library::Source::kind`]: file, embedded, stand-in), by name.
+fn record_sources(results: &SweepResults) -> std::collections::BTreeMap<String, &'static str> {
+    let library = crate::excitation::library::global().ok();
+    let mut out = std::collections::BTreeMap::new();
+    for o in &results.outcomes {
+        if let crate::scene::Excitation::Record { name, .. } = &o.point.scene.excitation
+            && !out.contains_key(name)
+        {
+            let kind = library
+                .and_then(|l| l.load(name, false).ok())
+                .map_or("unknown", |r| r.source.kind());
+            out.insert(name.clone(), kind);
+        }
+    }
+    out
+}
+
+/// The records of `results` that run as stand-ins, sorted: every output flags them
+/// ([`crate::excitation::library::STAND_IN_NOTE`]).
+pub fn stand_in_records(results: &SweepResults) -> Vec<String> {
+    record_sources(results)
+        .into_iter()
+        .filter(|(_, kind)| *kind == "stand-in")
+        .map(|(name, _)| name)
+        .collect()
+}
+
+/// The `record_source` column: the record's source kind, empty for pulses.
+fn record_source(
+    e: &crate::scene::Excitation,
+    sources: &std::collections::BTreeMap<String, &'static str>,
+) -> String {
+    match e {
+        crate::scene::Excitation::Record { name, .. } => {
+            sources.get(name).copied().unwrap_or("unknown").into()
+        }
+        _ => String::new(),
+    }
 }
 
 /// The record's name, or the pulse's shape: the categorical part of the excitation.

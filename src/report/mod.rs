@@ -7,6 +7,7 @@ pub mod design;
 mod export;
 mod figure;
 pub mod fragility;
+pub mod naming;
 mod plot;
 mod plot_design;
 pub mod select;
@@ -20,7 +21,7 @@ pub use aggregate::{
 };
 pub use export::{
     CsvLayout, Parameter, boundary_csv, parameter, results_columns_csv, results_csv,
-    results_csv_layout, results_json, save_results, summary, write_tables,
+    results_csv_layout, results_json, save_results, stand_in_records, summary, write_tables,
 };
 pub use figure::{FigureOptions, FigureSize, ImageFormat};
 pub use plot::{

@@ -111,6 +111,7 @@ impl DirRun {
             return Ok(Finished {
                 results,
                 written: Err(kept),
+                reused: output.reused,
             });
         }
         let written = (writers.results)(&output.results_path, &results).and_then(|()| {
@@ -133,7 +134,12 @@ impl DirRun {
         {
             let _ = std::fs::remove_file(aside);
         }
-        Ok(Finished { results, written })
+        let reused = output.reused;
+        Ok(Finished {
+            results,
+            written,
+            reused,
+        })
     }
 }
 
@@ -144,6 +150,9 @@ pub struct Finished {
     /// Ok once the results file (and tables) are written; otherwise why not, saying where
     /// the finished scenes are kept.
     pub written: anyhow::Result<()>,
+    /// Scenes reused (from the journal, or adopted from an edited study's results) instead of
+    /// computed.
+    pub reused: usize,
 }
 
 /// The results at `path` — a results file, its journal, or a directory holding

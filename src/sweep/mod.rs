@@ -307,11 +307,35 @@ fn run_into(
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> anyhow::Result<SweepResults> {
+    let measures = crate::study::Quantity::measures(&study.quantities);
+    // Another study's finished scenes that this one still has (it was edited): into the
+    // journal first, which is from now on their record, then reused like the journal's own.
+    let mut reuse = std::mem::take(&mut output.reuse);
+    let mut adopted = std::mem::take(&mut output.adopted);
+    for p in points.iter().filter(|p| in_shard(p.index, opts.shard)) {
+        if !reuse.contains_key(&p.key)
+            && let Some(r) = adopted.remove(&p.key)
+            && r.measured.covers(measures)
+        {
+            let r = Ok(r);
+            output.journal.append(p.index, &p.key, &r);
+            reuse.insert(p.key.clone(), r);
+        }
+    }
+    drop(adopted);
+    let reused = std::sync::atomic::AtomicUsize::new(0);
+    let counting = |p: Progress| {
+        if let Progress::SceneDone { reused: true, .. } = p {
+            reused.fetch_add(1, Ordering::Relaxed);
+        }
+        progress(p)
+    };
+    let progress = &counting;
     let checkpoint = Checkpoint {
         journal: Some(&output.journal),
-        reuse: std::mem::take(&mut output.reuse),
+        reuse,
         scene_time_limit,
-        measures: crate::study::Quantity::measures(&study.quantities),
+        measures,
     };
     let mut results = if study.map.is_some_and(|m| m.refine.is_some()) {
         adaptive::run_refined(study, points, opts, library, checkpoint, cancel, progress)?
@@ -322,6 +346,7 @@ fn run_into(
     };
     results.study_hash = study.hash();
     results.study = Some(study.clone());
+    output.reused = reused.into_inner();
     let journal = output.journal.path().display().to_string();
     let synced = output.journal.sync();
     if let Some(why) = output.journal.failure() {

@@ -1,5 +1,8 @@
 //! An output directory owned by one run: checked writable before the first scene, locked,
-//! refused if it holds another study's results, and resumed from its journal.
+//! and resumed from its journal. Results of another study there (an edited study, most often)
+//! are set aside and every finished scene of theirs whose scene is unchanged is reused: a
+//! scene's key is a hash of the scene and its solver settings, so a scene is a pure function
+//! of its key whatever else the study holds.
 //!
 //! File names per results set (one per shard, so the tasks of a job array share a directory):
 //! `results.json` / `results.shard-i-of-N.json` (final results), the same stem with
@@ -17,16 +20,6 @@ use std::path::{Path, PathBuf};
 /// Why an output directory cannot be used; said before any scene runs.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
-    #[error(
-        "{path} holds results of another study ({other}, hash {other_hash}; this study is hash {hash}); \
-         use another --out, or --force to set them aside"
-    )]
-    OtherStudy {
-        path: String,
-        other: String,
-        other_hash: String,
-        hash: String,
-    },
     #[error(
         "another rocklab{pid} is writing {path}; wait for it to finish (`rocklab status {dir}`) or use another --out"
     )]
@@ -120,8 +113,6 @@ impl OutputLock {
 pub struct OpenOptions {
     /// Rerun every scene; the previous results stay in place until the new run has finished.
     pub fresh: bool,
-    /// Accept a directory holding another study's results (they are set aside).
-    pub force: bool,
 }
 
 /// An output directory ready for a run.
@@ -129,8 +120,13 @@ pub struct OpenOptions {
 pub struct Output {
     pub results_path: PathBuf,
     pub journal: Journal,
-    /// Finished scenes of previous runs, by key, for the sweep to reuse.
+    /// Finished scenes of previous runs of this study (already in the journal), by key.
     pub reuse: HashMap<String, Result<SceneResult, String>>,
+    /// Finished scenes of another study's results found here (the study was edited), by key:
+    /// those whose key the study still has are copied into the journal and reused.
+    pub adopted: HashMap<String, SceneResult>,
+    /// After [`super::run_into`]: scenes reused instead of computed (journal and adopted).
+    pub reused: usize,
     /// What was found and decided, for the user (resumed, discarded, set aside).
     pub notes: Vec<String>,
     /// `--fresh` with a previous results file: it is not replaced unless the run completes.
@@ -190,25 +186,33 @@ pub fn open_output(
         study: Some(study.clone()),
     };
     let mut notes = Vec::new();
-    let other_study = |path: &Path, name: Option<&str>, other_hash: &str| OutputError::OtherStudy {
-        path: path.display().to_string(),
-        other: name.map_or("unnamed".into(), |n| format!("'{n}'")),
-        other_hash: other_hash.to_string(),
-        hash: hash.clone(),
-    };
-
+    let mut adopted = HashMap::new();
     if results_path.exists()
         && let Ok((other_hash, name)) = super::store::results_identity(&results_path)
         && other_hash != hash
     {
-        if !opts.force {
-            return Err(other_study(&results_path, name.as_deref(), &other_hash).into());
-        }
+        let found = match super::load_results(&results_path) {
+            _ if opts.fresh => "not reused: --fresh".into(),
+            Ok(previous) if super::reusable(&previous) => {
+                let n = adopted.len();
+                adopted.extend(
+                    previous
+                        .outcomes
+                        .into_iter()
+                        .filter_map(|o| Some((o.point.key, o.result.ok()?))),
+                );
+                format!("{} finished scenes", adopted.len() - n)
+            }
+            Ok(_) => "scenes of another build of rocklab (not reused)".into(),
+            Err(e) => format!("nothing readable ({e:#})"),
+        };
         let aside = free_aside(&results_path);
         std::fs::rename(&results_path, &aside)
             .with_context(|| format!("cannot move {} aside", results_path.display()))?;
         notes.push(format!(
-            "--force: the other study's results were moved to {}",
+            "{} held results of {} ({found}), kept as {}",
+            results_path.display(),
+            other_name(name.as_deref(), &study.name),
             aside.display()
         ));
     }
@@ -220,9 +224,28 @@ pub fn open_output(
         .exists()
         .then(|| journal::read_header(&journal_path));
     match &previous_header {
-        Some(Ok(h)) if h.study_hash != hash && !opts.force => {
+        // Another study's journal (set aside below): its finished scenes are adopted if this
+        // build wrote them.
+        Some(Ok(h))
+            if h.study_hash != hash
+                && !opts.fresh
+                && h.build == header.build
+                && h.build != "unknown" =>
+        {
+            let contents = journal::read_journal(&journal_path, false)?;
+            let n = contents.entries.len();
+            adopted.extend(
+                contents
+                    .entries
+                    .into_values()
+                    .filter_map(|e| Some((e.key, e.result.ok()?))),
+            );
             let name = h.study.as_ref().map(|s| s.name.as_str());
-            return Err(other_study(&journal_path, name, &h.study_hash).into());
+            notes.push(format!(
+                "{} is the journal of {} ({n} scenes); the unchanged scenes are reused",
+                journal_path.display(),
+                other_name(name, &study.name)
+            ));
         }
         Some(Ok(h)) if h.study_hash == hash && h.shard == shard && !opts.fresh => {
             if h.build == header.build && h.build != "unknown" {
@@ -320,6 +343,8 @@ pub fn open_output(
         journal
     };
     Ok(Output {
+        adopted,
+        reused: 0,
         keep_previous_results: opts.fresh && results_path.exists(),
         results_path,
         journal,
@@ -328,6 +353,16 @@ pub fn open_output(
         set_aside,
         _lock: lock,
     })
+}
+
+/// How the notes name the study whose results were found: the same name is this study
+/// before an edit.
+fn other_name(name: Option<&str>, this: &str) -> String {
+    match name {
+        Some(n) if n == this => format!("an earlier version of '{n}'"),
+        Some(n) => format!("study '{n}'"),
+        None => "an unnamed study".into(),
+    }
 }
 
 /// Create, write and sync a small file: catches a read-only or full file system, a missing

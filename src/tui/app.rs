@@ -218,6 +218,12 @@ impl App {
         self.message = Some((msg.into(), true));
     }
 
+    /// The study was opened although invalid: say why (file, line, field, hint) until the
+    /// user edits it; runs are refused with the same message meanwhile.
+    pub fn show_invalid(&mut self, why: String) {
+        self.complain(format!("{why} (fix it here: Enter edits the value)"));
+    }
+
     /// Put results on the Results screen (a finished or cancelled sweep), cursors reset.
     pub fn show_results(&mut self, results: SweepResults, cancelled: bool) {
         let data = Results::new(results, cancelled);
@@ -326,8 +332,17 @@ impl App {
         if self.prompt.is_some() {
             return self.prompt_key(key);
         }
+        let open = || Some(Prompt::Open(LineEdit::new("")));
+        if key.code == KeyCode::Char('o') && key.modifiers.contains(KeyModifiers::CONTROL) {
+            self.prompt = open();
+            return Effect::None;
+        }
         if !self.component(self.screen).captures_keys() {
+            // `o` opens on every screen but the comparison, where it sorts the pairs.
+            let o_sorts = self.screen == Screen::Results
+                && self.browser.tab == super::components::results::ResultsTab::Compare;
             match key.code {
+                KeyCode::Char('o') if !o_sorts => self.prompt = open(),
                 KeyCode::Char('q') => return self.request(Pending::Quit),
                 KeyCode::Char('?') => self.help.visible = true,
                 KeyCode::Char('1') => self.screen = Screen::Study,
@@ -442,21 +457,41 @@ impl App {
                     self.shared.path = Some(path.clone());
                     self.shared.dirty = false;
                     self.editor.cursor = 0;
+                    let folder = self.forget_out_dir();
                     self.set_study(study, None);
-                    self.say(format!("opened {}", path.display()));
+                    self.say(format!("opened {}{folder}", path.display()));
                 }
                 Err(e) => self.complain(e.to_string()),
             },
             Pending::New => {
+                // The default's values, not its file: no header comment, no description.
+                let study = Study {
+                    name: "new_study".into(),
+                    description: String::new(),
+                    ..Study::builtin_default()
+                };
                 self.shared.path = None;
-                self.shared.original = Some(BUILTIN_DEFAULT.to_string());
+                self.shared.original = None;
                 self.shared.dirty = false;
                 self.editor.cursor = 0;
-                self.set_study(Study::builtin_default(), None);
-                self.say("new study from the built-in default");
+                let folder = self.forget_out_dir();
+                self.set_study(study, None);
+                self.say(format!("new study (the built-in default's values){folder}"));
             }
         }
         Effect::None
+    }
+
+    /// Another study is opened: an output folder chosen with `d` (or the results opened) was
+    /// for the one before, so the next run goes to out/<name>/ again. Says so if it changes.
+    fn forget_out_dir(&mut self) -> String {
+        match self.shared.out_dir.take() {
+            Some(dir) => format!(
+                "; results go to out/<study name>/ again, not {}/ (d changes it)",
+                dir.display()
+            ),
+            None => String::new(),
+        }
     }
 
     /// Cancel background work before leaving, so that the process exits promptly. A sweep

@@ -34,8 +34,33 @@ use theme::Theme;
 const TICK: Duration = Duration::from_millis(100);
 const MIN_REDRAW: Duration = Duration::from_millis(250);
 
-pub fn run(study: Study, path: Option<PathBuf>, mono: bool) -> anyhow::Result<()> {
-    run_app(App::new(study, path, Options::default()), mono)
+/// A study file for the workbench: the study, and why it is invalid if it parses but does not
+/// validate (it opens in the editor with the error shown, to be fixed there). Err: it does not
+/// parse (no tree to show), with the study parser's message.
+pub fn open_study(path: &std::path::Path) -> Result<(Study, Option<String>), String> {
+    match Study::load(path) {
+        Ok(study) => Ok((study, None)),
+        Err(e) => std::fs::read_to_string(path)
+            .ok()
+            .and_then(|text| Study::parse_ron(&text, &path.display().to_string()).ok())
+            .map(|study| (study, Some(e.to_string())))
+            .ok_or_else(|| e.to_string()),
+    }
+}
+
+/// The workbench on `study` (from `path`, if a file); `invalid`: why the file was refused
+/// (it parsed but does not validate), shown at once so the user fixes it in the editor.
+pub fn run(
+    study: Study,
+    path: Option<PathBuf>,
+    invalid: Option<String>,
+    mono: bool,
+) -> anyhow::Result<()> {
+    let mut app = App::new(study, path, Options::default());
+    if let Some(why) = invalid {
+        app.show_invalid(why);
+    }
+    run_app(app, mono)
 }
 
 /// Open the workbench on finished results (a results directory, results file or journal),

@@ -366,6 +366,9 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         let mut json = result_json(&scene, &result);
         json["wall_seconds_median"] = timing.median.into();
         json["repeats"] = timing.repeats.into();
+        if let Excitation::Record { name, .. } = &scene.excitation {
+            json["record_source"] = library.load(name, false)?.source.kind().into();
+        }
         if let Some(check) = &check {
             json["check"] = serde_json::to_value(check)?;
         }

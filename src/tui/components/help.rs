@@ -28,8 +28,8 @@ impl Help {
             k("1 2 3 4", "Study / Run / Results / Scene (Tab cycles)"),
             k("r  ?", "run or resume the study  /  this help"),
             k(
-                "q  Ctrl-C",
-                "quit (asks during a sweep or with unsaved changes)",
+                "q ^C  o ^O",
+                "quit (asks if need be) / open a study or results",
             ),
             h("Study"),
             k(
@@ -44,7 +44,7 @@ impl Help {
                 "a / d",
                 "add from a copy / delete list element; unset a field",
             ),
-            k("s S o ^N", "save, save as, open study or results, new"),
+            k("s S ^N", "save, save as, new study (the default's values)"),
             h("Run"),
             k(
                 "c / Esc",
@@ -62,7 +62,10 @@ impl Help {
                 "open the scene under the cursor / write results",
             ),
             h("Scene"),
-            k("Esc  c", "back to results / check convergence"),
+            k(
+                "Esc  c",
+                "back / check; `rocklab plot DIR --scene N` draws it",
+            ),
         ];
         let height = lines.len() as u16;
         popup(

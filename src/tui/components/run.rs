@@ -50,6 +50,8 @@ pub struct RunState {
     /// None while running; Some(cancelled) once finished.
     pub finished: Option<bool>,
     pub cancel_requested: bool,
+    /// The sweep returned an error (shown on the status line) instead of results.
+    pub failed_to_finish: bool,
 }
 
 impl RunState {
@@ -212,6 +214,7 @@ impl RunScreen {
             elapsed: Duration::ZERO,
             finished: None,
             cancel_requested: false,
+            failed_to_finish: false,
         });
     }
 
@@ -280,6 +283,7 @@ impl RunScreen {
                     news.changed = true;
                     let Some(results) = outcome.results else {
                         run.finished = Some(true);
+                        run.failed_to_finish = true;
                         continue;
                     };
                     let cancelled = run.cancel_requested || results.cancelled;
@@ -414,6 +418,12 @@ impl RunScreen {
         let state = match run.finished {
             None if run.cancel_requested => Span::styled("cancelling…", theme.warn()),
             None => Span::styled("running", theme.warn()),
+            Some(true) if run.failed_to_finish && run.done == 0 => {
+                Span::styled("not run (see the message below)", theme.error())
+            }
+            Some(true) if run.failed_to_finish => {
+                Span::styled("stopped by an error (finished scenes kept)", theme.error())
+            }
             Some(true) => Span::styled("cancelled (finished scenes kept)", theme.warn()),
             Some(false) => Span::styled("finished", theme.ok()),
         };
@@ -447,7 +457,7 @@ impl RunScreen {
         let mut status = vec![state, Span::raw("  "), Span::raw(self.timing(shared, run))];
         if run.reused > 0 {
             status.push(Span::styled(
-                format!("  {} reused from cache", run.reused),
+                format!("  {} reused, {} new", run.reused, run.done - run.reused),
                 theme.dim(),
             ));
         }

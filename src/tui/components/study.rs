@@ -306,7 +306,6 @@ impl Component for StudyScreen {
                     .map_or("study.ron".into(), |p| p.display().to_string());
                 return Action::Prompt(Prompt::SaveAs(LineEdit::new(current)));
             }
-            KeyCode::Char('o') => return Action::Prompt(Prompt::Open(LineEdit::new(""))),
             KeyCode::Char('/') => return Action::Prompt(Prompt::Search(LineEdit::new(""))),
             KeyCode::Char('n') if key.modifiers.contains(KeyModifiers::CONTROL) => {
                 return Action::Request(Pending::New);

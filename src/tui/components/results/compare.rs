@@ -9,6 +9,7 @@ use super::super::super::widgets::strip::{Bars, Strip, axis_line, series_lines};
 use super::super::super::widgets::{fmt_num, pad, scroll_offset, truncate};
 use super::{Mark, Results, ResultsScreen};
 use crate::report::compare::{self, MapCell, MapComparison, PairStats, PointPair, SpectrumPair};
+use crate::report::naming;
 use crate::report::select::{SelectError, Selector};
 use crate::report::{Group, PointState, Quantity, Spectrum};
 use crossterm::event::{KeyCode, KeyEvent};
@@ -28,13 +29,6 @@ pub struct Side {
 }
 
 impl Side {
-    fn of(group: &Group) -> Side {
-        Side {
-            device: group.device_label.clone(),
-            picks: vec![],
-        }
-    }
-
     /// The side as a selector of report/select.rs (what `compare --a/--b` takes).
     pub fn selector_text(&self) -> String {
         if self.picks.is_empty() {
@@ -171,20 +165,18 @@ fn choices(groups: &[&Group], device: &str) -> Vec<Choice> {
 }
 
 impl CompareView {
-    /// A and B of the default pair (report::compare::default_pair: sequential vs mechanistic
-    /// in the same situation if there), each side its whole device: a grid side compares
-    /// with every member, a record suite record by record.
+    /// A and B of the default pair ([`compare::default_sides`], as `rocklab compare` without
+    /// `--a`/`--b`): each side its whole device, so a grid side compares with every member
+    /// and a record suite record by record.
     pub fn default_pair(rows: &[&Spectrum]) -> Self {
-        let (a, b) = match compare::default_pair(rows) {
-            Some((a, b)) => (Side::of(&rows[a].group), Side::of(&rows[b].group)),
-            None => match (rows.first(), rows.last()) {
-                (Some(a), Some(b)) => (Side::of(&a.group), Side::of(&b.group)),
-                _ => (Side::default(), Side::default()),
-            },
+        let side = |device: String| Side {
+            device,
+            picks: vec![],
         };
+        let (a, b) = compare::default_sides(rows).unwrap_or_default();
         CompareView {
-            a,
-            b,
+            a: side(a),
+            b: side(b),
             ..Default::default()
         }
     }
@@ -419,27 +411,87 @@ fn stat(v: Option<f64>) -> String {
     v.map_or("—".into(), |v| format!("{v:.3}"))
 }
 
-/// The name of a pair in the list: what tells it from the others (the grid side's label, or
-/// the situation both sides share: a record, an amplitude).
-fn pair_name(pairs: &[SpectrumPair], p: &SpectrumPair) -> String {
-    let one_a = pairs.iter().all(|q| q.a_group == p.a_group);
-    let one_b = pairs.iter().all(|q| q.b_group == p.b_group);
-    match (one_a, one_b) {
-        (true, false) => format!("B {}", p.b),
-        (false, true) => format!("A {}", p.a),
-        _ => {
-            let b_words: Vec<&str> = p.b.split(' ').collect();
-            let shared: Vec<&str> =
-                p.a.split(' ')
-                    .filter(|w| *w != "·" && b_words.contains(w))
-                    .collect();
-            if shared.is_empty() {
-                format!("{} / {}", p.a, p.b)
-            } else {
-                shared.join(" ")
-            }
+/// The list of pairs (at most `room` lines), each named by what tells it from the others
+/// ([`naming::pair_names`]: the member of a grid, the situation) with the words every pair
+/// has said once above; a name too long for one line with its statistics wraps.
+fn pair_list(
+    pairs: &[SpectrumPair],
+    sel: usize,
+    sort: SortBy,
+    room: usize,
+    width: u16,
+    theme: Theme,
+) -> Vec<Line<'static>> {
+    let width = (width as usize).max(20);
+    let labels: Vec<(&str, &str)> = pairs.iter().map(|p| (p.a.as_str(), p.b.as_str())).collect();
+    let names = naming::pair_names(&labels);
+    let head = format!(
+        "{} pairs by {} (o sorts; A↯/B↯: only A/B overturns), all: {}",
+        pairs.len(),
+        sort.name(),
+        names.shared
+    );
+    let mut lines: Vec<Line<'static>> = naming::wrap(&head, width)
+        .into_iter()
+        .take(room.saturating_sub(1).max(1))
+        .map(|l| Line::styled(l, theme.dim()))
+        .collect();
+    let stats = |s: &PairStats| {
+        format!(
+            "mean {}  med {}  peak {}  A↯ {}  B↯ {}",
+            stat(s.mean_ratio),
+            stat(s.median_ratio),
+            stat(s.peak_ratio),
+            s.a_overturns_b_survives,
+            s.b_overturns_a_survives
+        )
+    };
+    let name_w = names
+        .names
+        .iter()
+        .map(|n| n.chars().count())
+        .max()
+        .unwrap_or(0);
+    let stats_w = pairs
+        .iter()
+        .map(|p| stats(&p.stats).chars().count())
+        .max()
+        .unwrap_or(0);
+    let one_line = name_w + 2 + stats_w <= width;
+    // Every pair takes as many lines as the longest name needs.
+    let per_pair = if one_line {
+        1
+    } else {
+        names
+            .names
+            .iter()
+            .map(|n| naming::wrap(n, width).len())
+            .max()
+            .unwrap_or(1)
+            + 1
+    };
+    let shown = (room.saturating_sub(lines.len()) / per_pair).min(pairs.len());
+    let offset = scroll_offset(sel, pairs.len(), shown.max(1));
+    for (i, p) in pairs.iter().enumerate().skip(offset).take(shown) {
+        let style = if i == sel {
+            theme.selected()
+        } else {
+            theme.base()
+        };
+        let name = &names.names[i];
+        if one_line {
+            lines.push(Line::styled(
+                format!("{}  {}", pad(name, name_w), stats(&p.stats)),
+                style,
+            ));
+            continue;
         }
+        let mut wrapped = naming::wrap(name, width);
+        wrapped.resize(per_pair - 1, String::new());
+        lines.extend(wrapped.into_iter().map(|l| Line::styled(l, style)));
+        lines.push(Line::styled(format!("  {}", stats(&p.stats)), style));
     }
+    lines
 }
 
 fn side_line(name: &str, side: &Side, style: Style, theme: Theme) -> Line<'static> {
@@ -535,38 +587,13 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
     let x = screen.spectra.x.min(pair.points.len().saturating_sub(1));
     let st = Strip::fit(pair.points.len(), width, x);
     // Rows left for the list of pairs after the drawing (A, B: 2 rows each; B/A: 3; axis;
-    // cursor; statistics: 2; keys).
+    // cursor; statistics: 2; legend).
     let fixed = lines.len() + 4 + 3 + 1 + 1 + 2 + 1;
-    let list_room = (area.height as usize).saturating_sub(fixed + 1);
-    if pairs.len() > 1 && list_room > 0 {
-        lines.push(Line::styled(
-            format!(
-                "{} pairs by {} (o sorts); A↯ / B↯: only A / only B overturns",
-                pairs.len(),
-                view.sort.name()
-            ),
-            theme.dim(),
+    let list_room = (area.height as usize).saturating_sub(fixed);
+    if pairs.len() > 1 && list_room > 1 {
+        lines.extend(pair_list(
+            &pairs, sel, view.sort, list_room, area.width, theme,
         ));
-        let shown = list_room.min(pairs.len());
-        let offset = scroll_offset(sel, pairs.len(), shown);
-        for (i, p) in pairs.iter().enumerate().skip(offset).take(shown) {
-            let s = &p.stats;
-            let text = format!(
-                "{}  mean {}  med {}  peak {}  A↯ {}  B↯ {}",
-                pad(&truncate(&pair_name(&pairs, p), 28), 28),
-                stat(s.mean_ratio),
-                stat(s.median_ratio),
-                stat(s.peak_ratio),
-                s.a_overturns_b_survives,
-                s.b_overturns_a_survives
-            );
-            let style = if i == sel {
-                theme.selected()
-            } else {
-                theme.base()
-            };
-            lines.push(Line::styled(text, style));
-        }
     }
     let a: Vec<Option<f64>> = pair.points.iter().map(|p| p.a).collect();
     let b: Vec<Option<f64>> = pair.points.iter().map(|p| p.b).collect();
@@ -635,7 +662,7 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
     }
     let s = &pair.stats;
     lines.push(Line::raw(format!(
-        "B/A where both survive ({} of {} pts): mean {}  median {}  peak ratio {}",
+        "both survive {}/{} pts: B/A mean {}  median {}  peak ratio {}",
         s.ratio_points,
         s.points,
         stat(s.mean_ratio),
@@ -647,7 +674,7 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
         s.a_overturns_b_survives, s.b_overturns_a_survives, s.both_overturn, s.failed, s.not_run
     )));
     lines.push(Line::styled(
-        "on 1.0: B / A only B / A survives, × both overturn, ? failed, blank not run",
+        "on 1.0: B/A only B/A survives, 0 A=0, × both overturn, ? failed, blank not run",
         theme.dim(),
     ));
     frame.render_widget(Paragraph::new(lines), area);
@@ -689,16 +716,18 @@ fn draw_map(
     };
     let sel = view.pair.min(maps.len() - 1);
     let m = &maps[sel];
-    lines.push(Line::styled(
-        format!(
-            "overturning maps (pair {}/{}): A {}  vs  B {}",
-            sel + 1,
-            maps.len(),
-            m.a,
-            m.b
-        ),
-        theme.title(),
-    ));
+    let title = format!(
+        "overturning maps (pair {}/{}, ↑↓): A {}  vs  B {}",
+        sel + 1,
+        maps.len(),
+        m.a,
+        m.b
+    );
+    lines.extend(
+        naming::wrap(&title, area.width as usize)
+            .into_iter()
+            .map(|l| Line::styled(l, theme.title())),
+    );
     let ylabel = 8;
     let (nx, ny) = (m.xs.len(), m.ys.len());
     let room_w = (area.width as usize).saturating_sub(ylabel + 2);

@@ -125,6 +125,12 @@ impl MapsView {
         };
         let state = if map.inferred(cx, cy) {
             format!("{state} (inferred by refinement, not run)")
+        } else if let Some(r) = data.map_result(map, cx, cy).filter(|r| !r.overturned) {
+            format!(
+                "{state}, {} {}",
+                crate::study::Quantity::PeakRotationRatio.label(),
+                fmt_num(r.peak_rotation_ratio)
+            )
         } else {
             state.to_string()
         };

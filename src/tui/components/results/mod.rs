@@ -18,6 +18,7 @@ use super::super::widgets::Hint;
 use super::prompt::Prompt;
 use super::{Action, Component, Shared};
 use crate::report::{self, OverturningMap, Quantity, Spectrum};
+use crate::sim::SceneResult;
 use crate::study::ScenePoint;
 use crate::sweep::SweepResults;
 use crossterm::event::{KeyCode, KeyEvent};
@@ -196,6 +197,12 @@ impl Results {
     pub fn scene_at(&self, spectrum: &Spectrum, x: usize) -> Option<usize> {
         let outcome = spectrum.outcomes.get(x)?;
         Some(self.padded.outcomes.get(*outcome)?.point.index)
+    }
+
+    /// The result of the scene behind a map cell, if it ran and finished.
+    pub fn map_result(&self, map: &OverturningMap, ix: usize, iy: usize) -> Option<&SceneResult> {
+        let i = (*map.outcomes.get(iy)?.get(ix)?)?;
+        self.padded.outcomes.get(i)?.result.as_ref().ok()
     }
 
     /// The marks of one of `spectra` (none if it is not one of them).

@@ -8,6 +8,7 @@ use super::super::super::theme::Theme;
 use super::super::super::widgets::strip::{Bars, Strip, axis_line, series_lines};
 use super::super::super::widgets::{edit_spans, fmt_num, pad, scroll_offset, truncate};
 use super::{Mark, Results, ResultsScreen, label_width};
+use crate::report::naming;
 use crate::report::select::{Selector, select};
 use crate::report::{Group, Spectrum};
 use crossterm::event::{KeyCode, KeyEvent};
@@ -147,9 +148,13 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
     }
     // Name rows by what tells them apart: the words all share are said once, above.
     let labels: Vec<&str> = rows.iter().map(|s| s.label.as_str()).collect();
-    let (prefix, names) = split_common_prefix(&labels);
-    if !prefix.is_empty() {
-        lines.push(Line::styled(format!("all rows: {prefix} …"), theme.dim()));
+    let naming::Names { shared, names } = naming::distinguish(&labels);
+    if !shared.is_empty() {
+        lines.extend(
+            naming::wrap(&format!("all rows: {shared}"), area.width as usize)
+                .into_iter()
+                .map(|l| Line::styled(l, theme.dim())),
+        );
     }
     let n = axis_len(&rows);
     let label_width = label_width(&names, area);
@@ -261,64 +266,4 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
         lines.push(Line::styled(all, theme.base()));
     }
     frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
-}
-
-/// The words every label starts with (when each keeps at least one of its own), and the
-/// labels without them: "mechanistic kθ=3 up=0", "mechanistic kθ=3 up=0.01" →
-/// ("mechanistic kθ=3", ["up=0", "up=0.01"]).
-pub fn split_common_prefix(labels: &[&str]) -> (String, Vec<String>) {
-    let words: Vec<Vec<&str>> = labels.iter().map(|l| l.split(' ').collect()).collect();
-    let shortest = words.iter().map(Vec::len).min().unwrap_or(0);
-    let mut k = 0;
-    while labels.len() > 1 && k + 1 < shortest && words.iter().all(|w| w[k] == words[0][k]) {
-        k += 1;
-    }
-    // Do not leave a dangling separator (`·`) at either side.
-    while k > 0 && words[0][k - 1] == "·" {
-        k -= 1;
-    }
-    let rest = words
-        .iter()
-        .map(|w| {
-            let tail = &w[k..];
-            let tail = if tail.first() == Some(&"·") {
-                &tail[1..]
-            } else {
-                tail
-            };
-            tail.join(" ")
-        })
-        .collect();
-    (
-        words.first().map_or(String::new(), |w| w[..k].join(" ")),
-        rest,
-    )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::split_common_prefix;
-
-    #[test]
-    fn the_shared_words_of_row_labels_are_said_once() {
-        let (p, rest) = split_common_prefix(&["mechanistic kθ=3 up=0", "mechanistic kθ=3 up=0.01"]);
-        assert_eq!(p, "mechanistic kθ=3");
-        assert_eq!(rest, ["up=0", "up=0.01"]);
-        // Different devices share nothing; a single row keeps its whole label.
-        let (p, rest) = split_common_prefix(&["bare", "mechanistic"]);
-        assert_eq!(
-            (p.as_str(), rest),
-            ("", vec!["bare".to_string(), "mechanistic".into()])
-        );
-        let (p, rest) = split_common_prefix(&["mechanistic up=0"]);
-        assert_eq!(
-            (p.as_str(), rest),
-            ("", vec!["mechanistic up=0".to_string()])
-        );
-        let (p, rest) = split_common_prefix(&["sequential · landers", "sequential · kobe"]);
-        assert_eq!(
-            (p.as_str(), rest),
-            ("sequential", vec!["landers".to_string(), "kobe".into()])
-        );
-    }
 }
