@@ -13,6 +13,7 @@ mod exact_contact;
 mod excitation;
 mod figures;
 mod flexible;
+mod fragility_run;
 mod fuzz;
 mod hard_cases;
 mod lost_events;

@@ -43,6 +43,8 @@ pub fn write_tables(
     if study.map.is_some() {
         super::write_atomic(&out.join("boundary.csv"), &boundary_csv(results)?)?;
     }
+    // A fragility study's stripes.csv, and its fit once every scene has run.
+    super::stripes::write(out, study, results)?;
     study.save(&out.join("study.ron"))
 }
 

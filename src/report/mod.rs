@@ -8,6 +8,7 @@ mod figure;
 pub mod fragility;
 mod plot;
 pub mod select;
+pub mod stripes;
 
 pub use crate::fsutil::{readable_by_all, write_atomic};
 pub use crate::study::Quantity;

@@ -10,6 +10,7 @@
 mod error;
 mod expand;
 pub mod fields;
+pub mod fragility;
 mod strict;
 mod suites;
 mod values;
@@ -70,6 +71,9 @@ pub struct Study {
     /// Integrator method: `auto` (by rtol), `dp54` or `dop853`.
     #[serde(default, skip_serializing_if = "crate::scene::Method::is_auto")]
     pub method: crate::scene::Method,
+    /// Fragility analysis over the study's records and stripes (study/fragility.rs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fragility: Option<fragility::Fragility>,
 }
 
 fn yes() -> bool {
@@ -427,7 +431,8 @@ impl Study {
     /// Physical and structural validity. Errors name the field (as a path) with a hint; the
     /// file position is filled in by [`Study::from_ron_str`].
     pub fn validate(&self) -> Result<(), StudyError> {
-        expand::validate(self)
+        expand::validate(self)?;
+        fragility::validate(self)
     }
 
     pub fn expand(&self) -> Result<Vec<ScenePoint>, StudyError> {

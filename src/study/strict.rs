@@ -64,6 +64,7 @@ pub fn wrapper_names() -> Vec<&'static str> {
         variants::<Impact>(),
         variants::<ResetRule>(),
         variants::<Form>(),
+        variants::<super::fragility::DamageStates>(),
     ]
     .concat();
     names.push("Some");
