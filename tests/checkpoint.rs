@@ -72,13 +72,13 @@ fn reference() -> &'static [SceneOutcome] {
 }
 
 /// Complete lines in a file (a torn last line does not count).
-fn lines(path: &Path) -> usize {
+pub(crate) fn lines(path: &Path) -> usize {
     std::fs::read(path)
         .map(|b| b.iter().filter(|c| **c == b'\n').count())
         .unwrap_or(0)
 }
 
-fn spawn_run(study: &str, out: &Path, extra: &[&str]) -> Child {
+pub(crate) fn spawn_run(study: &str, out: &Path, extra: &[&str]) -> Child {
     let mut args = vec!["run", study, "--out", out.to_str().unwrap(), "--quiet"];
     args.extend_from_slice(extra);
     rocklab_command(&args)
@@ -89,7 +89,7 @@ fn spawn_run(study: &str, out: &Path, extra: &[&str]) -> Child {
 }
 
 /// Wait until `path` has at least `n` complete lines (or the child ended).
-fn wait_for_lines(child: &mut Child, path: &Path, n: usize) {
+pub(crate) fn wait_for_lines(child: &mut Child, path: &Path, n: usize) {
     let start = Instant::now();
     while lines(path) < n {
         if let Ok(Some(status)) = child.try_wait() {
@@ -107,7 +107,7 @@ fn wait_for_lines(child: &mut Child, path: &Path, n: usize) {
     }
 }
 
-fn signal(child: &Child, name: &str) {
+pub(crate) fn signal(child: &Child, name: &str) {
     let ok = std::process::Command::new("kill")
         .args([&format!("-{name}"), &child.id().to_string()])
         .status()
@@ -117,7 +117,7 @@ fn signal(child: &Child, name: &str) {
 }
 
 /// Wait for the child (killing it if it outlives the patience) and return its stderr.
-fn finish(mut child: Child) -> (std::process::ExitStatus, String) {
+pub(crate) fn finish(mut child: Child) -> (std::process::ExitStatus, String) {
     let start = Instant::now();
     loop {
         if let Some(status) = child.try_wait().unwrap() {
@@ -137,14 +137,14 @@ fn finish(mut child: Child) -> (std::process::ExitStatus, String) {
 }
 
 /// Scenes finished (journalled) in a journal, as `rocklab status` counts them.
-fn journalled(path: &Path) -> usize {
+pub(crate) fn journalled(path: &Path) -> usize {
     let status = sweep::set_status(&path.with_extension("json"), None);
     assert!(status.total.is_some(), "{} unreadable", path.display());
     status.ok + status.failed
 }
 
 /// The scene count in "resuming from …: N finished scenes reused".
-fn reused(stderr: &str) -> usize {
+pub(crate) fn reused(stderr: &str) -> usize {
     let at = stderr
         .find("finished scenes reused")
         .unwrap_or_else(|| panic!("no resume note in: {stderr}"));

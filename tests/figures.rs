@@ -103,6 +103,11 @@ fn every_shipped_study_draws_with_every_series_and_units_on_every_axis() {
         if study.design.is_some() {
             continue;
         }
+        // A fragility study's figure is its fragility curves, drawn from fragility.json
+        // (tests/fragility_views.rs), not spectra over its record groups.
+        if study.fragility.is_some() {
+            continue;
+        }
         let results = synthetic_results(&study);
         let dir = tempfile::tempdir().unwrap();
         let spectra = report::spectra(&results);

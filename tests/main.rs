@@ -15,6 +15,7 @@ mod excitation;
 mod figures;
 mod flexible;
 mod fragility_views;
+mod fragility_run;
 mod fuzz;
 mod hard_cases;
 mod lost_events;

@@ -106,6 +106,11 @@ fn summary(results: &SweepResults) -> String {
             report::sparkline(&quantised(&sp.ys)),
         );
     }
+    if let Some(study) = &results.study
+        && let Some(f) = &study.fragility
+    {
+        fragility_summary(&mut s, study, f, results);
+    }
     for m in report::maps(results) {
         let _ = writeln!(
             s,
@@ -129,6 +134,58 @@ fn summary(results: &SweepResults) -> String {
         }
     }
     s
+}
+
+/// A fragility study's fit: per variant and damage state the status, median, β and their
+/// intervals at 4 significant digits, and the exceedances per stripe; then the median ratios.
+fn fragility_summary(
+    s: &mut String,
+    study: &rocklab::study::Study,
+    f: &rocklab::study::fragility::Fragility,
+    results: &SweepResults,
+) {
+    let rows = report::stripes::rows(study, results).expect("the study lays out");
+    let fit = report::stripes::analyse(f, study, &rows);
+    let num = |v: Option<f64>| v.map_or("-".into(), sig4);
+    let _ = writeln!(
+        s,
+        "\nfragility of {} over {} ({} bootstrap resamples, seed {}):",
+        fit.damage_measure, fit.im, fit.bootstrap, fit.seed
+    );
+    for c in &fit.curves {
+        let stripes: Vec<String> = c
+            .stripes
+            .iter()
+            .map(|p| format!("{}/{}", p.exceed, p.n))
+            .collect();
+        let _ = writeln!(
+            s,
+            "  {} ≥ {}: {} median {} [{}, {}] β {} [{}, {}]; exceed {}",
+            c.variant.label(),
+            c.damage_state,
+            c.status.name(),
+            num(c.median),
+            num(c.median_lo),
+            num(c.median_hi),
+            num(c.beta),
+            num(c.beta_lo),
+            num(c.beta_hi),
+            stripes.join(" ")
+        );
+    }
+    for r in &fit.ratios {
+        let _ = writeln!(
+            s,
+            "  median {} / {} at ≥ {}: {} [{}, {}]{}",
+            r.a.label(),
+            r.b.label(),
+            r.damage_state,
+            num(r.ratio),
+            num(r.lo),
+            num(r.hi),
+            if r.curves_cross { ", curves cross" } else { "" }
+        );
+    }
 }
 
 fn shipped_studies() -> Vec<PathBuf> {

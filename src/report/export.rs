@@ -53,6 +53,8 @@ pub fn write_tables(
             &super::design::design_csv(study, &rows)?,
         )?;
     }
+    // A fragility study's stripes.csv, and its fit once every scene has run.
+    super::stripes::write(out, study, results)?;
     study.save(&out.join("study.ron"))
 }
 

@@ -11,6 +11,7 @@ pub mod naming;
 mod plot;
 mod plot_design;
 pub mod select;
+pub mod stripes;
 
 pub use crate::fsutil::{readable_by_all, write_atomic};
 pub use crate::study::Quantity;

@@ -29,6 +29,11 @@ const fn optional(
 pub const OPTIONAL_FIELDS: &[OptionalField] = &[
     optional("study", "description", "\"\""),
     optional("study", "map", "(x: frequency, y: amplitude)"),
+    optional(
+        "study",
+        "fragility",
+        "(damage_states: levels([0.2, 0.5, 1.0]))",
+    ),
     optional("rigid", "size", "1.0"),
     optional("rigid", "p", "2.0"),
     optional("flexible", "omega_n", "10.0"),
@@ -129,6 +134,28 @@ const FIELD_HELP: &[(&str, &str)] = &[
          pgv_star (PGV·p/(g·tanα)) or fema (factor × FEMA P695 normalisation)",
     ),
     ("baseline", "baseline-correct the records first"),
+    (
+        "fragility",
+        "fragility analysis: the record `scale` values are the stripes of `scale_to`'s IM; \
+         (damage_states, measure, bootstrap, seed, confidence)",
+    ),
+    (
+        "damage_states",
+        "levels([0.2, 0.5, 1.0]) (default) or twelve (0.01 … 1): thresholds of the damage measure",
+    ),
+    (
+        "measure",
+        "damage measure: peak_rotation_ratio (θmax/α), or for flexible structures peak_drift or peak_deformation",
+    ),
+    (
+        "bootstrap",
+        "bootstrap resamples over records for the confidence intervals (default 1000)",
+    ),
+    ("seed", "bootstrap seed (reruns agree)"),
+    (
+        "confidence",
+        "confidence level of the intervals (default 0.9: 5th–95th percentiles)",
+    ),
     (
         "tail",
         "each scene lasts its record's length plus this many seconds (instead of duration)",

@@ -11,6 +11,7 @@ pub mod design;
 mod error;
 mod expand;
 pub mod fields;
+pub mod fragility;
 mod strict;
 mod suites;
 mod values;
@@ -74,6 +75,9 @@ pub struct Study {
     /// The inverse question: the least device parameter meeting a target (study/design.rs).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub design: Option<design::Design>,
+    /// Fragility analysis over the study's records and stripes (study/fragility.rs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fragility: Option<fragility::Fragility>,
 }
 
 fn yes() -> bool {
@@ -434,7 +438,8 @@ impl Study {
     /// file position is filled in by [`Study::from_ron_str`].
     pub fn validate(&self) -> Result<(), StudyError> {
         expand::validate(self)?;
-        design::validate(self)
+        design::validate(self)?;
+        fragility::validate(self)
     }
 
     pub fn expand(&self) -> Result<Vec<ScenePoint>, StudyError> {

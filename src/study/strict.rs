@@ -66,6 +66,7 @@ pub fn wrapper_names() -> Vec<&'static str> {
         variants::<ResetRule>(),
         variants::<Form>(),
         variants::<super::design::DesignTarget>(),
+        variants::<super::fragility::DamageStates>(),
     ]
     .concat();
     names.push("Some");

@@ -1,0 +1,257 @@
+//! The fragility engine's output of a fragility study (study/fragility.rs): one stripes.csv
+//! row per scene (variant, record, component, IM, the scale factor the scene used, the asked
+//! quantities, overturned), the stripe observations fitted by `report::fragility`, and the
+//! fitted report as fragility.csv and fragility.json. Written by [`super::write_tables`], so
+//! `rocklab run`, `merge` (Slurm shards) and the workbench's runs all write them.
+
+use super::fragility::{
+    FRAGILITY_CSV, FRAGILITY_JSON, FragilityOptions, FragilityReport, StripeObservation, Variant,
+    analyse_stripes, write_fragility_csv, write_fragility_json,
+};
+use crate::excitation::library::{self, Library};
+use crate::scene::Excitation;
+use crate::study::fragility::{Fragility, im_name};
+use crate::study::{DeviceKind, ExcitationFamily, Layout, Quantity, Study};
+use crate::sweep::{SceneOutcome, SweepResults};
+use std::path::Path;
+
+pub const STRIPES_CSV: &str = "stripes.csv";
+
+/// One scene of a fragility study, as stripes.csv has it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StripeRow {
+    pub variant: Variant,
+    pub record: String,
+    /// `a` / `b` for suite records, else the record's component as its index gives it.
+    pub component: String,
+    /// The stripe's intensity-measure value.
+    pub im: f64,
+    /// The factor the record was multiplied by to reach `im` (NaN if it cannot be loaded).
+    pub scale: f64,
+    /// The study's quantities (None: overturned, failed, or not measured).
+    pub values: Vec<Option<f64>>,
+    pub overturned: bool,
+    /// Why the scene failed, if it did (failed scenes are not observations).
+    pub failed: Option<String>,
+}
+
+/// The fragility variant of a scene: the device (its label if the study gives one) and every
+/// varying parameter that is neither the IM (`scale`) nor the record, by its results.csv name.
+fn variant_of(layout: &Layout, o: &SceneOutcome) -> Variant {
+    let device = layout
+        .locate(o.point.index)
+        .map(|(v, _)| &layout.variants[v])
+        .map_or_else(
+            || o.point.scene.device.name().to_string(),
+            |v| {
+                let default = if v.kind == DeviceKind::None {
+                    "bare"
+                } else {
+                    v.kind.name()
+                };
+                if v.label == default {
+                    v.kind.name().to_string()
+                } else {
+                    v.label.clone()
+                }
+            },
+        );
+    let params = o
+        .point
+        .coords
+        .iter()
+        .filter(|(label, _)| label != "scale")
+        .map(|(label, v)| (super::export::parameter(label).name, *v))
+        .collect();
+    Variant { device, params }
+}
+
+fn component_of(library: Option<&Library>, name: &str) -> String {
+    let Some(library) = library else {
+        return String::new();
+    };
+    if let Some(e) = library.suite_entry(name) {
+        return e.row.component.clone();
+    }
+    library
+        .index()
+        .iter()
+        .find(|m| m.name == name)
+        .map_or_else(String::new, |m| m.component.clone())
+}
+
+/// The scale factor a scene's record was multiplied by.
+fn scale_of(library: Option<&Library>, o: &SceneOutcome) -> f64 {
+    let Excitation::Record {
+        name,
+        scale,
+        baseline,
+        ..
+    } = &o.point.scene.excitation
+    else {
+        return f64::NAN;
+    };
+    let s = &o.point.scene.structure;
+    library
+        .and_then(|l| l.load(name, *baseline).ok())
+        .map_or(f64::NAN, |r| {
+            scale.factor(r.series.pga(), r.series.pgv(), s.alpha(), s.p())
+        })
+}
+
+/// The stripes.csv rows of a fragility study's results, in expansion order.
+pub fn rows(study: &Study, results: &SweepResults) -> anyhow::Result<Vec<StripeRow>> {
+    let layout = study.layout()?;
+    let library = library::global().ok();
+    Ok(results
+        .outcomes
+        .iter()
+        .map(|o| {
+            let (record, scale) = match &o.point.scene.excitation {
+                Excitation::Record { name, scale, .. } => (name.clone(), scale.value()),
+                _ => (String::new(), f64::NAN),
+            };
+            let (values, overturned, failed) = match &o.result {
+                Ok(r) => (
+                    study.quantities.iter().map(|q| q.of(r)).collect(),
+                    r.overturned,
+                    None,
+                ),
+                Err(why) => (vec![None; study.quantities.len()], false, Some(why.clone())),
+            };
+            StripeRow {
+                variant: variant_of(&layout, o),
+                component: component_of(library, &record),
+                scale: scale_of(library, o),
+                record,
+                im: scale,
+                values,
+                overturned,
+                failed,
+            }
+        })
+        .collect())
+}
+
+/// stripes.csv: device, the varying parameters, record, component, the IM (named by its
+/// measure, e.g. `pga_star`), scale, the study's quantities, overturned, status.
+pub fn stripes_csv(study: &Study, rows: &[StripeRow]) -> anyhow::Result<Vec<u8>> {
+    let mut params: Vec<String> = Vec::new();
+    for r in rows {
+        for (k, _) in &r.variant.params {
+            if !params.contains(k) {
+                params.push(k.clone());
+            }
+        }
+    }
+    let im = match &study.excitation {
+        ExcitationFamily::Record { scale_to, .. } => im_name(*scale_to).unwrap_or("im"),
+        _ => "im",
+    };
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let mut header = vec!["device".to_string()];
+    header.extend(params.iter().cloned());
+    header.extend(["record", "component", "im", "im_measure", "scale"].map(String::from));
+    header.extend(study.quantities.iter().map(|q| q.name().to_string()));
+    header.extend(["overturned", "status"].map(String::from));
+    w.write_record(&header)?;
+    for r in rows {
+        let mut row = vec![r.variant.device.clone()];
+        for p in &params {
+            let v = r.variant.params.iter().find(|(k, _)| k == p);
+            row.push(v.map_or_else(String::new, |(_, v)| v.to_string()));
+        }
+        row.extend([
+            r.record.clone(),
+            r.component.clone(),
+            r.im.to_string(),
+            im.to_string(),
+            format!("{:.9e}", r.scale),
+        ]);
+        row.extend(
+            r.values
+                .iter()
+                .map(|v| v.map_or_else(String::new, |v| format!("{v:.9e}"))),
+        );
+        row.push(if r.failed.is_some() {
+            String::new()
+        } else {
+            r.overturned.to_string()
+        });
+        row.push(
+            r.failed
+                .as_ref()
+                .map_or_else(|| "ok".to_string(), |why| format!("failed: {why}")),
+        );
+        w.write_record(&row)?;
+    }
+    Ok(w.into_inner()?)
+}
+
+/// The observations of the fit: every scene that ran (failed ones are left out; stripes.csv
+/// lists them). An overturned scene's response is +∞ and it exceeds every state.
+pub fn observations(f: &Fragility, study: &Study, rows: &[StripeRow]) -> Vec<StripeObservation> {
+    let measure = study.quantities.iter().position(|q| *q == f.measure);
+    rows.iter()
+        .filter(|r| r.failed.is_none())
+        .map(|r| StripeObservation {
+            variant: r.variant.clone(),
+            record: r.record.clone(),
+            im: r.im,
+            response: if r.overturned {
+                f64::INFINITY
+            } else {
+                measure.and_then(|i| r.values[i]).unwrap_or(f64::NAN)
+            },
+            overturned: r.overturned,
+        })
+        .collect()
+}
+
+/// The fitted report of a fragility study's results.
+pub fn analyse(f: &Fragility, study: &Study, rows: &[StripeRow]) -> FragilityReport {
+    let opts = FragilityOptions {
+        damage_states: f.damage_states.levels(),
+        bootstrap: f.bootstrap,
+        seed: f.seed,
+        confidence: f.confidence,
+    };
+    let mut report = analyse_stripes(&observations(f, study, rows), &opts);
+    report.im = match &study.excitation {
+        ExcitationFamily::Record { scale_to, .. } => im_label(*scale_to).to_string(),
+        _ => String::new(),
+    };
+    report.damage_measure = match f.measure {
+        Quantity::PeakRotationRatio => "θmax/α".to_string(),
+        q => q.label().to_string(),
+    };
+    report
+}
+
+fn im_label(scale_to: crate::study::RecordScaling) -> &'static str {
+    use crate::study::RecordScaling as S;
+    match scale_to {
+        S::Pga => "PGA (g)",
+        S::Pgv => "PGV (m/s)",
+        S::PgaStar => "PGA* = PGA/(g·tanα)",
+        S::PgvStar => "PGV* = PGV·p/(g·tanα)",
+        S::Factor | S::Fema => "scale",
+    }
+}
+
+/// stripes.csv, fragility.csv and fragility.json of a fragility study, in `out`.
+pub fn write(out: &Path, study: &Study, results: &SweepResults) -> anyhow::Result<()> {
+    let Some(f) = &study.fragility else {
+        return Ok(());
+    };
+    let rows = rows(study, results)?;
+    super::write_atomic(&out.join(STRIPES_CSV), &stripes_csv(study, &rows)?)?;
+    if results.cancelled {
+        // A fit of part of the scenes would read as the study's: the rerun that finishes
+        // them writes it.
+        return Ok(());
+    }
+    let report = analyse(f, study, &rows);
+    write_fragility_csv(&report, &out.join(FRAGILITY_CSV))?;
+    write_fragility_json(&report, &out.join(FRAGILITY_JSON))
+}

@@ -1,0 +1,203 @@
+//! The `fragility` section of a study: multiple-stripe analysis over a record suite. The
+//! record excitation's `scale` values are the stripes (intensity-measure values) and its
+//! `scale_to` is the intensity measure (PGA, PGV, PGA* or PGV*), so every record × stripe ×
+//! variant is an ordinary scene of the study and runs through the same parallel, journalled,
+//! resumable (and shardable) sweep as spectra. After the sweep, `report::stripes` turns the
+//! scenes into observations, fits them (report::fragility) and writes stripes.csv,
+//! fragility.csv and fragility.json.
+
+use super::{Axis, ExcitationFamily, Quantity, RecordScaling, StructureFamily, Study, StudyError};
+use serde::{Deserialize, Serialize};
+
+/// Fragility analysis of a study's scenes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Fragility {
+    /// Thresholds of the damage measure (default 0.2, 0.5, 1 = overturning for θmax/α).
+    #[serde(default)]
+    pub damage_states: DamageStates,
+    /// The damage measure: one of the study's quantities; `peak_rotation_ratio` (θmax/α,
+    /// default; for a flexible structure the uplift θmax/α), or for a flexible structure
+    /// `peak_drift` or `peak_deformation`. A scene that overturns exceeds every state.
+    #[serde(default = "default_measure")]
+    pub measure: Quantity,
+    /// Bootstrap resamples over records for the confidence intervals (0: none).
+    #[serde(default = "default_bootstrap")]
+    pub bootstrap: usize,
+    /// Bootstrap seed: reruns agree bit for bit.
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    /// Two-sided confidence level of the intervals (0.9: 5th and 95th percentiles).
+    #[serde(default = "default_confidence")]
+    pub confidence: f64,
+}
+
+/// The damage states of a fragility analysis.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DamageStates {
+    /// These thresholds, increasing.
+    Levels(Vec<f64>),
+    /// The 12-level set of [`TWELVE_LEVELS`].
+    Twelve,
+}
+
+impl Default for DamageStates {
+    fn default() -> Self {
+        DamageStates::Levels(DEFAULT_LEVELS.to_vec())
+    }
+}
+
+/// 0.2, 0.5 and 1 (= overturning for θmax/α).
+pub const DEFAULT_LEVELS: [f64; 3] = [0.2, 0.5, 1.0];
+
+/// Twelve θmax/α levels from the onset of rocking to overturning. D'Angela et al. (2026) use
+/// 12 levels from 0.01 to 1 "through small increments" without listing them: these values
+/// are rocklab's choice within that range.
+pub const TWELVE_LEVELS: [f64; 12] = [0.01, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
+
+impl DamageStates {
+    pub fn levels(&self) -> Vec<f64> {
+        match self {
+            DamageStates::Levels(v) => v.clone(),
+            DamageStates::Twelve => TWELVE_LEVELS.to_vec(),
+        }
+    }
+}
+
+impl Default for Fragility {
+    fn default() -> Self {
+        Fragility {
+            damage_states: DamageStates::default(),
+            measure: default_measure(),
+            bootstrap: default_bootstrap(),
+            seed: default_seed(),
+            confidence: default_confidence(),
+        }
+    }
+}
+
+fn default_measure() -> Quantity {
+    Quantity::PeakRotationRatio
+}
+
+fn default_bootstrap() -> usize {
+    1000
+}
+
+fn default_seed() -> u64 {
+    1
+}
+
+fn default_confidence() -> f64 {
+    0.9
+}
+
+/// Most bootstrap resamples a study may ask for (each refits every curve).
+const MAX_BOOTSTRAP: usize = 100_000;
+
+/// The intensity measure of a fragility study's stripes, as `stripes.csv` and the fit name it.
+pub fn im_name(scale_to: RecordScaling) -> Option<&'static str> {
+    match scale_to {
+        RecordScaling::Pga => Some("pga_g"),
+        RecordScaling::Pgv => Some("pgv_m_s"),
+        RecordScaling::PgaStar => Some("pga_star"),
+        RecordScaling::PgvStar => Some("pgv_star"),
+        RecordScaling::Factor | RecordScaling::Fema => None,
+    }
+}
+
+/// Check a study's fragility section against the rest of the study.
+pub fn validate(study: &Study) -> Result<(), StudyError> {
+    let Some(f) = &study.fragility else {
+        return Ok(());
+    };
+    let ExcitationFamily::Record { scale_to, .. } = &study.excitation else {
+        return Err(StudyError::field(
+            "fragility",
+            "a fragility analysis needs recorded ground motions",
+            "excitation: record(suite: (name: \"far_field\"), scale: [1.5, 2.0, 3.0], scale_to: pga_star)",
+        ));
+    };
+    if im_name(*scale_to).is_none() {
+        return Err(StudyError::field(
+            "excitation.scale_to",
+            "the stripes of a fragility analysis are intensity-measure values",
+            "scale_to: pga (g), pgv (m/s), pga_star (PGA/(g·tanα)) or pgv_star (PGV·p/(g·tanα)); \
+             `scale` then lists the stripes",
+        ));
+    }
+    if study.spectrum != Axis::Scale {
+        return Err(StudyError::field(
+            "spectrum",
+            "a fragility study's x axis is its intensity measure",
+            "spectrum: scale (the stripes)",
+        ));
+    }
+    let levels = f.damage_states.levels();
+    if levels.is_empty() {
+        return Err(StudyError::field(
+            "fragility.damage_states",
+            "no damage states",
+            "e.g. damage_states: levels([0.2, 0.5, 1.0]), or twelve",
+        ));
+    }
+    if let Some(bad) = levels.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
+        return Err(StudyError::field(
+            "fragility.damage_states",
+            format!("{bad} is not a damage-state threshold"),
+            "thresholds of the damage measure are finite and > 0 (1 = overturning for θmax/α)",
+        ));
+    }
+    if levels.windows(2).any(|w| w[1] <= w[0]) {
+        return Err(StudyError::field(
+            "fragility.damage_states",
+            "damage states must increase",
+            "list each threshold once, smallest first: levels([0.2, 0.5, 1.0])",
+        ));
+    }
+    if !study.quantities.contains(&f.measure) {
+        return Err(StudyError::field(
+            "fragility.measure",
+            format!(
+                "the damage measure `{}` is not among the study's quantities",
+                f.measure.name()
+            ),
+            "add it to `quantities`, e.g. quantities: [peak_rotation_ratio]",
+        ));
+    }
+    let flexible_only = matches!(f.measure, Quantity::PeakDrift | Quantity::PeakDeformation);
+    if flexible_only && matches!(study.structure, StructureFamily::Rigid { .. }) {
+        return Err(StudyError::field(
+            "fragility.measure",
+            format!("a rigid block has no `{}`", f.measure.name()),
+            "rigid blocks: peak_rotation_ratio (θmax/α)",
+        ));
+    }
+    if !matches!(
+        f.measure,
+        Quantity::PeakRotationRatio | Quantity::PeakDrift | Quantity::PeakDeformation
+    ) {
+        return Err(StudyError::field(
+            "fragility.measure",
+            format!("`{}` is not a damage measure", f.measure.name()),
+            "peak_rotation_ratio (θmax/α; for a flexible structure its uplift), or for a \
+             flexible structure peak_drift or peak_deformation",
+        ));
+    }
+    if f.bootstrap > MAX_BOOTSTRAP {
+        return Err(StudyError::field(
+            "fragility.bootstrap",
+            format!("{} resamples are too many", f.bootstrap),
+            &format!("at most {MAX_BOOTSTRAP}; 1000 is the default"),
+        ));
+    }
+    if !(f.confidence > 0.0 && f.confidence < 1.0) {
+        return Err(StudyError::field(
+            "fragility.confidence",
+            format!("{} is not a confidence level", f.confidence),
+            "between 0 and 1, e.g. 0.9 for 5th–95th percentile intervals",
+        ));
+    }
+    Ok(())
+}
