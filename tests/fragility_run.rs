@@ -62,7 +62,8 @@ fn a_fragility_run_writes_stripes_and_fits_and_resumes_after_a_stop() {
     assert_eq!(rows.len(), SCENES);
     let lib = Library::open(Some(records_dir())).unwrap();
     // (device, im, damage state) → (scenes, exceedances), counted from stripes.csv.
-    let mut counts: Vec<((String, f64, f64), (usize, usize))> = Vec::new();
+    type StripeKey = (String, f64, f64);
+    let mut counts: Vec<(StripeKey, (usize, usize))> = Vec::new();
     for r in &rows {
         let record = &r[col("record")];
         let im: f64 = r[col("im")].parse().unwrap();
