@@ -20,6 +20,8 @@ use crate::study::{ScenePoint, Study};
 use crate::sweep::SweepResults;
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use std::path::PathBuf;
+
+pub use super::files::{is_results_path, load_results_at};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -99,32 +101,6 @@ pub struct App {
     ctrl_c_armed: bool,
     /// The sweep being stopped was discarded: its partial results are not shown.
     discard_run: bool,
-}
-
-/// Whether `path` names results (a results directory, a results or journal file) rather than
-/// a study file.
-pub fn is_results_path(path: &std::path::Path) -> bool {
-    path.is_dir()
-        || path
-            .extension()
-            .is_some_and(|e| e == "json" || e == "journal")
-}
-
-/// Results from a results directory (its `results.json`, or its journal if the run was
-/// stopped before writing it: whichever holds more), a results file or a journal; with the
-/// directory they belong to.
-pub fn load_results_at(path: &std::path::Path) -> anyhow::Result<(SweepResults, PathBuf)> {
-    let Some((results, file)) = crate::sweep::load_fullest(path)? else {
-        anyhow::bail!(
-            "{}: no results there (neither a results file nor its journal)",
-            path.display()
-        );
-    };
-    let dir = file
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .map_or_else(|| PathBuf::from("."), PathBuf::from);
-    Ok((results, dir))
 }
 
 /// The built-in default study's file, comments included.

@@ -8,6 +8,7 @@ pub mod app;
 pub mod components;
 pub mod draw;
 pub mod edit;
+mod files;
 pub mod job;
 pub mod theme;
 pub mod tree;
