@@ -12,19 +12,19 @@
 //! known point on a leaf's closed boundary, so a leaf whose neighbour found a disagreeing
 //! point on their shared edge splits too.
 //!
-//! The rounds are plain sweeps over points of the full expansion (same indices, same keys), so
-//! the journal, resume and the scene time limit work as for a full map: a resumed run replays
-//! the rounds from the journalled scenes (the refinement is a pure function of the verdicts)
-//! and runs only what is missing.
+//! The rounds are plain sweeps over points of the full expansion (same indices, same keys),
+//! run by the round driver (`rounds.rs`), so the journal, resume and the scene time limit
+//! work as for a full map: a resumed run replays the rounds from the journalled scenes (the
+//! refinement is a pure function of the verdicts) and runs only what is missing.
 
+use super::rounds::{self, Rounds};
 use super::{
     Checkpoint, InferredCell, Progress, SceneOutcome, SweepOptions, SweepResults, build_id,
-    run_checkpointed,
 };
 use crate::excitation::Library;
 use crate::study::{Axis, ScenePoint, Study, StudyError};
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 
 /// What a run point says about its cell.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -338,8 +338,8 @@ pub fn refine(
     Some(refinement.inferred())
 }
 
-/// An adaptive map's sweep: the refinement's rounds, each a [`run_checkpointed`] over the
-/// round's points (journalled as they finish, reused from `checkpoint` when present). The
+/// An adaptive map's sweep: the refinement's rounds through the journal
+/// ([`rounds::run_journalled`]: journalled as they finish, reused from `checkpoint`). The
 /// results hold the scenes that ran, in expansion order, and, once the refinement is
 /// complete, the inferred cells. Sharding is refused: a round needs every verdict of the one
 /// before it, so shards cannot run apart.
@@ -363,81 +363,56 @@ pub fn run_refined(
     let Some(levels) = study.map.and_then(|m| m.refine_levels()) else {
         anyhow::bail!("study {}: its map is not adaptive", study.name);
     };
-    let by_index: HashMap<usize, &ScenePoint> = points.iter().map(|p| (p.index, p)).collect();
-    let Checkpoint {
-        journal,
-        mut reuse,
-        scene_time_limit,
-        measures,
-    } = checkpoint;
-    let mut refinement = Refinement::new(map_grids(study)?, levels);
-    let mut outcomes: Vec<SceneOutcome> = Vec::new();
-    let mut round = refinement.first_points();
-    let mut cancelled = false;
-    let done = std::sync::atomic::AtomicUsize::new(0);
-    while !round.is_empty() {
-        let round_points: Vec<ScenePoint> = round
-            .iter()
-            .filter_map(|i| by_index.get(i).map(|p| (*p).clone()))
-            .collect();
-        // A key can serve points of several rounds: the round gets copies.
-        let round_reuse = round_points
-            .iter()
-            .filter_map(|p| Some((p.key.clone(), reuse.get(&p.key)?.clone())))
-            .collect();
-        let before = done.load(Ordering::Relaxed);
-        let round_progress = |p: Progress| match p {
-            // The total grows round by round: the scenes so far plus this round's.
-            Progress::Started { total } => progress(Progress::Started {
-                total: before + total,
-            }),
-            Progress::SceneDone { .. } => {
-                done.fetch_add(1, Ordering::Relaxed);
-                progress(p)
-            }
-            Progress::Finished { .. } => {}
-        };
-        let part = run_checkpointed(
-            &round_points,
-            opts,
-            library,
-            Checkpoint {
-                journal,
-                reuse: round_reuse,
-                scene_time_limit,
-                measures,
-            },
-            cancel,
-            &round_progress,
-        );
-        for o in &part.outcomes {
-            refinement.record(o.point.index, CellVerdict::of(o));
-        }
-        outcomes.extend(part.outcomes);
-        if part.cancelled || journal.is_some_and(|j| j.failure().is_some()) {
-            cancelled = true;
-            break;
-        }
-        for p in &round_points {
-            reuse.remove(&p.key);
-        }
-        round = refinement.next_points();
-    }
-    progress(Progress::Finished { cancelled });
+    let mut rounds = MapRounds {
+        refinement: Refinement::new(map_grids(study)?, levels),
+        by_index: points.iter().map(|p| (p.index, p)).collect(),
+        started: false,
+    };
+    let run = rounds::run_journalled(&mut rounds, opts, library, checkpoint, cancel, progress);
+    let mut outcomes = run.outcomes;
     outcomes.sort_by_key(|o| o.point.index);
     Ok(SweepResults {
         study_hash: study.hash(),
         study: Some(study.clone()),
         outcomes,
-        cancelled,
+        cancelled: !run.complete,
         shard: None,
         build: build_id().to_string(),
-        inferred: if cancelled {
-            Vec::new()
+        inferred: if run.complete {
+            rounds.refinement.inferred()
         } else {
-            refinement.inferred()
+            Vec::new()
         },
     })
+}
+
+/// The refinement as a round search over the expansion's points: the coarse lattice first,
+/// then each round's split corners.
+struct MapRounds<'a> {
+    refinement: Refinement,
+    by_index: HashMap<usize, &'a ScenePoint>,
+    started: bool,
+}
+
+impl Rounds for MapRounds<'_> {
+    fn next_round(&mut self) -> Vec<ScenePoint> {
+        let indices = if self.started {
+            self.refinement.next_points()
+        } else {
+            self.started = true;
+            self.refinement.first_points()
+        };
+        indices
+            .iter()
+            .filter_map(|i| self.by_index.get(i).map(|p| (*p).clone()))
+            .collect()
+    }
+
+    fn record(&mut self, outcomes: &[SceneOutcome]) {
+        for o in outcomes {
+            self.refinement.record(o.point.index, CellVerdict::of(o));
+        }
+    }
 }
 
 /// The inferred cells of an adaptive study's finished scenes (from a journal or merged

@@ -16,15 +16,16 @@
 //! gains little and needs its own safeguards; bisection's probe count is known in advance
 //! (log2 of the bracket over the resolution).
 //!
-//! As in `adaptive.rs`, the search runs in rounds of plain sweeps (every unfinished point's
-//! next probe, all in parallel), each scene journalled as it finishes; the next round is a
-//! pure function of the finished scenes (matched by scene key), so a resumed run replays the
-//! rounds from the journal and runs only what is missing, and the answer can be recomputed
-//! from a results file ([`replay`]).
+//! The search runs through the round driver (`rounds.rs`, as adaptive maps do): each round is
+//! every unfinished point's next probe, all in parallel, each scene journalled as it
+//! finishes; the next round is a pure function of the finished scenes (matched by scene key),
+//! so a resumed run replays the rounds from the journal and runs only what is missing, and
+//! the answer can be recomputed from a results file ([`replay`]).
 
 // StudyError is large by design (file, position, field, hint; built once): see study/mod.rs.
 #![allow(clippy::result_large_err)]
 
+use super::rounds::{self, RoundEnd, Rounds};
 use super::{Checkpoint, Progress, SceneOutcome, SweepOptions, SweepResults, build_id};
 use crate::excitation::Library;
 use crate::scene::{ClutchStiffness, Damping, Device, Scene};
@@ -32,7 +33,7 @@ use crate::sim::SceneResult;
 use crate::study::design::{Design, DesignParameter, DesignTarget};
 use crate::study::{Layout, ScenePoint, Study, StudyError, scene_key};
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::AtomicBool;
 
 /// A finished scene's result, by scene key.
 type Finished = HashMap<String, Result<SceneResult, String>>;
@@ -282,36 +283,9 @@ impl Search {
         state.probes.len() - 1
     }
 
-    /// Record finished scenes (by key).
-    pub fn record(&mut self, outcomes: impl IntoIterator<Item = SceneOutcome>) {
-        for o in outcomes {
-            self.finished.insert(o.point.key, o.result);
-        }
-    }
-
-    /// Advance every point as far as the finished scenes allow and return the scenes of the
-    /// next round (one per key, not finished yet); empty when the search is complete.
-    pub fn next_round(&mut self) -> Vec<ScenePoint> {
-        loop {
-            let mut advanced = false;
-            for p in 0..self.points.len() {
-                while self.states[p].phase != Phase::Done && self.evaluate_pending(p) {
-                    self.advance(p);
-                    advanced = true;
-                }
-            }
-            let mut seen = std::collections::HashSet::new();
-            let round: Vec<ScenePoint> = self
-                .states
-                .iter()
-                .flat_map(|s| s.pending.iter().flat_map(|&i| &s.probes[i].scenes))
-                .filter(|sc| !self.finished.contains_key(&sc.key) && seen.insert(sc.key.clone()))
-                .cloned()
-                .collect();
-            if !round.is_empty() || !advanced {
-                return round;
-            }
-        }
+    /// Whether every point's search has finished.
+    pub fn complete(&self) -> bool {
+        self.states.iter().all(|s| s.phase == Phase::Done)
     }
 
     /// Evaluate the pending probes of point `p` whose scenes have all finished; true if none
@@ -416,11 +390,6 @@ impl Search {
         self.states[p] = state;
     }
 
-    /// Whether every point's search has finished.
-    pub fn complete(&self) -> bool {
-        self.states.iter().all(|s| s.phase == Phase::Done)
-    }
-
     /// Every scene the search has asked for that has finished, as outcomes (in index order).
     pub fn outcomes(&self) -> Vec<SceneOutcome> {
         let mut out: Vec<SceneOutcome> = self
@@ -502,6 +471,40 @@ impl Search {
             }),
             status,
             fails_above,
+        }
+    }
+}
+
+impl Rounds for Search {
+    /// Advance every point as far as the finished scenes allow and return the scenes of the
+    /// next round (one per key, not finished yet); empty when the search is complete.
+    fn next_round(&mut self) -> Vec<ScenePoint> {
+        loop {
+            let mut advanced = false;
+            for p in 0..self.points.len() {
+                while self.states[p].phase != Phase::Done && self.evaluate_pending(p) {
+                    self.advance(p);
+                    advanced = true;
+                }
+            }
+            let mut seen = std::collections::HashSet::new();
+            let round: Vec<ScenePoint> = self
+                .states
+                .iter()
+                .flat_map(|s| s.pending.iter().flat_map(|&i| &s.probes[i].scenes))
+                .filter(|sc| !self.finished.contains_key(&sc.key) && seen.insert(sc.key.clone()))
+                .cloned()
+                .collect();
+            if !round.is_empty() || !advanced {
+                return round;
+            }
+        }
+    }
+
+    /// Record finished scenes (by key).
+    fn record(&mut self, outcomes: &[SceneOutcome]) {
+        for o in outcomes {
+            self.finished.insert(o.point.key.clone(), o.result.clone());
         }
     }
 }
@@ -638,25 +641,6 @@ fn design_points(study: &Study, design: &Design) -> Result<Vec<Point>, StudyErro
     Ok(points)
 }
 
-/// Drive a search to its end with `run_round` finishing each round's scenes (None: it could
-/// not finish them all, the search stops there). Returns the search in its final state.
-pub fn drive(
-    study: &Study,
-    mut run_round: impl FnMut(Vec<ScenePoint>) -> Option<Vec<SceneOutcome>>,
-) -> Result<Search, StudyError> {
-    let mut search = Search::new(study)?;
-    loop {
-        let round = search.next_round();
-        if round.is_empty() {
-            return Ok(search);
-        }
-        let Some(outcomes) = run_round(round) else {
-            return Ok(search);
-        };
-        search.record(outcomes);
-    }
-}
-
 /// The design answer recomputed from finished scenes (a results file or journal): the
 /// search replayed on them. Rows are Incomplete where a scene it needs is missing.
 pub fn replay(study: &Study, outcomes: &[SceneOutcome]) -> Result<Vec<DesignRow>, StudyError> {
@@ -664,22 +648,27 @@ pub fn replay(study: &Study, outcomes: &[SceneOutcome]) -> Result<Vec<DesignRow>
         .iter()
         .map(|o| (o.point.key.clone(), o.result.clone()))
         .collect();
-    let search = drive(study, |round| {
-        round
+    let mut search = Search::new(study)?;
+    rounds::drive(&mut search, |round| {
+        // A round with a scene missing stops the replay there (none of it is recorded).
+        let found: Option<Vec<SceneOutcome>> = round
             .into_iter()
             .map(|point| {
                 let result = by_key.get(&point.key)?.clone();
                 Some(SceneOutcome { point, result })
             })
-            .collect()
-    })?;
+            .collect();
+        RoundEnd {
+            go_on: found.is_some(),
+            outcomes: found.unwrap_or_default(),
+        }
+    });
     Ok(search.rows())
 }
 
-/// A design study's sweep: the search's rounds, each a [`super::run_checkpointed`] over the
-/// round's scenes (journalled as they finish, reused from `checkpoint` when present). The
-/// results hold every probe scene. Sharding is refused: a round needs every verdict of the
-/// one before it.
+/// A design study's sweep: the search's rounds through the journal
+/// ([`rounds::run_journalled`]). The results hold every probe scene. Sharding is refused: a
+/// round needs every verdict of the one before it.
 pub fn run_design(
     study: &Study,
     opts: &SweepOptions,
@@ -695,59 +684,15 @@ pub fn run_design(
             study.name
         );
     }
-    let Checkpoint {
-        journal,
-        mut reuse,
-        scene_time_limit,
-        measures,
-    } = checkpoint;
-    let done = AtomicUsize::new(0);
-    let mut cancelled = false;
-    let search = drive(study, |round| {
-        if cancelled {
-            return None;
-        }
-        let round_reuse = round
-            .iter()
-            .filter_map(|p| Some((p.key.clone(), reuse.remove(&p.key)?)))
-            .collect();
-        let before = done.load(Ordering::Relaxed);
-        let round_progress = |p: Progress| match p {
-            Progress::Started { total } => progress(Progress::Started {
-                total: before + total,
-            }),
-            Progress::SceneDone { .. } => {
-                done.fetch_add(1, Ordering::Relaxed);
-                progress(p)
-            }
-            Progress::Finished { .. } => {}
-        };
-        let part = super::run_checkpointed(
-            &round,
-            opts,
-            library,
-            Checkpoint {
-                journal,
-                reuse: round_reuse,
-                scene_time_limit,
-                measures,
-            },
-            cancel,
-            &round_progress,
-        );
-        if part.cancelled || journal.is_some_and(|j| j.failure().is_some()) {
-            cancelled = true;
-        }
-        Some(part.outcomes)
-    })
-    .map_err(|e| anyhow::anyhow!("{e}"))?;
-    let cancelled = cancelled || !search.complete();
-    progress(Progress::Finished { cancelled });
+    let mut search = Search::new(study).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let run = rounds::run_journalled(&mut search, opts, library, checkpoint, cancel, progress);
     Ok(SweepResults {
         study_hash: study.hash(),
         study: Some(study.clone()),
+        // The search's own list: a scene key shared by probes of several points (one run)
+        // appears under each of them.
         outcomes: search.outcomes(),
-        cancelled,
+        cancelled: !run.complete || !search.complete(),
         shard: None,
         build: build_id().to_string(),
         inferred: Vec::new(),

@@ -10,6 +10,7 @@ pub mod design;
 mod facade;
 mod journal;
 mod output;
+pub mod rounds;
 mod store;
 
 pub use facade::{
