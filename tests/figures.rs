@@ -6,6 +6,7 @@
 //! cloned and rescaled): drawing does not depend on the physics, and running every shipped
 //! study here would take minutes.
 
+use rocklab::report::fragility::{FitStatus, plot_fragility};
 use rocklab::report::{
     self, CsvLayout, FigureOptions, FigureSize, ImageFormat, PlotChoice, Quantity,
 };
@@ -103,9 +104,9 @@ fn every_shipped_study_draws_with_every_series_and_units_on_every_axis() {
         if study.design.is_some() {
             continue;
         }
-        // A fragility study's figure is its fragility curves, drawn from fragility.json
-        // (tests/fragility_views.rs), not spectra over its record groups.
+        // A fragility study's figure is its fragility curves, not spectra over its records.
         if study.fragility.is_some() {
+            check_fragility_figure(&name, &study);
             continue;
         }
         let results = synthetic_results(&study);
@@ -197,6 +198,99 @@ fn every_shipped_study_draws_with_every_series_and_units_on_every_axis() {
             assert!(texts.iter().any(|t| t == "overturned"), "{name}");
         }
         assert_eq!(map_figure.is_some(), study.map.is_some(), "{name}");
+    }
+}
+
+/// A fragility study's scenes with made-up responses that grow with the stripe: each record
+/// (group) has a capacity spread lognormally around the stripes' geometric mean, the response
+/// is (IM / capacity)², so the lower damage states are reached at lower stripes, and a scene
+/// at or above its capacity overturns.
+fn synthetic_fragility_results(study: &Study) -> SweepResults {
+    let mut results = synthetic_results(study);
+    let stripes: Vec<f64> = results
+        .outcomes
+        .iter()
+        .filter_map(|o| o.point.coord("scale"))
+        .collect();
+    let centre = (stripes.iter().map(|v| v.ln()).sum::<f64>() / stripes.len() as f64).exp();
+    for o in &mut results.outcomes {
+        let im = o.point.coord("scale").unwrap();
+        let z = (o.point.group.bytes().map(u64::from).sum::<u64>() % 29) as f64 / 14.0 - 1.0;
+        let response = (im / (centre * (0.5 * z).exp())).powi(2);
+        let r = o.result.as_mut().unwrap();
+        r.overturned = response >= 1.0;
+        r.peak_rotation_ratio = response.min(1.0);
+        r.peaks.drift = response.min(1.0) * 0.05;
+        r.peaks.deformation = response.min(1.0) * 0.01;
+    }
+    results
+}
+
+/// The fragility figure of a shipped fragility study: titled by its intensity measure, one
+/// panel per damage state with its axes, every variant in the legend, every fit drawn.
+fn check_fragility_figure(name: &str, study: &Study) {
+    let f = study.fragility.as_ref().unwrap();
+    let results = synthetic_fragility_results(study);
+    let rows = report::stripes::rows(study, &results).unwrap();
+    let fragility = report::stripes::analyse(f, study, &rows);
+    let states = f.damage_states.levels();
+    let variants = study.devices.len();
+    assert_eq!(fragility.curves.len(), variants * states.len(), "{name}");
+    for c in &fragility.curves {
+        // Capacities within e^±0.5 of the stripes' centre: every state is fitted.
+        assert_eq!(c.status, FitStatus::Fitted, "{name}: {c:?}");
+        assert_eq!(c.n_stripes, study_stripes(study), "{name}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = plot_fragility(dir.path(), &svg_options(), &fragility)
+        .unwrap()
+        .unwrap();
+    let svg = std::fs::read_to_string(path).unwrap();
+    assert!(svg.starts_with("<svg"), "{name}");
+    let texts = svg_texts(&svg);
+    assert!(
+        texts[0].starts_with("Fragility: P(damage state reached | ")
+            && texts[0].contains(&fragility.im),
+        "{name}: {texts:?}"
+    );
+    let count = |t: &str| texts.iter().filter(|x| *x == t).count();
+    assert!(!fragility.im.is_empty(), "{name}");
+    assert_eq!(
+        count(&fragility.im),
+        states.len(),
+        "{name}: x labels in {texts:?}"
+    );
+    assert_eq!(
+        count("P(exceed)"),
+        states.len(),
+        "{name}: y labels in {texts:?}"
+    );
+    for (j, ds) in states.iter().enumerate() {
+        let panel = format!("({}) θmax/α ≥ {ds}", (b'a' + j as u8) as char);
+        assert_eq!(count(&panel), 1, "{name}: {panel} in {texts:?}");
+    }
+    for c in fragility
+        .curves
+        .iter()
+        .filter(|c| c.damage_state == states[0])
+    {
+        let label = c.variant.label();
+        assert_eq!(count(&label), 1, "{name}: legend in {texts:?}");
+        // No degenerate-fit note: every curve is drawn.
+        let note = format!("{label}: ");
+        assert!(
+            !texts.iter().any(|t| t.starts_with(&note)),
+            "{name}: {texts:?}"
+        );
+    }
+    let (w, h) = svg_size_mm(&svg);
+    assert!(w >= 100.0 && h >= 50.0, "{name}: {w}×{h} mm");
+}
+
+fn study_stripes(study: &Study) -> usize {
+    match &study.excitation {
+        rocklab::study::ExcitationFamily::Record { scale, .. } => scale.expand().len(),
+        _ => panic!("a fragility study scales records"),
     }
 }
 
