@@ -1,6 +1,8 @@
 //! Inerter devices acting on one horizontal coordinate x of a structure (docs/MODEL.md "Devices").
 //! The structure supplies x and ẋ; the device returns the force Fd it puts on the structure
-//! and the accelerations of its flywheels. Shared by the rigid and flexible families.
+//! and the rates of its own states (its flywheels). Shared by the rigid and flexible
+//! families: the rocking shell ([`super::shell`]) calls these methods and never asks which
+//! device it holds, so a new device is a variant of [`DeviceModel`] and its arms here.
 
 use super::clutch::{clutch_force, clutch_potential, friction_force};
 use super::{Counters, Ledger};
@@ -102,12 +104,15 @@ impl DeviceModel {
         }
     }
 
-    /// Number of flywheels whose motion is integrated (each adds y, ẏ to the state).
-    pub fn flywheels(&self) -> usize {
+    /// Number of the device's degrees of freedom whose motion is integrated (its flywheels;
+    /// each adds y, ẏ to the state, see [`super::shell::Layout`]).
+    pub fn dofs(&self) -> usize {
         match self {
+            DeviceModel::None
+            | DeviceModel::RigidInerter { .. }
+            | DeviceModel::Sequential { .. } => 0,
             DeviceModel::FlywheelInerter { .. } => 1,
             DeviceModel::Mechanistic(_) => 2,
-            _ => 0,
         }
     }
 
@@ -121,35 +126,69 @@ impl DeviceModel {
         }
     }
 
-    /// Apparent mass rigidly attached to x right now.
-    pub fn coupled_mass(&self, sequential_engaged: bool) -> f64 {
+    /// Apparent mass rigidly attached to x right now (`engaged`: the switch's state).
+    pub fn coupled_mass(&self, engaged: bool) -> f64 {
         match *self {
             DeviceModel::RigidInerter { mr } => mr,
-            DeviceModel::Sequential { mr } if sequential_engaged => mr,
+            DeviceModel::Sequential { mr } if engaged => mr,
             _ => 0.0,
         }
     }
 
-    /// Spring forces on the flywheels for structure position x and flywheel states
-    /// `fly = [y_a, ẏ_a, y_b, ẏ_b]`: returns (f_a, f_b). Fd = −(f_a + f_b).
-    #[inline]
-    pub fn spring_forces(&self, x: f64, fly: &[f64]) -> (f64, f64) {
+    /// The device is a constant mass on x with no state of its own (a linear device): that
+    /// mass, or None. Full contact of a flexible column then has a closed form.
+    pub fn constant_coupled_mass(&self) -> Option<f64> {
         match *self {
-            DeviceModel::FlywheelInerter { k, .. } => (k * (x - fly[0]), 0.0),
+            DeviceModel::None => Some(0.0),
+            DeviceModel::RigidInerter { mr } => Some(mr),
+            _ => None,
+        }
+    }
+
+    /// Stiffness of the device's springs, None for a device without springs.
+    pub fn spring_stiffness(&self) -> Option<f64> {
+        match *self {
+            DeviceModel::FlywheelInerter { k, .. } => Some(k),
+            DeviceModel::Mechanistic(c) => Some(c.k),
+            _ => None,
+        }
+    }
+
+    /// Whether the device has a switch deciding on the sign of ẋ·ẍ of the bare structure
+    /// (the sequential law); the shell locates it and calls [`Self::toggle_switch`].
+    pub fn has_switch(&self) -> bool {
+        matches!(self, DeviceModel::Sequential { .. })
+    }
+
+    /// Spring forces on the flywheels for structure position x and device states
+    /// `states = [y_a, ẏ_a, y_b, ẏ_b]`: returns (f_a, f_b). Fd = −(f_a + f_b).
+    #[inline]
+    pub fn spring_forces(&self, x: f64, states: &[f64]) -> (f64, f64) {
+        match *self {
+            DeviceModel::FlywheelInerter { k, .. } => (k * (x - states[0]), 0.0),
             DeviceModel::Mechanistic(c) => {
-                let fa = clutch_force(c.k, c.eps_hat, x - fly[0] - c.play);
+                let fa = clutch_force(c.k, c.eps_hat, x - states[0] - c.play);
                 // Mirror of clutch a: f_b(δ) = −f_a(−δ).
-                let fb = -clutch_force(c.k, c.eps_hat, -(x - fly[2]) - c.play);
+                let fb = -clutch_force(c.k, c.eps_hat, -(x - states[2]) - c.play);
                 (fa, fb)
             }
-            _ => (0.0, 0.0),
+            DeviceModel::None
+            | DeviceModel::RigidInerter { .. }
+            | DeviceModel::Sequential { .. } => (0.0, 0.0),
         }
+    }
+
+    /// The force Fd the device's springs put on the structure (not counting a coupled mass).
+    #[inline]
+    pub fn spring_force(&self, x: f64, states: &[f64]) -> f64 {
+        let (fa, fb) = self.spring_forces(x, states);
+        -(fa + fb)
     }
 
     /// Flywheel acceleration under spring force f at velocity ẏ; also returns the power lost
     /// to viscous damping and to friction.
     #[inline]
-    pub fn flywheel_accel(&self, f: f64, ydot: f64) -> (f64, f64, f64) {
+    fn flywheel_accel(&self, f: f64, ydot: f64) -> (f64, f64, f64) {
         match *self {
             DeviceModel::FlywheelInerter { mr, cbar, .. } => {
                 (f / mr - cbar * ydot, cbar * mr * ydot * ydot, 0.0)
@@ -166,27 +205,172 @@ impl DeviceModel {
         }
     }
 
+    /// The device's equations of motion at structure position x: writes the rates of its
+    /// `states` (as many as [`Self::dofs`] pairs y, ẏ) into `rates`, returns the force on
+    /// the structure and the power it dissipates. (Inlined into the right-hand side, the
+    /// bare block's hot path: a device without states costs one test.)
+    #[inline(always)]
+    pub fn rates(&self, x: f64, states: &[f64], rates: &mut [f64]) -> DeviceRates {
+        if states.is_empty() {
+            // What the general case gives without springs: Fd = −(0 + 0) = −0.
+            return DeviceRates {
+                force: -(0.0 + 0.0),
+                damping: 0.0,
+                friction: 0.0,
+            };
+        }
+        let (fa, fb) = self.spring_forces(x, states);
+        let (mut damping, mut friction) = (0.0, 0.0);
+        for (i, f) in [fa, fb].into_iter().take(states.len() / 2).enumerate() {
+            let (a, pv, pf) = self.flywheel_accel(f, states[2 * i + 1]);
+            rates[2 * i] = states[2 * i + 1];
+            rates[2 * i + 1] = a;
+            damping += pv;
+            friction += pf;
+        }
+        DeviceRates {
+            force: -(fa + fb),
+            damping,
+            friction,
+        }
+    }
+
     /// Energy stored in flywheels and springs (excluding a coupled mass, which the structure
     /// books with its own kinetic energy).
-    pub fn stored_energy(&self, x: f64, fly: &[f64]) -> f64 {
+    pub fn stored_energy(&self, x: f64, states: &[f64]) -> f64 {
         match *self {
             DeviceModel::FlywheelInerter { mr, k, .. } => {
-                0.5 * mr * fly[1] * fly[1] + 0.5 * k * (x - fly[0]).powi(2)
+                0.5 * mr * states[1] * states[1] + 0.5 * k * (x - states[0]).powi(2)
             }
             DeviceModel::Mechanistic(c) => {
-                0.5 * c.mr * (fly[1] * fly[1] + fly[3] * fly[3])
-                    + c.potential_a(x - fly[0])
-                    + c.potential_b(x - fly[2])
+                0.5 * c.mr * (states[1] * states[1] + states[3] * states[3])
+                    + c.potential_a(x - states[0])
+                    + c.potential_b(x - states[2])
             }
+            DeviceModel::None
+            | DeviceModel::RigidInerter { .. }
+            | DeviceModel::Sequential { .. } => 0.0,
+        }
+    }
+
+    /// Energy the device can still give back once the ground has stopped. A coupled mass and
+    /// a two-way spring give back all they hold. The sequential law gives nothing back (mr's
+    /// energy is lost at disengagement). A one-way clutch pushes flywheel a only forward
+    /// (f_a ≥ 0, ẏ_a ≥ 0) and b only backward, so flywheel energy never returns: only the
+    /// clutch springs' can.
+    pub fn returnable(&self, x: f64, xdot: f64, states: &[f64]) -> Returnable {
+        let (energy, springs, k) = match *self {
+            DeviceModel::None | DeviceModel::Sequential { .. } => (0.0, 0.0, 0.0),
+            DeviceModel::RigidInerter { mr } => (0.5 * mr * xdot * xdot, 0.0, 0.0),
+            DeviceModel::FlywheelInerter { k, .. } => (self.stored_energy(x, states), 1.0, k),
+            DeviceModel::Mechanistic(c) => (
+                c.potential_a(x - states[0]).max(0.0) + c.potential_b(x - states[2]).max(0.0),
+                2.0,
+                c.k,
+            ),
+        };
+        Returnable { energy, k, springs }
+    }
+
+    /// The events of the device's own states (located by the shell like its own), in order.
+    pub fn events(&self) -> &'static [ClutchEvent] {
+        match self {
+            DeviceModel::Mechanistic(c) => c.events(),
+            DeviceModel::None
+            | DeviceModel::RigidInerter { .. }
+            | DeviceModel::FlywheelInerter { .. }
+            | DeviceModel::Sequential { .. } => &[],
+        }
+    }
+
+    /// Event `ev`'s function at structure position x and velocity ẋ (see
+    /// [`ClutchModel::event_value`]); 1 for a device without it.
+    #[inline]
+    pub fn event_value(&self, ev: ClutchEvent, x: f64, xdot: f64, states: &[f64]) -> f64 {
+        match self {
+            DeviceModel::Mechanistic(c) => c.event_value(ev, x, xdot, states),
+            _ => 1.0,
+        }
+    }
+
+    /// Its time derivative along the solution (see [`ClutchModel::event_rate`]).
+    #[inline]
+    pub fn event_rate(
+        &self,
+        ev: ClutchEvent,
+        x: (f64, f64, f64),
+        states: &[f64],
+        rates: &[f64],
+    ) -> f64 {
+        match self {
+            DeviceModel::Mechanistic(c) => c.event_rate(ev, x, states, rates),
             _ => 0.0,
         }
     }
+
+    /// The jump of event `ev` at structure position x (see [`ClutchModel::apply`]).
+    pub fn apply_event(
+        &self,
+        ev: ClutchEvent,
+        x: f64,
+        states: &mut [f64],
+        ledger: &mut Ledger,
+        counters: &mut Counters,
+    ) {
+        if let DeviceModel::Mechanistic(c) = self {
+            c.apply(ev, x, states, ledger, counters);
+        }
+    }
+
+    /// The switch at velocity ẋ (see [`toggle_sequential`]).
+    pub fn toggle_switch(
+        &self,
+        xdot: f64,
+        engaged: &mut bool,
+        ledger: &mut Ledger,
+        counters: &mut Counters,
+    ) {
+        toggle_sequential(self.mr(), xdot, engaged, ledger, counters);
+    }
+
+    /// After a jump, put the switch where its law wants it (see [`resync_sequential`]).
+    pub fn resync_switch(
+        &self,
+        xdot: f64,
+        bare_xddot: f64,
+        engaged: &mut bool,
+        ledger: &mut Ledger,
+        counters: &mut Counters,
+    ) {
+        resync_sequential(self.mr(), xdot, bare_xddot, engaged, ledger, counters);
+    }
+}
+
+/// What the device's equations give the structure: the force Fd on it (not counting a
+/// coupled mass) and the power the device dissipates.
+#[derive(Clone, Copy, Debug)]
+pub struct DeviceRates {
+    pub force: f64,
+    /// Viscous damping of the flywheels.
+    pub damping: f64,
+    pub friction: f64,
+}
+
+/// Energy the device can still give back to the structure once the ground has stopped
+/// (see [`DeviceModel::returnable`]), and the springs through which it can push.
+#[derive(Clone, Copy, Debug)]
+pub struct Returnable {
+    pub energy: f64,
+    /// Stiffness of the device springs (0 without).
+    pub k: f64,
+    /// Number of springs that can push on the structure.
+    pub springs: f64,
 }
 
 /// The sequential law's switch at velocity ẋ. Disengaging loses the flywheel's ½ mr ẋ²;
 /// engaging at ẋ ≠ 0 creates it from nothing (the law's known flaw, docs/MODEL.md), booked as
 /// negative dissipation so the energy balance closes.
-pub fn toggle_sequential(
+fn toggle_sequential(
     mr: f64,
     xdot: f64,
     engaged: &mut bool,
@@ -205,7 +389,7 @@ pub fn toggle_sequential(
 
 /// After a jump, put the sequential clutch where its law wants it: engaged exactly while
 /// ẋ·ẍ > 0 (ẍ of the bare structure).
-pub fn resync_sequential(
+fn resync_sequential(
     mr: f64,
     xdot: f64,
     bare_xddot: f64,

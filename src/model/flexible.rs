@@ -16,9 +16,9 @@
 //! closed form ([`super::contact`]) when the scene allows it.
 
 use super::contact::ClosedFormContact;
-use super::device::DeviceModel;
+use super::device::{DeviceModel, Returnable};
 use super::rigid::below_peak;
-use super::shell::{Body, Landing, Mode, OwnLoss, Returnable, Rocking};
+use super::shell::{Body, Landing, Mode, OwnLoss, Rocking};
 use super::{Ledger, Measures, Peaks, extremum_on_step};
 use crate::excitation::{G, Motion};
 use crate::scene::FlexibleStructure;
@@ -84,10 +84,8 @@ impl<'m> FlexibleModel<'m> {
     /// rigidly coupled inerter), a sampled record (linear between samples) and an
     /// underdamped column. Otherwise (or when `enabled` is false) the integrator does it.
     pub fn with_closed_form_contact(mut self, enabled: bool) -> Self {
-        let mc = match self.mode.dev {
-            DeviceModel::None => 0.0,
-            DeviceModel::RigidInerter { mr } => mr,
-            _ => return self,
+        let Some(mc) = self.mode.dev.constant_coupled_mass() else {
+            return self;
         };
         if !enabled || !matches!(self.mode.motion, Motion::Record(_)) {
             return self;
@@ -290,10 +288,10 @@ impl Body for FlexibleBody {
     /// Ẍ_bare / (1 + mc J M⁻¹ Jᵀ) by Sherman–Morrison, so it has the same sign).
     fn bare_xddot(&self, m: &Mode, kin: &Kinematics, t: f64, y: &[f64]) -> f64 {
         let x = kin.x;
-        let (fa, fb) = m.dev.spring_forces(x, m.layout.flywheel_states(y));
+        let fd = m.dev.spring_force(x, m.layout.device_states(y));
         let (udd, thdd) = self
             .col
-            .accelerations_kin(m, kin, m.motion.accel(t), y, -(fa + fb), 0.0);
+            .accelerations_kin(m, kin, m.motion.accel(t), y, fd, 0.0);
         self.col.xddot_kin(kin, y, udd, thdd)
     }
 
@@ -510,7 +508,7 @@ mod tests {
         let dev = DeviceModel::new(&Device::Sequential { sigma: 0.5 }, structure().mass, 1.0);
         for pivot in [1.0, -1.0] {
             let mut model = rocking_model(dev, &mo, pivot);
-            model.mode.sequential_engaged = true;
+            model.mode.switch_engaged = true;
             let mut y = [0.0; 8];
             y[0] = 0.01 * pivot;
             y[1] = -0.2 * pivot;

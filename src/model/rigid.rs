@@ -4,8 +4,8 @@
 //! State: [θ, θ̇ | flywheels | accumulators] ([`super::shell::Layout`]); the block's own
 //! accumulator is the work of the Dirac impact moment.
 
-use super::device::DeviceModel;
-use super::shell::{Body, Landing, Mode, OwnLoss, Returnable, Rocking};
+use super::device::{DeviceModel, Returnable};
+use super::shell::{Body, Landing, Mode, OwnLoss, Rocking};
 use super::{Ledger, Measures, Peaks, extremum_on_step};
 use crate::excitation::{G, Motion};
 use crate::scene::{Form, Impact, RigidBlock};
@@ -100,10 +100,9 @@ impl RigidBody {
         // resolving y to rtol·Rα left clutch forces with ~1e-3 relative error and peaks
         // drifting by 1% at rtol 1e-6.
         let x = r * block.alpha;
-        let deflection = match device {
-            DeviceModel::FlywheelInerter { k, .. } => block.mass * G * block.alpha.tan() / k,
-            DeviceModel::Mechanistic(c) => block.mass * G * block.alpha.tan() / c.k,
-            _ => x,
+        let deflection = match device.spring_stiffness() {
+            Some(k) => block.mass * G * block.alpha.tan() / k,
+            None => x,
         }
         .min(x);
         RigidBody {
@@ -275,8 +274,7 @@ impl Body for RigidBody {
     /// s (Fd − m a_g) − m g tan α (slender: α): the ground (and a device spring) must beat
     /// the block's weight moment.
     fn uplift_margin(&self, m: &Mode, side: f64, t: f64, y: &[f64]) -> f64 {
-        let (fa, fb) = m.dev.spring_forces(0.0, m.layout.flywheel_states(y));
-        let fd = -(fa + fb);
+        let fd = m.dev.spring_force(0.0, m.layout.device_states(y));
         side * (fd - self.m * m.motion.accel(t)) - self.m * G * self.uplift_ratio
     }
 
@@ -308,7 +306,7 @@ impl Body for RigidBody {
             let ke = 0.5 * self.i0 * y[THETA_DOT] * y[THETA_DOT]
                 + m.coupled_kinetic(self.x_xdot(m, y).1);
             ledger.reset += ke;
-            m.sequential_engaged = false;
+            m.switch_engaged = false;
             self.dirac_energy = None;
             y[THETA_DOT] = 0.0;
             return Landing::Flat;
@@ -422,10 +420,7 @@ impl Body for RigidBody {
         };
         let abs_g = (self.r * (wdot + s_max * w * w) + ground) / G;
         let mut angular = wdot / self.p2 * (1.0 + ANGULAR_BOUND_MARGIN);
-        let springless = matches!(
-            m.dev,
-            DeviceModel::None | DeviceModel::RigidInerter { .. } | DeviceModel::Sequential { .. }
-        );
+        let springless = m.dev.spring_stiffness().is_none();
         if ground == 0.0 && springless && self.dirac.is_none() {
             let sigma = m.coupled_mass() / self.m;
             angular = angular.min(s_max + 0.75 * sigma * s_max * w * w / self.p2);

@@ -2,7 +2,7 @@
 
 use super::{Layout, Phase};
 use crate::excitation::Motion;
-use crate::model::device::DeviceModel;
+use crate::model::device::{DeviceModel, Returnable};
 use crate::model::{Ledger, Measures, Peaks};
 use crate::solver::{Dense, Direction};
 
@@ -15,7 +15,8 @@ pub struct Mode<'m> {
     pub phase: Phase,
     /// s = ±1: the corner the base rocks about (θ > 0 rocks about x = +B).
     pub pivot: f64,
-    pub sequential_engaged: bool,
+    /// The device's switch is engaged ([`DeviceModel::has_switch`]).
+    pub switch_engaged: bool,
 }
 
 impl Mode<'_> {
@@ -25,7 +26,7 @@ impl Mode<'_> {
 
     /// Apparent mass rigidly attached to X right now.
     pub fn coupled_mass(&self) -> f64 {
-        self.dev.coupled_mass(self.sequential_engaged)
+        self.dev.coupled_mass(self.switch_engaged)
     }
 
     /// Kinetic energy of the coupled mass at Ẋ.
@@ -50,17 +51,6 @@ pub enum Landing {
     Rocking,
     /// Base flat on the ground.
     Flat,
-}
-
-/// Energy the device can still give back to the structure once the ground has stopped
-/// (see [`Rocking::returnable`]), and the springs through which it can push.
-#[derive(Clone, Copy, Debug)]
-pub struct Returnable {
-    pub energy: f64,
-    /// Stiffness of the device springs (0 without).
-    pub k: f64,
-    /// Number of springs that can push on the structure.
-    pub springs: f64,
 }
 
 /// What a structure family supplies to the rocking shell. `m` is the shell's [`Mode`]; `y`
@@ -148,7 +138,7 @@ pub trait Body {
         (None, None)
     }
     /// Characteristic magnitudes for the error control: of the body's components, of one
-    /// flywheel's (y, ẏ), and of the energies.
+    /// device degree of freedom's (y, ẏ), and of the energies.
     fn tolerance_scales(&self, m: &Mode) -> (Vec<f64>, [f64; 2], f64);
 
     /// Flat on the ground at t with the device at rest: skip to this time (see

@@ -11,13 +11,14 @@ pub enum Phase {
 }
 
 /// Where each part of the state lives:
-/// `[structure coordinates and rates | flywheels (y, ẏ each) | accumulators]`.
+/// `[structure coordinates and rates | device states (y, ẏ per degree of freedom) | accumulators]`.
 /// The four accumulators are named by [`Accumulator`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Layout {
     /// Number of structure coordinates and rates (the leading components).
     pub coordinates: usize,
-    pub flywheels: usize,
+    /// The device's degrees of freedom ([`DeviceModel::dofs`]: its flywheels).
+    pub device_dofs: usize,
 }
 
 /// The time integrals at the end of the state.
@@ -35,37 +36,37 @@ impl Layout {
     pub fn new(coordinates: usize, device: &DeviceModel) -> Self {
         Layout {
             coordinates,
-            flywheels: device.flywheels(),
+            device_dofs: device.dofs(),
         }
     }
 
     /// Number of state components.
     pub fn state_len(&self) -> usize {
-        self.coordinates + 2 * self.flywheels + 4
+        self.coordinates + 2 * self.device_dofs + 4
     }
 
-    /// Index of flywheel i's position (its velocity follows it).
-    pub fn flywheel(&self, i: usize) -> usize {
+    /// Index of the device's degree of freedom i's position (its velocity follows it).
+    pub fn device_dof(&self, i: usize) -> usize {
         self.coordinates + 2 * i
     }
 
-    /// The flywheel states `[y_a, ẏ_a, y_b, ẏ_b]` (as many as the device has).
-    pub fn flywheel_states<'y>(&self, y: &'y [f64]) -> &'y [f64] {
-        &y[self.coordinates..self.flywheel(self.flywheels)]
+    /// The device states `[y_a, ẏ_a, y_b, ẏ_b]` (as many as the device has).
+    pub fn device_states<'y>(&self, y: &'y [f64]) -> &'y [f64] {
+        &y[self.coordinates..self.device_dof(self.device_dofs)]
     }
 
-    pub fn flywheel_states_mut<'y>(&self, y: &'y mut [f64]) -> &'y mut [f64] {
-        &mut y[self.coordinates..self.flywheel(self.flywheels)]
+    pub fn device_states_mut<'y>(&self, y: &'y mut [f64]) -> &'y mut [f64] {
+        &mut y[self.coordinates..self.device_dof(self.device_dofs)]
     }
 
     pub fn accumulator(&self, which: Accumulator) -> usize {
-        self.flywheel(self.flywheels) + which as usize
+        self.device_dof(self.device_dofs) + which as usize
     }
 
-    /// Velocity of flywheel i, 0 if the device has no such flywheel (for histories).
-    pub(super) fn flywheel_velocity(&self, y: &[f64], i: usize) -> f64 {
-        if i < self.flywheels {
-            y[self.flywheel(i) + 1]
+    /// Velocity of the device's degree of freedom i, 0 if it has no such one (for histories).
+    pub(super) fn device_velocity(&self, y: &[f64], i: usize) -> f64 {
+        if i < self.device_dofs {
+            y[self.device_dof(i) + 1]
         } else {
             0.0
         }

@@ -1,7 +1,7 @@
 //! The rocking shell: everything a rocking structure with an inerter device does the same way
-//! whatever the structure is. The device and its flywheels, the event table (impact,
-//! overturning, uplift to either side, the sequential switch, the mechanistic clutch events),
-//! the phase (flat on the ground or rocking) and the pivot, the sequential clutch's state, the
+//! whatever the structure is. The device's states, the event table (impact, overturning,
+//! uplift to either side, the device's switch and its own events), the phase (flat on the
+//! ground or rocking) and the pivot, the device switch's state, the
 //! energy ledger, the peaks, and the [`OdeSystem`] and [`SimModel`] plumbing.
 //!
 //! A structure family implements [`Body`]: its kinematics (the horizontal coordinate X the
@@ -18,10 +18,10 @@ mod systems;
 #[cfg(test)]
 mod tests;
 
-pub use body::{Body, Landing, Mode, OwnLoss, Returnable};
+pub use body::{Body, Landing, Mode, OwnLoss};
 pub use layout::{Accumulator, Layout, Phase};
 
-use super::device::{ClutchEvent, DeviceModel, resync_sequential, toggle_sequential};
+use super::device::{ClutchEvent, DeviceModel, Returnable};
 use super::{Action, Counters, EndReason, Energy, Ledger, Measures, Peaks};
 use crate::excitation::{G, Motion};
 use crate::solver::MAX_EVENTS;
@@ -31,12 +31,14 @@ enum Ev {
     Impact,
     Overturn,
     Uplift(f64),
-    Sequential,
+    /// The device's switch ([`DeviceModel::has_switch`]).
+    Switch,
     Own(usize),
-    Clutch(ClutchEvent),
+    /// An event of the device's own states ([`DeviceModel::events`]).
+    Device(ClutchEvent),
 }
 
-/// Largest state a rocking model has (flexible structure with two flywheels).
+/// Largest state a rocking model has (flexible structure with two device degrees of freedom).
 const MAX_STATE: usize = 16;
 
 /// A rocking structure `B` with its device: the model the simulation driver runs.
@@ -46,7 +48,7 @@ pub struct Rocking<'m, B: Body> {
     initial_rotation: f64,
     events: [Ev; MAX_EVENTS],
     n_events: usize,
-    /// Whether an event function reads X or Ẋ (the sequential switch, the clutch events).
+    /// Whether an event function reads X or Ẋ (the device's switch and events).
     events_read_x: bool,
     measures: Measures,
     /// Time of the last uplift, to recognise a grazing lift-off that lands at once.
@@ -77,16 +79,14 @@ impl<'m, B: Body> Rocking<'m, B> {
         push(Ev::Overturn);
         push(Ev::Uplift(1.0));
         push(Ev::Uplift(-1.0));
-        if matches!(device, DeviceModel::Sequential { .. }) {
-            push(Ev::Sequential);
+        if device.has_switch() {
+            push(Ev::Switch);
         }
         for i in 0..body.own_events() {
             push(Ev::Own(i));
         }
-        if let DeviceModel::Mechanistic(c) = device {
-            for e in c.events() {
-                push(Ev::Clutch(*e));
-            }
+        for e in device.events() {
+            push(Ev::Device(*e));
         }
         Rocking {
             body,
@@ -96,14 +96,14 @@ impl<'m, B: Body> Rocking<'m, B> {
                 layout: Layout::new(B::COORDINATES.len(), &device),
                 phase: Phase::Contact,
                 pivot: 1.0,
-                sequential_engaged: false,
+                switch_engaged: false,
             },
             initial_rotation,
             events,
             n_events: n,
             events_read_x: events[..n]
                 .iter()
-                .any(|e| matches!(e, Ev::Sequential | Ev::Clutch(_))),
+                .any(|e| matches!(e, Ev::Switch | Ev::Device(_))),
             measures: Measures::ALL,
             last_uplift: f64::NEG_INFINITY,
             ledger: Ledger::default(),
@@ -142,22 +142,15 @@ impl<'m, B: Body> Rocking<'m, B> {
         let layout = m.layout;
         let ag = m.motion.accel(t);
         let (x, xdot) = self.body.x_xdot_kin(m, k, y);
-        let (fa, fb) = m.dev.spring_forces(x, layout.flywheel_states(y));
-        let (mut visc, mut fric) = (0.0, 0.0);
-        for (i, f) in [fa, fb].into_iter().take(layout.flywheels).enumerate() {
-            let j = layout.flywheel(i);
-            let (a, pv, pf) = m.dev.flywheel_accel(f, y[j + 1]);
-            dy[j] = y[j + 1];
-            dy[j + 1] = a;
-            visc += pv;
-            fric += pf;
-        }
+        let device = m
+            .dev
+            .rates(x, layout.device_states(y), layout.device_states_mut(dy));
         let own = self
             .body
-            .derivatives(m, k, ag, y, -(fa + fb), m.coupled_mass(), dy);
+            .derivatives(m, k, ag, y, device.force, m.coupled_mass(), dy);
         dy[layout.accumulator(Accumulator::Input)] = -self.body.mass() * ag * xdot;
-        dy[layout.accumulator(Accumulator::DeviceDamping)] = visc;
-        dy[layout.accumulator(Accumulator::Friction)] = fric;
+        dy[layout.accumulator(Accumulator::DeviceDamping)] = device.damping;
+        dy[layout.accumulator(Accumulator::Friction)] = device.friction;
         dy[layout.accumulator(Accumulator::Own)] = own;
     }
 
@@ -179,47 +172,43 @@ impl<'m, B: Body> Rocking<'m, B> {
             Ev::Overturn => -1.0,
             Ev::Uplift(_) if rocking => -1.0,
             Ev::Uplift(side) => self.body.uplift_margin(m, side, t, y),
-            Ev::Sequential if rocking || B::MOVES_IN_CONTACT => {
+            Ev::Switch if rocking || B::MOVES_IN_CONTACT => {
                 let (k, (_, xdot)) = kx();
                 xdot * self.body.bare_xddot(m, &k, t, y)
             }
             // X ≡ 0 while flat: the switch keeps its side until the base lifts.
-            Ev::Sequential if m.sequential_engaged => 1.0,
-            Ev::Sequential => -1.0,
+            Ev::Switch if m.switch_engaged => 1.0,
+            Ev::Switch => -1.0,
             Ev::Own(i) => self.body.own_event_value(m, i, y),
-            Ev::Clutch(e) => {
-                let DeviceModel::Mechanistic(c) = &m.dev else {
-                    return 1.0;
-                };
+            Ev::Device(e) => {
                 let (_, (x, xdot)) = kx();
-                c.event_value(e, x, xdot, m.layout.flywheel_states(y))
+                m.dev.event_value(e, x, xdot, m.layout.device_states(y))
             }
         }
     }
 
-    /// Re-decide the sequential clutch after a jump or a phase change (Ẋ is continuous across
+    /// Re-decide the device's switch after a jump or a phase change (Ẋ is continuous across
     /// both, Ẍ is not), booking the energy the law creates or destroys.
-    fn resync_sequential(&mut self, t: f64, y: &[f64]) {
-        if !matches!(self.mode.dev, DeviceModel::Sequential { .. }) {
+    fn resync_switch(&mut self, t: f64, y: &[f64]) {
+        if !self.mode.dev.has_switch() {
             return;
         }
         let k = self.body.kin(&self.mode, y);
         let xdot = self.body.x_xdot_kin(&self.mode, &k, y).1;
         let bare = self.body.bare_xddot(&self.mode, &k, t, y);
-        resync_sequential(
-            self.mode.dev.mr(),
+        self.mode.dev.resync_switch(
             xdot,
             bare,
-            &mut self.mode.sequential_engaged,
+            &mut self.mode.switch_engaged,
             &mut self.ledger,
             &mut self.counters,
         );
     }
 
-    /// From rest |Ẋ| can only grow: the sequential clutch engages (at Ẋ = 0, no energy).
-    fn engage_sequential_from_rest(&mut self) {
-        if matches!(self.mode.dev, DeviceModel::Sequential { .. }) {
-            self.mode.sequential_engaged = true;
+    /// From rest |Ẋ| can only grow: the device's switch engages (at Ẋ = 0, no energy).
+    fn engage_switch_from_rest(&mut self) {
+        if self.mode.dev.has_switch() {
+            self.mode.switch_engaged = true;
             self.counters.engagements += 1;
         }
     }
@@ -231,10 +220,10 @@ impl<'m, B: Body> Rocking<'m, B> {
         y[B::THETA_DOT] = 0.0;
         self.last_uplift = t;
         self.counters.uplifts += 1;
-        if !self.mode.sequential_engaged && self.x_xdot(y).1 == 0.0 {
-            self.engage_sequential_from_rest();
+        if !self.mode.switch_engaged && self.x_xdot(y).1 == 0.0 {
+            self.engage_switch_from_rest();
         } else {
-            self.resync_sequential(t, y);
+            self.resync_switch(t, y);
         }
         Action::Continue
     }
@@ -252,7 +241,7 @@ impl<'m, B: Body> Rocking<'m, B> {
                 return self.uplift(side, t, y);
             }
         }
-        self.resync_sequential(t, y);
+        self.resync_switch(t, y);
         match self.body.idle_until(&self.mode, t) {
             Some(until) if self.device_at_rest(t, y) => Action::Idle { until },
             _ => Action::Continue,
@@ -265,22 +254,20 @@ impl<'m, B: Body> Rocking<'m, B> {
     /// a record's samples, that integration stepped over the uplift).
     fn device_at_rest(&self, t: f64, y: &[f64]) -> bool {
         let layout = self.mode.layout;
-        if layout.flywheels == 0 {
+        if layout.device_dofs == 0 {
             return true;
         }
         let mut dy = [0.0; MAX_STATE];
         let dy = &mut dy[..y.len()];
         self.rhs_slice(t, y, dy);
-        dy[layout.flywheel(0)..layout.flywheel(layout.flywheels)]
-            .iter()
-            .all(|d| *d == 0.0)
+        layout.device_states(dy).iter().all(|d| *d == 0.0)
     }
 
     fn impact(&mut self, t: f64, y: &mut [f64]) -> Action {
         self.counters.impacts += 1;
         match self.body.impact(&mut self.mode, &mut self.ledger, y) {
             Landing::Rocking => {
-                self.resync_sequential(t, y);
+                self.resync_switch(t, y);
                 Action::Continue
             }
             Landing::Flat => self.land(t, y),
@@ -293,12 +280,11 @@ impl<'m, B: Body> Rocking<'m, B> {
             Ev::Impact => self.impact(t, y),
             Ev::Overturn => Action::Stop(EndReason::Overturned),
             Ev::Uplift(side) => self.uplift(side, t, y),
-            Ev::Sequential => {
+            Ev::Switch => {
                 let xdot = self.x_xdot(y).1;
-                toggle_sequential(
-                    self.mode.dev.mr(),
+                self.mode.dev.toggle_switch(
                     xdot,
-                    &mut self.mode.sequential_engaged,
+                    &mut self.mode.switch_engaged,
                     &mut self.ledger,
                     &mut self.counters,
                 );
@@ -308,12 +294,11 @@ impl<'m, B: Body> Rocking<'m, B> {
                 self.body.apply_own_event(i, y);
                 Action::Continue
             }
-            Ev::Clutch(e) => {
-                if let DeviceModel::Mechanistic(c) = self.mode.dev {
-                    let (x, _) = self.x_xdot(y);
-                    let fly = self.mode.layout.flywheel_states_mut(y);
-                    c.apply(e, x, fly, &mut self.ledger, &mut self.counters);
-                }
+            Ev::Device(e) => {
+                let (x, _) = self.x_xdot(y);
+                let states = self.mode.layout.device_states_mut(y);
+                let dev = self.mode.dev;
+                dev.apply_event(e, x, states, &mut self.ledger, &mut self.counters);
                 Action::Continue
             }
         }
@@ -337,26 +322,12 @@ impl<'m, B: Body> Rocking<'m, B> {
         action
     }
 
-    /// Energy the device can still give back once the ground has stopped. A coupled mass and
-    /// a two-way spring give back all they hold. The sequential law gives nothing back (mr's
-    /// energy is lost at disengagement). A one-way clutch pushes flywheel a only forward
-    /// (f_a ≥ 0, ẏ_a ≥ 0) and b only backward, so flywheel energy never returns: only the
-    /// clutch springs' can.
+    /// Energy the device can still give back once the ground has stopped
+    /// ([`DeviceModel::returnable`]).
     fn returnable(&self, y: &[f64]) -> Returnable {
-        let m = &self.mode;
         let (x, xdot) = self.x_xdot(y);
-        let fly = m.layout.flywheel_states(y);
-        let (energy, springs, k) = match m.dev {
-            DeviceModel::None | DeviceModel::Sequential { .. } => (0.0, 0.0, 0.0),
-            DeviceModel::RigidInerter { .. } => (m.coupled_kinetic(xdot), 0.0, 0.0),
-            DeviceModel::FlywheelInerter { k, .. } => (m.dev.stored_energy(x, fly), 1.0, k),
-            DeviceModel::Mechanistic(c) => (
-                c.potential_a(x - fly[0]).max(0.0) + c.potential_b(x - fly[2]).max(0.0),
-                2.0,
-                c.k,
-            ),
-        };
-        Returnable { energy, k, springs }
+        let m = &self.mode;
+        m.dev.returnable(x, xdot, m.layout.device_states(y))
     }
 
     fn absolute_acceleration(&self, t: f64, k: &B::Kin, y: &[f64], dy: &[f64]) -> f64 {
@@ -391,7 +362,7 @@ impl<'m, B: Body> Rocking<'m, B> {
         let (fa, fb) = self
             .mode
             .dev
-            .spring_forces(x, self.mode.layout.flywheel_states(y));
+            .spring_forces(x, self.mode.layout.device_states(y));
         let mc = self.mode.coupled_mass();
         if mc > 0.0 {
             let mut dy = vec![0.0; y.len()];
@@ -414,7 +385,7 @@ impl<'m, B: Body> Rocking<'m, B> {
         Energy {
             input: y[layout.accumulator(Accumulator::Input)],
             structure: self.body.energy(m, y),
-            inerter: m.coupled_kinetic(xdot) + m.dev.stored_energy(x, layout.flywheel_states(y)),
+            inerter: m.coupled_kinetic(xdot) + m.dev.stored_energy(x, layout.device_states(y)),
             column_damping,
             device_damping: y[layout.accumulator(Accumulator::DeviceDamping)],
             friction: y[layout.accumulator(Accumulator::Friction)],

@@ -2,7 +2,6 @@
 
 use super::{Accumulator, Body, Ev, Phase, Rocking};
 use crate::excitation::G;
-use crate::model::device::DeviceModel;
 use crate::model::rigid::below_peak;
 use crate::model::{
     Action, ClosedFormEnd, Counters, EndReason, Energy, Peaks, SimModel, refine_sampled,
@@ -28,9 +27,9 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
         match self.events[index] {
             Ev::Impact => Direction::Falling,
             Ev::Overturn | Ev::Uplift(_) => Direction::Rising,
-            Ev::Clutch(e) => e.direction(),
-            Ev::Sequential if self.mode.sequential_engaged => Direction::Falling,
-            Ev::Sequential => Direction::Rising,
+            Ev::Device(e) => e.direction(),
+            Ev::Switch if self.mode.switch_engaged => Direction::Falling,
+            Ev::Switch => Direction::Rising,
             Ev::Own(i) => self.body.own_event_direction(i),
         }
     }
@@ -63,9 +62,9 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
     ) -> bool {
         let m = &self.mode;
         let closed_form = |ev: &Ev| match ev {
-            Ev::Impact | Ev::Uplift(_) | Ev::Clutch(_) => true,
+            Ev::Impact | Ev::Uplift(_) | Ev::Device(_) => true,
             Ev::Overturn => self.body.overturn_margin_rate(m, y, dydt).is_some(),
-            Ev::Sequential | Ev::Own(_) => false,
+            Ev::Switch | Ev::Own(_) => false,
         };
         if !m.rocking() || !self.events[..self.n_events].iter().all(closed_form) {
             return false;
@@ -77,14 +76,15 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
             (k, (x, xdot), self.body.xddot(m, &k, y, dydt))
         });
         let kin_x = kx.map(|(k, v, _)| (k, v));
-        let (fly, fly_dot) = (m.layout.flywheel_states(y), m.layout.flywheel_states(dydt));
+        let (states, states_dot) = (m.layout.device_states(y), m.layout.device_states(dydt));
         for (i, ev) in self.events[..self.n_events].iter().enumerate() {
             g[i] = self.event_value(*ev, t, y, kin_x.as_ref());
-            rates[i] = match (ev, &m.dev, &kx) {
-                (Ev::Impact, ..) => m.pivot * dydt[B::THETA],
-                (Ev::Overturn, ..) => self.body.overturn_margin_rate(m, y, dydt).unwrap_or(0.0),
-                (Ev::Clutch(e), DeviceModel::Mechanistic(c), Some((_, (x, xdot), xddot))) => {
-                    c.event_rate(*e, (*x, *xdot, *xddot), fly, fly_dot)
+            rates[i] = match (ev, &kx) {
+                (Ev::Impact, _) => m.pivot * dydt[B::THETA],
+                (Ev::Overturn, _) => self.body.overturn_margin_rate(m, y, dydt).unwrap_or(0.0),
+                (Ev::Device(e), Some((_, (x, xdot), xddot))) => {
+                    m.dev
+                        .event_rate(*e, (*x, *xdot, *xddot), states, states_dot)
                 }
                 _ => 0.0,
             };
@@ -92,16 +92,14 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
         true
     }
 
-    /// While rocking: the impact margin (pivot·θ) and a mechanistic clutch's functions, the
-    /// ones refined by the hundred (chattering impacts, clutch contacts and resets).
-    /// (The impact margin reads θ alone.)
+    /// While rocking: the impact margin (pivot·θ) and the device's own events (a mechanistic
+    /// clutch's), the ones refined by the hundred (chattering impacts, clutch contacts and
+    /// resets). (The impact margin reads θ alone.)
     fn event_rate_inputs(&self, index: usize) -> usize {
-        match (self.events[index], &self.mode.dev) {
+        match self.events[index] {
             _ if !self.mode.rocking() => 0,
-            (Ev::Impact, _) => B::THETA + 1,
-            (Ev::Clutch(_), DeviceModel::Mechanistic(_)) => {
-                self.mode.layout.accumulator(Accumulator::Input)
-            }
+            Ev::Impact => B::THETA + 1,
+            Ev::Device(_) => self.mode.layout.accumulator(Accumulator::Input),
             _ => 0,
         }
     }
@@ -114,17 +112,18 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
         dydt: &[f64; N],
     ) -> Option<(f64, f64)> {
         let m = &self.mode;
-        match (self.events[index], &m.dev) {
+        match self.events[index] {
             _ if !m.rocking() => None,
-            (Ev::Impact, _) => Some((m.pivot * y[B::THETA], m.pivot * dydt[B::THETA])),
-            (Ev::Clutch(e), DeviceModel::Mechanistic(c)) => {
+            Ev::Impact => Some((m.pivot * y[B::THETA], m.pivot * dydt[B::THETA])),
+            Ev::Device(e) => {
                 let k = self.body.kin(m, y);
                 let (x, xdot) = self.body.x_xdot_kin(m, &k, y);
                 let xddot = self.body.xddot(m, &k, y, dydt);
-                let (fly, fly_dot) = (m.layout.flywheel_states(y), m.layout.flywheel_states(dydt));
+                let (states, states_dot) =
+                    (m.layout.device_states(y), m.layout.device_states(dydt));
                 Some((
-                    c.event_value(e, x, xdot, fly),
-                    c.event_rate(e, (x, xdot, xddot), fly, fly_dot),
+                    m.dev.event_value(e, x, xdot, states),
+                    m.dev.event_rate(e, (x, xdot, xddot), states, states_dot),
                 ))
             }
             _ => None,
@@ -149,7 +148,7 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
             Ev::Impact if y[B::THETA_DOT] == 0.0 => 1.0,
             Ev::Impact => (self.mode.pivot * y[B::THETA_DOT]).signum(),
             // From rest (Ẋ = 0) |Ẋ| grows.
-            Ev::Sequential if self.x_xdot(y).1 == 0.0 => 1.0,
+            Ev::Switch if self.x_xdot(y).1 == 0.0 => 1.0,
             _ => 0.0,
         }
     }
@@ -163,15 +162,15 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
             y[B::THETA] = self.initial_rotation;
             // Released from rest with the device relaxed: flywheels sit where X is.
             let (x, _) = self.x_xdot(y);
-            for i in 0..self.mode.layout.flywheels {
-                y[self.mode.layout.flywheel(i)] = x;
+            for i in 0..self.mode.layout.device_dofs {
+                y[self.mode.layout.device_dof(i)] = x;
             }
             Action::Continue
         } else {
             self.land(0.0, y)
         };
         if B::MOVES_IN_CONTACT {
-            self.engage_sequential_from_rest();
+            self.engage_switch_from_rest();
         }
         action
     }
@@ -365,9 +364,9 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
     }
 
     fn tolerance_scales(&self) -> (Vec<f64>, f64) {
-        let (mut state, flywheel, energy) = self.body.tolerance_scales(&self.mode);
-        for _ in 0..self.mode.layout.flywheels {
-            state.extend(flywheel);
+        let (mut state, device, energy) = self.body.tolerance_scales(&self.mode);
+        for _ in 0..self.mode.layout.device_dofs {
+            state.extend(device);
         }
         (state, energy)
     }
@@ -377,9 +376,9 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
             Ev::Impact => "impact",
             Ev::Overturn => "overturn",
             Ev::Uplift(_) => "uplift",
-            Ev::Sequential => "sequential_switch",
+            Ev::Switch => "sequential_switch",
             Ev::Own(i) => self.body.own_event_name(i),
-            Ev::Clutch(e) => e.name(),
+            Ev::Device(e) => e.name(),
         }
     }
 
@@ -409,8 +408,8 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
             self.mode.motion.accel(t),
             x,
             xdot,
-            layout.flywheel_velocity(y, 0),
-            layout.flywheel_velocity(y, 1),
+            layout.device_velocity(y, 0),
+            layout.device_velocity(y, 1),
             fa,
             fb,
             fd,
