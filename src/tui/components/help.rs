@@ -52,8 +52,11 @@ impl Help {
             ),
             k("↑↓ d Enter", "scroll (PgUp/Dn g/G) / results dir / results"),
             h("Results"),
-            k("s m c p", "spectra / maps / compare A and B / fragility"),
-            k("←→ ↑↓", "cursor along the axis / variant or map cell"),
+            k("s m c p g", "spectra / maps / compare / fragility / design"),
+            k(
+                "←→ ↑↓",
+                "cursor along the axis / variant, cell or design point",
+            ),
             k("[ ]  f", "prev/next quantity, map or state; f filter rows"),
             k("a b x", "compare: pick A / B (device, values), swap"),
             k("o y d", "compare: sort pairs, one y scale or two, maps"),

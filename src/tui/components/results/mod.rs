@@ -3,11 +3,13 @@
 //! spectra and the comparison share the quantity and the position along the axis.
 
 mod compare;
+pub mod design;
 mod fragility;
 mod maps;
 mod spectra;
 
 pub use compare::CompareView;
+pub use design::DesignView;
 pub use fragility::FragilityView;
 pub use maps::MapsView;
 pub use spectra::SpectraView;
@@ -54,6 +56,8 @@ pub struct Results {
     pub checks: std::collections::HashMap<usize, SceneCheck>,
     /// The fragility report (fragility.json) beside the results of a fragility study.
     pub fragility: Option<report::fragility::FragilityReport>,
+    /// A design study's answer (the search replayed on the scenes); empty for other studies.
+    pub design: Vec<crate::sweep::design::DesignRow>,
 }
 
 /// One scene's line of `check.csv`, as the readout shows it.
@@ -144,6 +148,7 @@ impl Results {
             }
         }
         Results {
+            design: report::design::design_rows(&results).unwrap_or_default(),
             results,
             padded,
             spectrum_marks,
@@ -222,6 +227,7 @@ pub enum ResultsTab {
     Maps,
     Compare,
     Fragility,
+    Design,
 }
 
 #[derive(Default)]
@@ -231,15 +237,19 @@ pub struct ResultsScreen {
     pub maps: MapsView,
     pub compare: CompareView,
     pub fragility: FragilityView,
+    pub design: DesignView,
 }
 
 impl ResultsScreen {
-    /// Fresh cursors for new results: spectra first (maps if there are no spectra), and the
-    /// comparison on its default pair.
+    /// Fresh cursors for new results: a design study's answer first, else spectra (maps if
+    /// there are no spectra), and the comparison on its default pair.
     pub fn reset(&mut self, data: &Results) {
         *self = ResultsScreen::default();
         if data.spectra.is_empty() && !data.maps.is_empty() {
             self.tab = ResultsTab::Maps;
+        }
+        if !data.design.is_empty() {
+            self.tab = ResultsTab::Design;
         }
         self.compare = CompareView::default_pair(&self.all_rows(data));
     }
@@ -298,10 +308,28 @@ impl ResultsScreen {
                 let m = data.maps.get(self.maps.map)?;
                 (*m.outcomes.get(self.maps.cell.1)?.get(self.maps.cell.0)?)?
             }
-            // A fragility curve is many scenes: none is under the cursor.
-            ResultsTab::Fragility => return None,
+            // A fragility curve or a design point is many scenes: none is under the cursor.
+            ResultsTab::Fragility | ResultsTab::Design => return None,
         };
         data.padded.outcomes.get(outcome).map(|o| &o.point)
+    }
+
+    /// The tabs line: key and name of every view (`named` false: names of the open one only).
+    fn tab_spans(&self, theme: Theme, named: bool) -> Vec<Span<'static>> {
+        [
+            (ResultsTab::Spectra, "s", "spectra"),
+            (ResultsTab::Maps, "m", "maps"),
+            (ResultsTab::Compare, "c", "compare"),
+            (ResultsTab::Fragility, "p", "fragility"),
+            (ResultsTab::Design, "g", "design"),
+        ]
+        .into_iter()
+        .map(|(tab, key, name)| match self.tab == tab {
+            true => Span::styled(format!(" {key} {name} "), theme.tab_active()),
+            false if named => Span::styled(format!(" {key} {name} "), theme.base()),
+            false => Span::styled(format!(" {key} "), theme.base()),
+        })
+        .collect()
     }
 
     /// `[ ] quantity (i/n)`: the header of the spectra and the comparison.
@@ -352,6 +380,7 @@ impl Component for ResultsScreen {
             KeyCode::Char('m') => self.tab = ResultsTab::Maps,
             KeyCode::Char('c') => self.tab = ResultsTab::Compare,
             KeyCode::Char('p') => self.tab = ResultsTab::Fragility,
+            KeyCode::Char('g') => self.tab = ResultsTab::Design,
             KeyCode::Char('r') => return Action::StartRun,
             KeyCode::Char('w') => {
                 let name = data
@@ -409,12 +438,17 @@ impl Component for ResultsScreen {
             }
             ResultsTab::Maps => self.maps.handle_key(key, data),
             ResultsTab::Fragility => self.fragility.handle_key(key, data.fragility.as_ref()),
+            ResultsTab::Design => self.design.handle_key(key, data.design.len()),
         }
         Action::None
     }
 
     fn hints(&self, _: &Shared) -> Vec<Hint> {
-        let mut hints = vec![("s/m/c/p", "view"), ("←→↑↓", "cursor"), ("[ ]", "quantity")];
+        let mut hints = vec![
+            ("s/m/c/p/g", "view"),
+            ("←→↑↓", "cursor"),
+            ("[ ]", "quantity"),
+        ];
         match self.tab {
             ResultsTab::Spectra => hints.push(("f", "filter")),
             ResultsTab::Compare => {
@@ -432,14 +466,15 @@ impl Component for ResultsScreen {
             ResultsTab::Maps => {}
             ResultsTab::Fragility => {
                 hints = vec![
-                    ("s/m/c/p", "view"),
+                    ("s/m/c/p/g", "view"),
                     ("↑↓", "variant"),
                     ("←→", "IM"),
                     ("[ ]", "damage state"),
                 ]
             }
+            ResultsTab::Design => hints = vec![("s/m/c/p/g", "view"), ("↑↓", "design point")],
         }
-        if self.tab != ResultsTab::Fragility {
+        if !matches!(self.tab, ResultsTab::Fragility | ResultsTab::Design) {
             hints.push(("Enter", "scene"));
         }
         hints.push(("w", "write results"));
@@ -462,22 +497,9 @@ impl Component for ResultsScreen {
         };
         let [tabs, body] =
             Layout::vertical([Constraint::Length(1), Constraint::Min(1)]).areas(area);
-        let mut spans = Vec::new();
-        for (tab, key, name) in [
-            (ResultsTab::Spectra, "s", "spectra"),
-            (ResultsTab::Maps, "m", "maps"),
-            (ResultsTab::Compare, "c", "compare"),
-            (ResultsTab::Fragility, "p", "fragility"),
-        ] {
-            let style = if self.tab == tab {
-                theme.tab_active()
-            } else {
-                theme.base()
-            };
-            spans.push(Span::styled(format!(" {key} {name} "), style));
-        }
+        let mut notes = Vec::new();
         if data.cancelled {
-            spans.push(Span::styled("  partial: sweep cancelled", theme.warn()));
+            notes.push(Span::styled("  partial: sweep cancelled", theme.warn()));
         }
         if data
             .results
@@ -485,11 +507,18 @@ impl Component for ResultsScreen {
             .as_ref()
             .is_some_and(|s| *s != shared.study)
         {
-            spans.push(Span::styled(
+            notes.push(Span::styled(
                 "  study edited since this run (r reruns)",
                 theme.warn(),
             ));
         }
+        let mut spans = self.tab_spans(theme, true);
+        let width = |spans: &[Span]| spans.iter().map(|s| s.width()).sum::<usize>();
+        // Too narrow for every tab's name and the notes: only the open tab keeps its name.
+        if width(&spans) + width(&notes) > tabs.width as usize {
+            spans = self.tab_spans(theme, false);
+        }
+        spans.extend(notes);
         frame.render_widget(Paragraph::new(Line::from(spans)), tabs);
         match self.tab {
             ResultsTab::Spectra => spectra::draw(self, data, theme, frame, body),
@@ -499,6 +528,13 @@ impl Component for ResultsScreen {
                 self.fragility
                     .draw(data.fragility.as_ref(), theme, frame, body)
             }
+            ResultsTab::Design => self.design.draw(
+                data.results.study.as_ref(),
+                &data.design,
+                theme,
+                frame,
+                body,
+            ),
         }
     }
 }
