@@ -4,7 +4,7 @@
 //! command's current output, and that the JSON carries every row's fields.
 
 use crate::util::rocklab;
-use rocklab::paper::{self, Verdict, fair};
+use rocklab::paper::{self, Agreement, fair};
 
 /// Every row once per test process (the scene cache makes later calls cheap).
 fn rows() -> Vec<paper::Row> {
@@ -38,7 +38,7 @@ fn every_claim_is_a_row_with_numbers_and_reasons() {
     assert_eq!(ids.len(), rows.len(), "ids are unique");
     for r in &rows {
         assert!(r.claim.len() > 20, "{}: the claim is quoted", r.id);
-        if r.verdict != Verdict::Agrees {
+        if r.verdict != Agreement::Agrees {
             assert!(
                 !r.reason.is_empty(),
                 "{}: a {:?} row says why",
@@ -46,14 +46,14 @@ fn every_claim_is_a_row_with_numbers_and_reasons() {
                 r.verdict
             );
         }
-        if r.verdict != Verdict::Untestable {
+        if r.verdict != Agreement::Untestable {
             assert!(!r.values.is_empty(), "{}: a checked row has numbers", r.id);
             assert!(r.values.iter().any(|(_, x)| x.is_finite()), "{}", r.id);
         }
     }
     // The counts line adds up to the rows.
     let line = paper::counts(&rows);
-    let total: usize = Verdict::ALL
+    let total: usize = Agreement::ALL
         .iter()
         .map(|v| rows.iter().filter(|r| r.verdict == *v).count())
         .sum();
@@ -177,15 +177,15 @@ fn immaterial_share_is_of_the_reference_peak() {
     let j = fair::immaterial(&a, &[("b", &b)]);
     // Largest |difference| 0.2 over the peak 4.
     assert!((j.value("b: largest difference / reference peak") - 0.05).abs() < 1e-12);
-    assert_eq!(j.verdict, Verdict::Agrees);
+    assert_eq!(j.verdict, Agreement::Agrees);
     let c: fair::Series = vec![Some(1.0), None, Some(2.0)];
     let j = fair::immaterial(&a, &[("c", &c)]);
     assert_eq!(j.value("c: overturning flips"), 1.0);
-    assert_eq!(j.verdict, Verdict::Roughly, "a flip caps the verdict");
+    assert_eq!(j.verdict, Agreement::Roughly, "a flip caps the verdict");
     let d: fair::Series = vec![Some(1.0), Some(3.0), Some(2.0)];
     assert_eq!(
         fair::immaterial(&a, &[("d", &d)]).verdict,
-        Verdict::Disagrees
+        Agreement::Disagrees
     );
 }
 
@@ -220,15 +220,15 @@ fn toward_one_reads_the_ratio_not_the_difference() {
         .map(|(a, x)| Some(a.unwrap() * (0.9 - 0.15 * x / 8.0)))
         .collect();
     let j = fair::toward_one(&xs, &a, &b);
-    assert_eq!(j.verdict, Verdict::Disagrees);
+    assert_eq!(j.verdict, Agreement::Disagrees);
     let j = fair::toward_one(&xs, &b, &b);
-    assert_eq!(j.verdict, Verdict::Disagrees, "no gap never shrinks");
+    assert_eq!(j.verdict, Agreement::Disagrees, "no gap never shrinks");
     let c: fair::Series = a
         .iter()
         .zip(&xs)
         .map(|(a, x)| Some(a.unwrap() * (0.8 + 0.2 * x / 8.0)))
         .collect();
-    assert_eq!(fair::toward_one(&xs, &a, &c).verdict, Verdict::Agrees);
+    assert_eq!(fair::toward_one(&xs, &a, &c).verdict, Agreement::Agrees);
 }
 
 #[test]
@@ -237,10 +237,10 @@ fn constant_offset_is_judged_per_third() {
     let a: fair::Series = vec![Some(1.0); 9];
     let flat: fair::Series = vec![Some(0.92); 9];
     let j = fair::constant_offset(&xs, &[(&a, &flat)], 0.08);
-    assert_eq!(j.verdict, Verdict::Agrees);
+    assert_eq!(j.verdict, Agreement::Agrees);
     // 0.92 on average, but 0.80 / 0.92 / 1.04 by third: not constant.
     let tilted: fair::Series = (0..9).map(|i| Some([0.80, 0.92, 1.04][i / 3])).collect();
     let j = fair::constant_offset(&xs, &[(&a, &tilted)], 0.08);
     assert!((j.value("mean ratio, third 1 (x 0–2)") - 0.80).abs() < 1e-12);
-    assert_eq!(j.verdict, Verdict::Disagrees);
+    assert_eq!(j.verdict, Agreement::Disagrees);
 }

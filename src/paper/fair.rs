@@ -4,7 +4,7 @@
 //! A spectrum is a [`Series`]: one value per point of the figure's axis, None where the scene
 //! overturned (the paper discontinues its curves there).
 
-use super::Verdict;
+use super::Agreement;
 
 /// One value per axis point; None where the structure overturned.
 pub type Series = Vec<Option<f64>>;
@@ -15,7 +15,7 @@ pub type Series = Vec<Option<f64>>;
 pub struct Judgement {
     pub check: String,
     pub values: Vec<(String, f64)>,
-    pub verdict: Verdict,
+    pub verdict: Agreement,
     pub gap: String,
 }
 
@@ -75,14 +75,14 @@ pub fn immaterial(reference: &Series, variants: &[(&str, &Series)]) -> Judgement
         flips += flipped;
     }
     let verdict = if worst <= IMMATERIAL_SHARE && flips == 0 {
-        Verdict::Agrees
+        Agreement::Agrees
     } else if worst <= IMMATERIAL_ROUGHLY {
-        Verdict::Roughly
+        Agreement::Roughly
     } else {
-        Verdict::Disagrees
+        Agreement::Disagrees
     };
     let gap = match verdict {
-        Verdict::Agrees => String::new(),
+        Agreement::Agrees => String::new(),
         _ if flips > 0 && worst <= IMMATERIAL_ROUGHLY => format!(
             "largest difference {:.1} % of the peak, but {flips} point(s) where only one curve overturns",
             100.0 * worst
@@ -111,13 +111,7 @@ pub const CONVERGE: f64 = 0.01;
 
 pub fn converges(value: f64, limit: f64) -> Judgement {
     let err = (value - limit).abs() / limit.abs();
-    let verdict = if err <= CONVERGE {
-        Verdict::Agrees
-    } else if err <= 5.0 * CONVERGE {
-        Verdict::Roughly
-    } else {
-        Verdict::Disagrees
-    };
+    let verdict = ladder(err, CONVERGE, 5.0 * CONVERGE);
     Judgement {
         check: format!(
             "converges: |value − limit| / limit ≤ {:.0} % ({:.0} % roughly)",
@@ -130,11 +124,28 @@ pub fn converges(value: f64, limit: f64) -> Judgement {
             ("relative difference".into(), err),
         ],
         verdict,
-        gap: if verdict == Verdict::Agrees {
-            String::new()
-        } else {
-            format!("{:.2} % apart", 100.0 * err)
-        },
+        gap: gap_unless_agrees(verdict, || format!("{:.2} % apart", 100.0 * err)),
+    }
+}
+
+/// A measure of distance from the claim judged on two thresholds: agrees at most `agree`,
+/// roughly at most `roughly`, else disagrees.
+fn ladder(distance: f64, agree: f64, roughly: f64) -> Agreement {
+    if distance <= agree {
+        Agreement::Agrees
+    } else if distance <= roughly {
+        Agreement::Roughly
+    } else {
+        Agreement::Disagrees
+    }
+}
+
+/// The gap a row states: none when it agrees.
+fn gap_unless_agrees(verdict: Agreement, gap: impl FnOnce() -> String) -> String {
+    if verdict == Agreement::Agrees {
+        String::new()
+    } else {
+        gap()
     }
 }
 
@@ -191,8 +202,8 @@ impl Relation {
         }
     }
 
-    fn judge(self, mean: f64, above: f64, below: f64) -> Verdict {
-        use Verdict::*;
+    fn judge(self, mean: f64, above: f64, below: f64) -> Agreement {
+        use Agreement::*;
         let pick = |agree: bool, rough: bool| {
             if agree {
                 Agrees
@@ -244,7 +255,7 @@ pub fn compare(relation: Relation, reference: &Series, variant: &Series) -> Judg
     let above = q.iter().filter(|r| **r > 1.0).count() as f64 / n;
     let below = q.iter().filter(|r| **r < 1.0).count() as f64 / n;
     let verdict = if q.is_empty() {
-        Verdict::Untestable
+        Agreement::Untestable
     } else {
         relation.judge(m, above, below)
     };
@@ -258,8 +269,8 @@ pub fn compare(relation: Relation, reference: &Series, variant: &Series) -> Judg
         ],
         verdict,
         gap: match verdict {
-            Verdict::Agrees => String::new(),
-            Verdict::Untestable => "no point where both responses exist".into(),
+            Agreement::Agrees => String::new(),
+            Agreement::Untestable => "no point where both responses exist".into(),
             _ => format!(
                 "mean ratio {m:.3}, {:.0} % of {} points above, {:.0} % below",
                 100.0 * above,
@@ -287,11 +298,11 @@ pub fn toward_one(xs: &[f64], reference: &Series, variant: &Series) -> Judgement
     let monotone = d.windows(2).all(|w| w[1] <= w[0] + TREND_TOL);
     let ends_lower = d[2] < d[0];
     let verdict = if monotone && ends_lower {
-        Verdict::Agrees
+        Agreement::Agrees
     } else if ends_lower {
-        Verdict::Roughly
+        Agreement::Roughly
     } else {
-        Verdict::Disagrees
+        Agreement::Disagrees
     };
     let mut values = Vec::new();
     for (k, r) in thirds.iter().enumerate() {
@@ -311,14 +322,12 @@ pub fn toward_one(xs: &[f64], reference: &Series, variant: &Series) -> Judgement
         ),
         values,
         verdict,
-        gap: if verdict == Verdict::Agrees {
-            String::new()
-        } else {
+        gap: gap_unless_agrees(verdict, || {
             format!(
                 "|1 − ratio| by third {:.3} → {:.3} → {:.3}",
                 d[0], d[1], d[2]
             )
-        },
+        }),
     }
 }
 
@@ -341,13 +350,7 @@ pub fn constant_offset(xs: &[f64], pairs: &[(&Series, &Series)], lower_by: f64) 
         })
         .collect();
     let worst = means.iter().map(|m| (m - target).abs()).fold(0.0, f64::max);
-    let verdict = if worst <= OFFSET_BAND {
-        Verdict::Agrees
-    } else if worst <= 2.0 * OFFSET_BAND {
-        Verdict::Roughly
-    } else {
-        Verdict::Disagrees
-    };
+    let verdict = ladder(worst, OFFSET_BAND, 2.0 * OFFSET_BAND);
     let mut values = Vec::new();
     for (k, r) in thirds.iter().enumerate() {
         values.push((
@@ -369,14 +372,12 @@ pub fn constant_offset(xs: &[f64], pairs: &[(&Series, &Series)], lower_by: f64) 
         ),
         values,
         verdict,
-        gap: if verdict == Verdict::Agrees {
-            String::new()
-        } else {
+        gap: gap_unless_agrees(verdict, || {
             format!(
                 "by third {:.3}, {:.3}, {:.3} against {target:.2}",
                 means[0], means[1], means[2]
             )
-        },
+        }),
     }
 }
 
@@ -407,21 +408,19 @@ pub fn faster_decrease(faster: (&[f64], &[f64]), slower: (&[f64], &[f64])) -> Ju
         earlier += usize::from(a < b);
     }
     let verdict = if earlier == DECAY_FRACTIONS.len() {
-        Verdict::Agrees
+        Agreement::Agrees
     } else if 2 * earlier >= DECAY_FRACTIONS.len() {
-        Verdict::Roughly
+        Agreement::Roughly
     } else {
-        Verdict::Disagrees
+        Agreement::Disagrees
     };
     Judgement {
         check: "faster decrease: times for each envelope (largest |θ| still to come) to fall below 50/20/10/5 % of its own peak, the claimed-faster one earlier at all four (at two roughly)".into(),
         values,
         verdict,
-        gap: if verdict == Verdict::Agrees {
-            String::new()
-        } else {
+        gap: gap_unless_agrees(verdict, || {
             format!("earlier at {earlier} of {} fractions", DECAY_FRACTIONS.len())
-        },
+        }),
     }
 }
 
@@ -433,11 +432,11 @@ pub fn increasing(name: &str, curves: &[Vec<f64>]) -> Judgement {
         .sum();
     let steps: usize = curves.iter().map(|ys| ys.len().saturating_sub(1)).sum();
     let verdict = if rises == steps {
-        Verdict::Agrees
+        Agreement::Agrees
     } else if 2 * rises >= steps {
-        Verdict::Roughly
+        Agreement::Roughly
     } else {
-        Verdict::Disagrees
+        Agreement::Disagrees
     };
     Judgement {
         check: format!(
@@ -448,11 +447,7 @@ pub fn increasing(name: &str, curves: &[Vec<f64>]) -> Judgement {
             ("steps".into(), steps as f64),
         ],
         verdict,
-        gap: if verdict == Verdict::Agrees {
-            String::new()
-        } else {
-            format!("rises at {rises} of {steps} steps")
-        },
+        gap: gap_unless_agrees(verdict, || format!("rises at {rises} of {steps} steps")),
     }
 }
 
@@ -461,13 +456,7 @@ pub const APPROX: f64 = 0.15;
 
 pub fn approximately(value: f64, stated: f64) -> Judgement {
     let err = (value - stated).abs() / stated.abs();
-    let verdict = if err <= APPROX {
-        Verdict::Agrees
-    } else if err <= 2.0 * APPROX {
-        Verdict::Roughly
-    } else {
-        Verdict::Disagrees
-    };
+    let verdict = ladder(err, APPROX, 2.0 * APPROX);
     Judgement {
         check: format!(
             "approximately: within {:.0} % of the stated value ({:.0} % roughly)",
@@ -476,11 +465,7 @@ pub fn approximately(value: f64, stated: f64) -> Judgement {
         ),
         values: vec![("measured".into(), value), ("stated".into(), stated)],
         verdict,
-        gap: if verdict == Verdict::Agrees {
-            String::new()
-        } else {
-            format!("{value:.3} against {stated}")
-        },
+        gap: gap_unless_agrees(verdict, || format!("{value:.3} against {stated}")),
     }
 }
 
@@ -488,29 +473,27 @@ pub fn approximately(value: f64, stated: f64) -> Judgement {
 /// of what the device took (2 % roughly); "fully prevent" = at most 1 % (5 % roughly).
 pub fn energy_back(returned: f64, claimed_back: bool) -> Judgement {
     let verdict = match claimed_back {
-        true if returned >= 0.10 => Verdict::Agrees,
-        true if returned >= 0.02 => Verdict::Roughly,
-        false if returned <= 0.01 => Verdict::Agrees,
-        false if returned <= 0.05 => Verdict::Roughly,
-        _ => Verdict::Disagrees,
+        true if returned >= 0.10 => Agreement::Agrees,
+        true if returned >= 0.02 => Agreement::Roughly,
+        false if returned <= 0.01 => Agreement::Agrees,
+        false if returned <= 0.05 => Agreement::Roughly,
+        _ => Agreement::Disagrees,
     };
     Judgement {
         check: "energy back: the device-side energy's drops over its rises (flywheels + clutch spring + device dissipation): a part ≥ 10 % (2 % roughly), none ≤ 1 % (5 % roughly)".into(),
         values: vec![("returned / taken".into(), returned)],
         verdict,
-        gap: if verdict == Verdict::Agrees {
-            String::new()
-        } else {
+        gap: gap_unless_agrees(verdict, || {
             format!("{:.1} % returned", 100.0 * returned)
-        },
+        }),
     }
 }
 
 /// The verdict of a check over plausible values of what the paper leaves unstated: "agrees
 /// for …; not for …", and each variant's verdict as a value (0 agrees, 1 roughly, 2 disagrees).
 pub fn sensitivity(over: &str, variants: &[(String, Judgement)]) -> (String, Vec<(String, f64)>) {
-    let rank = |v: Verdict| Verdict::ALL.iter().position(|x| *x == v).unwrap_or(3) as f64;
-    let names = |want: Verdict| {
+    let rank = |v: Agreement| Agreement::ALL.iter().position(|x| *x == v).unwrap_or(3) as f64;
+    let names = |want: Agreement| {
         variants
             .iter()
             .filter(|(_, j)| j.verdict == want)
@@ -519,7 +502,7 @@ pub fn sensitivity(over: &str, variants: &[(String, Judgement)]) -> (String, Vec
             .join(", ")
     };
     let mut parts = Vec::new();
-    for v in [Verdict::Agrees, Verdict::Roughly, Verdict::Disagrees] {
+    for v in [Agreement::Agrees, Agreement::Roughly, Agreement::Disagrees] {
         let n = names(v);
         if !n.is_empty() {
             parts.push(format!("{} for {n}", v.label()));
@@ -545,7 +528,7 @@ pub fn untestable(why: &str) -> Judgement {
     Judgement {
         check: "none".into(),
         values: Vec::new(),
-        verdict: Verdict::Untestable,
+        verdict: Agreement::Untestable,
         gap: why.into(),
     }
 }
@@ -553,7 +536,7 @@ pub fn untestable(why: &str) -> Judgement {
 /// The worse of two judgements (a claim about two responses holds as well as its weaker half);
 /// values of both are kept, the second's prefixed.
 pub fn both(a: Judgement, prefix_a: &str, b: Judgement, prefix_b: &str) -> Judgement {
-    let rank = |v: Verdict| Verdict::ALL.iter().position(|x| *x == v).unwrap_or(0);
+    let rank = |v: Agreement| Agreement::ALL.iter().position(|x| *x == v).unwrap_or(0);
     let verdict = if rank(a.verdict) >= rank(b.verdict) {
         a.verdict
     } else {

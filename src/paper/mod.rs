@@ -19,10 +19,12 @@ pub use render::{counts, markdown};
 
 use serde::Serialize;
 
-/// What rocklab finds for a claim.
+/// What rocklab finds for a claim: how far it agrees. Serialized under the JSON key `verdict`
+/// (issue 27's field list); the type is not called Verdict because the crate uses that word
+/// for other things (a sweep cell's, a design scene's).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Verdict {
+pub enum Agreement {
     Agrees,
     /// Same direction, short of the claim's strength; the row's reason states the gap.
     Roughly,
@@ -31,20 +33,20 @@ pub enum Verdict {
     Untestable,
 }
 
-impl Verdict {
-    pub const ALL: [Verdict; 4] = [
-        Verdict::Agrees,
-        Verdict::Roughly,
-        Verdict::Disagrees,
-        Verdict::Untestable,
+impl Agreement {
+    pub const ALL: [Agreement; 4] = [
+        Agreement::Agrees,
+        Agreement::Roughly,
+        Agreement::Disagrees,
+        Agreement::Untestable,
     ];
 
     pub fn label(self) -> &'static str {
         match self {
-            Verdict::Agrees => "agrees",
-            Verdict::Roughly => "roughly",
-            Verdict::Disagrees => "disagrees",
-            Verdict::Untestable => "untestable",
+            Agreement::Agrees => "agrees",
+            Agreement::Roughly => "roughly",
+            Agreement::Disagrees => "disagrees",
+            Agreement::Untestable => "untestable",
         }
     }
 }
@@ -62,7 +64,7 @@ pub struct Row {
     /// The measured numbers, by name.
     #[serde(serialize_with = "values_as_object")]
     pub values: Vec<(String, f64)>,
-    pub verdict: Verdict,
+    pub verdict: Agreement,
     /// The gap (roughly), the measured reason (disagrees), why not (untestable), or the
     /// disclosed choices (agrees).
     pub reason: String,
@@ -170,7 +172,7 @@ pub(super) fn explained(
     check: impl Fn(fn(&mut crate::scene::Clutch)) -> anyhow::Result<fair::Judgement>,
 ) -> anyhow::Result<Row> {
     let mut j = check(runs::as_is)?;
-    if j.verdict == Verdict::Agrees {
+    if j.verdict == Agreement::Agrees {
         return Ok(judged(id, j, ""));
     }
     let (sens, values) = runs::sensitivity(unstated, check)?;

@@ -1,11 +1,11 @@
 //! PAPER.md from the rows: a counts line and one table row per claim.
 
-use super::{Row, Verdict};
+use super::{Agreement, Row};
 use std::fmt::Write as _;
 
 /// The counts line: how many rows of each verdict.
 pub fn counts(rows: &[Row]) -> String {
-    let parts: Vec<String> = Verdict::ALL
+    let parts: Vec<String> = Agreement::ALL
         .iter()
         .map(|v| {
             format!(
@@ -64,7 +64,7 @@ pub fn markdown(rows: &[Row]) -> String {
             .collect::<Vec<_>>()
             .join("; ");
         let verdict = match r.verdict {
-            Verdict::Agrees => "agrees".to_string(),
+            Agreement::Agrees => "agrees".to_string(),
             v => format!("**{}**", v.label()),
         };
         let _ = writeln!(

@@ -277,7 +277,7 @@ fn fig24_acceleration_hardest() -> anyhow::Result<Row> {
         "beside: stand-ins, mechanistic inside/outside",
         stand_ins.value("mean ratio"),
     );
-    let reason = if j.verdict == super::Verdict::Agrees {
+    let reason = if j.verdict == super::Agreement::Agrees {
         String::new()
     } else {
         let check = |change: fn(&mut crate::scene::Clutch)| hardest(&mech(change), true);

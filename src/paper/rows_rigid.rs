@@ -4,7 +4,7 @@
 
 use super::fair::{self, Judgement, Relation, Series};
 use super::runs::{self, Measure, clutch_with, col};
-use super::{Measure as RowFn, Row, Verdict, explained, judged};
+use super::{Agreement, Measure as RowFn, Row, explained, judged};
 use crate::model::rigid::{housner_restitution, inerter_restitution};
 use crate::presets::{self, mechanistic, rigid_fig8, sequential};
 use crate::scene::*;
@@ -211,7 +211,7 @@ fn fig8_inerter_amplified_later() -> anyhow::Result<Row> {
     }
     let (sens, values) = fair::sensitivity("start of the 'later stage'", &variants);
     j.values.extend(values);
-    let reason = if j.verdict == Verdict::Agrees {
+    let reason = if j.verdict == Agreement::Agrees {
         String::new()
     } else {
         format!(

@@ -71,6 +71,7 @@ pub mod col {
     pub const T: &str = "t";
     pub const THETA: &str = "theta";
     pub const FLYWHEEL_A: &str = "flywheel_a_vel";
+    pub const FLYWHEEL_B: &str = "flywheel_b_vel";
     pub const CLUTCH_A: &str = "clutch_force_a";
     pub const CLUTCH_B: &str = "clutch_force_b";
     pub const DEVICE_FORCE: &str = "device_force";
