@@ -384,9 +384,10 @@ pub fn sweep(scene: &Scene, xs: &[f64]) -> Vec<Arc<SceneResult>> {
 
 // The table: every claim's recomputation, in the paper's order.
 
-type Recompute = fn() -> Expect;
+/// A claim's id and its recomputation.
+pub type Entry = (&'static str, fn() -> Expect);
 
-fn table() -> Vec<(&'static str, Recompute)> {
+fn table() -> Vec<Entry> {
     let mut t = crate::paper_rows_rigid::TABLE.to_vec();
     t.extend(crate::paper_rows_flexible::TABLE);
     t.extend(crate::paper_rows_records::TABLE);

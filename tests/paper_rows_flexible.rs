@@ -11,7 +11,7 @@ use rocklab::scene::{Clutch, ClutchStiffness, Damping, Device, Scene};
 use rocklab::sim::SceneResult;
 use std::sync::Arc;
 
-pub const TABLE: [(&str, fn() -> Expect); 28] = [
+pub const TABLE: [Entry; 28] = [
     ("fig14-inerter-uplift", fig14_inerter_uplift),
     ("fig14-inerter-deformation", fig14_inerter_deformation),
     ("fig14-inerter-acceleration", fig14_inerter_acceleration),

@@ -8,7 +8,7 @@ use rocklab::presets::{flexible_record, mechanistic_xi_theta, sequential};
 use rocklab::scene::Device;
 use rocklab::sim::SceneResult;
 
-pub const TABLE: [(&str, fn() -> Expect); 9] = [
+pub const TABLE: [Entry; 9] = [
     ("fig24-overturning", fig24_overturning),
     ("fig24-dispersion", fig24_dispersion),
     ("fig24-rotation-deformation", fig24_rotation_deformation),

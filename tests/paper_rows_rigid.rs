@@ -7,7 +7,7 @@ use rocklab::scene::{Clutch, Damping, Device, Impact, Scene};
 use rocklab::sim::SceneResult;
 use std::sync::Arc;
 
-pub const TABLE: [(&str, fn() -> Expect); 28] = [
+pub const TABLE: [Entry; 28] = [
     ("fig3-restitution-grows", fig3_restitution_grows),
     ("fig3-stocky", fig3_stocky),
     ("fig5-converge", fig5_converge),
