@@ -5,6 +5,7 @@
 use rocklab::excitation::KinkPolicy;
 use rocklab::model::sdof::Oscillator;
 use rocklab::scene::*;
+use rocklab::sim::HistoryColumn;
 use rocklab::sim::{self, SceneResult};
 
 fn flexible(alpha: f64, device: Device, record: &str, duration: f64) -> Scene {
@@ -215,7 +216,7 @@ fn uplift_is_located_where_the_integrator_finds_it_and_history_keeps_every_sampl
             .find(|(_, name)| *name == "uplift")
             .expect("the base lifts")
             .0;
-        let times = h.column("t").unwrap();
+        let times = h.column(HistoryColumn::T).unwrap();
         (
             t,
             times.into_iter().filter(|&ti| ti < t).collect::<Vec<_>>(),

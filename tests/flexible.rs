@@ -8,6 +8,7 @@ use rocklab::scene::{
     Amplitude, Clutch, ClutchStiffness, Coupling, Damping, Device, Excitation, FlexibleStructure,
     Frequency, Impact, ResetRule, RigidBlock, Scene, Structure,
 };
+use rocklab::sim::HistoryColumn;
 use rocklab::sim::{self, SceneResult};
 
 fn flexible(r0: f64, alpha: f64, xi: f64, omega_ratio: f64) -> Structure {
@@ -198,9 +199,9 @@ fn wide_base_reproduces_the_closed_form_fixed_base_response() {
         };
         let peak = exact.peak(result.end_time);
         let (t, u, v) = (
-            history.column("t").unwrap(),
-            history.column("u").unwrap(),
-            history.column("u_dot").unwrap(),
+            history.column(HistoryColumn::T).unwrap(),
+            history.column(HistoryColumn::U).unwrap(),
+            history.column(HistoryColumn::UDot).unwrap(),
         );
         let mut worst = 0.0f64;
         for i in 0..t.len() {

@@ -4,6 +4,7 @@
 
 use rocklab::excitation::{G, KinkPolicy};
 use rocklab::scene::*;
+use rocklab::sim::HistoryColumn;
 use rocklab::sim::{self, SceneResult};
 
 /// Every tolerance from the loosest a user may set to one tighter than the default.
@@ -279,7 +280,7 @@ fn landed_block_with_spinning_flywheels_feels_a_one_sample_spike() {
                 )
                 .unwrap();
                 let history = history.unwrap();
-                let theta = history.column("theta").unwrap();
+                let theta = history.column(HistoryColumn::Theta).unwrap();
                 let landed = history
                     .rows
                     .iter()

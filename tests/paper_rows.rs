@@ -15,7 +15,7 @@
 use rayon::prelude::*;
 use rocklab::paper::{self, Agreement};
 use rocklab::scene::{Excitation, Frequency, Scene};
-use rocklab::sim::{self, History, SceneResult};
+use rocklab::sim::{self, History, HistoryColumn, SceneResult};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
@@ -305,7 +305,7 @@ pub fn history(scene: &Scene) -> Arc<History> {
     h
 }
 
-pub fn column(h: &History, name: &str) -> Vec<f64> {
+pub fn column(h: &History, name: HistoryColumn) -> Vec<f64> {
     h.column(name)
         .unwrap_or_else(|| panic!("no history column {name}"))
 }
@@ -316,7 +316,7 @@ pub fn returned(scene: &Scene) -> f64 {
     let h = history(scene);
     let parts: Vec<Vec<f64>> = paper::runs::col::DEVICE_ENERGY
         .iter()
-        .map(|c| column(&h, c))
+        .map(|c| column(&h, *c))
         .collect();
     let d: Vec<f64> = (0..parts[0].len())
         .map(|i| parts.iter().map(|p| p[i]).sum())

@@ -6,6 +6,7 @@ use rocklab::scene::{
     Structure,
 };
 use rocklab::sim;
+use rocklab::sim::HistoryColumn;
 
 fn scene(excitation: Excitation, device: Device, rtol: f64) -> Scene {
     Scene {
@@ -88,7 +89,10 @@ fn the_uplift_starts_where_the_record_first_exceeds_g_tan_alpha() {
     let (_, history) =
         sim::run_with_history(&s, rocklab::excitation::library::global().unwrap(), true).unwrap();
     let h = history.unwrap();
-    let (t, theta) = (h.column("t").unwrap(), h.column("theta").unwrap());
+    let (t, theta) = (
+        h.column(HistoryColumn::T).unwrap(),
+        h.column(HistoryColumn::Theta).unwrap(),
+    );
     let first_move = t[theta.iter().position(|th| *th != 0.0).unwrap()];
     let motion = sim::motion_for(&s, rocklab::excitation::library::global().unwrap()).unwrap();
     let onset = motion
@@ -260,9 +264,9 @@ fn straddling_steps(kinks: KinkPolicy) -> (usize, f64) {
         sim::run_with_history(&s, rocklab::excitation::library::global().unwrap(), true).unwrap();
     let h = history.unwrap();
     let (t, th, om) = (
-        h.column("t").unwrap(),
-        h.column("theta").unwrap(),
-        h.column("theta_dot").unwrap(),
+        h.column(HistoryColumn::T).unwrap(),
+        h.column(HistoryColumn::Theta).unwrap(),
+        h.column(HistoryColumn::ThetaDot).unwrap(),
     );
     let dt = 0.01;
     let end = sim::motion_for(&s, rocklab::excitation::library::global().unwrap())

@@ -5,6 +5,7 @@ use rocklab::excitation::{G, PulseShape};
 use rocklab::model::EndReason;
 use rocklab::model::rigid::{housner_restitution, inerter_restitution};
 use rocklab::scene::*;
+use rocklab::sim::HistoryColumn;
 use rocklab::sim::{self, SceneResult};
 
 const ALPHA_10: f64 = 10.0 * std::f64::consts::PI / 180.0;
@@ -152,8 +153,8 @@ fn slender_free_rocking_matches_closed_form() {
     // Between impacts the history follows α − (α − θ0) cosh(pt) exactly.
     let t_first = impact_times[0];
     let (ts, thetas) = (
-        history.column("t").unwrap(),
-        history.column("theta").unwrap(),
+        history.column(HistoryColumn::T).unwrap(),
+        history.column(HistoryColumn::Theta).unwrap(),
     );
     for (t, theta) in ts.iter().zip(&thetas).filter(|(t, _)| **t < t_first) {
         let exact = alpha - (alpha - theta0) * (p * t).cosh();

@@ -7,6 +7,7 @@ use crate::util::{fig12_study_and_fig8_point, rocklab, rocklab_json};
 use rocklab::excitation::library;
 use rocklab::presets::{self, mechanistic, rigid_fig8};
 use rocklab::scene::*;
+use rocklab::sim::HistoryColumn;
 use rocklab::sim::{self, History, Sampling};
 
 /// The Fig. 8 scene as the Fig. 12 study sweeps it: bare block, ωg/p = 4, 15 s, stopping once
@@ -18,13 +19,13 @@ fn fig8_study_scene() -> Scene {
     point.scene
 }
 
-fn column(h: &History, name: &str) -> Vec<f64> {
+fn column(h: &History, name: HistoryColumn) -> Vec<f64> {
     h.column(name).unwrap_or_else(|| panic!("no column {name}"))
 }
 
 /// Times of the rows that are not at an event instant.
 fn grid_times(h: &History) -> Vec<f64> {
-    column(h, "t")
+    column(h, HistoryColumn::T)
         .into_iter()
         .filter(|t| !h.events.iter().any(|(te, _)| te == t))
         .collect()
@@ -41,7 +42,7 @@ fn the_fig8_scene_history_covers_15_s_and_every_impact() {
 
     let (result, history) =
         sim::run_history(&sim::history_scene(&scene), lib, &Sampling::Auto).unwrap();
-    let t = column(&history, "t");
+    let t = column(&history, HistoryColumn::T);
     assert_eq!(t[0], 0.0);
     assert_eq!(*t.last().unwrap(), 15.0);
     assert!(result.counters.impacts >= 20, "{}", result.counters.impacts);
@@ -62,8 +63,8 @@ fn the_fig8_scene_history_covers_15_s_and_every_impact() {
     assert!(t.windows(2).all(|w| w[0] <= w[1]), "times are sorted");
     // Every event instant is a pair of rows: before and after the jump. An impact keeps θ and
     // jumps θ̇ (Housner: the pivot switches, θ̇ × r), so the curve shows a jump, not a slope.
-    let theta = column(&history, "theta");
-    let rate = column(&history, "theta_dot");
+    let theta = column(&history, HistoryColumn::Theta);
+    let rate = column(&history, HistoryColumn::ThetaDot);
     for (te, name) in &history.events {
         let rows: Vec<usize> = (0..t.len()).filter(|&i| t[i] == *te).collect();
         // An uplift ends an idle period: no jump, one row.
@@ -98,7 +99,7 @@ fn resampled_rows_match_the_solver_states_at_step_ends() {
         flexible,
     ] {
         let (_, steps) = sim::run_history(&scene, lib, &Sampling::Steps).unwrap();
-        let mut times = column(&steps, "t");
+        let mut times = column(&steps, HistoryColumn::T);
         times.dedup();
         let (_, resampled) = sim::run_history(&scene, lib, &Sampling::At(times)).unwrap();
         assert!(steps.rows.len() > 100);
@@ -130,24 +131,29 @@ fn a_history_at_rest_reaches_the_duration_and_pulses_are_drawn_finely() {
     let (result, history) = sim::run_history(&scene, lib, &Sampling::Uniform(0.01)).unwrap();
     assert_eq!(result.end_reason, rocklab::model::EndReason::Rest);
     assert!(result.end_time < 29.0);
-    let t = column(&history, "t");
+    let t = column(&history, HistoryColumn::T);
     assert_eq!(*t.last().unwrap(), 30.0);
     assert_eq!(grid_times(&history).len(), 3001);
-    let theta = column(&history, "theta");
+    let theta = column(&history, HistoryColumn::Theta);
     for (ti, th) in t.iter().zip(&theta) {
         if *ti > result.end_time {
             assert_eq!(*th, 0.0, "at rest at {ti}");
         }
     }
     // The ground acceleration column is the pulse itself at every grid time.
-    let ag = column(&history, "ground_accel");
+    let ag = column(&history, HistoryColumn::GroundAccel);
     let motion = sim::motion_for(&scene, lib).unwrap();
     for (ti, a) in t.iter().zip(&ag) {
         assert!((a - motion.accel(*ti)).abs() < 1e-12, "{ti}");
     }
     // Over the pulse the solver takes a few dozen steps; the grid has a row every 10 ms.
     let (_, steps) = sim::run_history(&scene, lib, &Sampling::Steps).unwrap();
-    let in_pulse = |h: &History| column(h, "t").iter().filter(|t| **t < motion.end()).count();
+    let in_pulse = |h: &History| {
+        column(h, HistoryColumn::T)
+            .iter()
+            .filter(|t| **t < motion.end())
+            .count()
+    };
     assert!(in_pulse(&history) > 3 * in_pulse(&steps));
 }
 
@@ -186,7 +192,10 @@ fn closed_form_contact_histories_are_on_the_grid() {
         ..scene.clone()
     };
     let (_, reference) = sim::run_history(&integrated, lib, &Sampling::Uniform(0.005)).unwrap();
-    let (u, u_ref) = (column(&history, "u"), column(&reference, "u"));
+    let (u, u_ref) = (
+        column(&history, HistoryColumn::U),
+        column(&reference, HistoryColumn::U),
+    );
     let scale = u_ref.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     assert_eq!(u.len(), u_ref.len());
     let worst = u

@@ -31,15 +31,15 @@ fn scene_screen_draws_a_fixed_scene() {
     let w = std::f64::consts::PI;
     let history = rocklab::sim::History {
         columns: vec![
-            "t",
-            "theta",
-            "flywheel_a_vel",
-            "flywheel_b_vel",
-            "clutch_force_a",
-            "clutch_force_b",
-            "e_input",
-            "e_structure",
-            "e_device_damping",
+            rocklab::sim::HistoryColumn::T,
+            rocklab::sim::HistoryColumn::Theta,
+            rocklab::sim::HistoryColumn::FlywheelAVel,
+            rocklab::sim::HistoryColumn::FlywheelBVel,
+            rocklab::sim::HistoryColumn::ClutchForceA,
+            rocklab::sim::HistoryColumn::ClutchForceB,
+            rocklab::sim::HistoryColumn::EInput,
+            rocklab::sim::HistoryColumn::EStructure,
+            rocklab::sim::HistoryColumn::EDeviceDamping,
         ],
         rows: (0..=800)
             .map(|i| {
@@ -87,7 +87,13 @@ fn scene_screen_shows_the_whole_fig8_history() {
         panic!("the scene finished");
     };
     assert!(result.counters.impacts >= 20, "{}", result.counters.impacts);
-    assert_eq!(history.column("t").unwrap().last(), Some(&15.0));
+    assert_eq!(
+        history
+            .column(rocklab::sim::HistoryColumn::T)
+            .unwrap()
+            .last(),
+        Some(&15.0)
+    );
     let screen = text(&render(&app, Theme::COLOR, SMALL));
     assert!(screen.contains(&format!("0–15 s: impacts {}", result.counters.impacts)));
     for unit in ["rad", "J", "t (s)"] {

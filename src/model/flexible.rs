@@ -15,6 +15,7 @@
 //! Full contact with no device or a rigidly coupled inerter under a record is advanced in
 //! closed form ([`super::contact`]) when the scene allows it.
 
+use super::column::HistoryColumn;
 use super::contact::ClosedFormContact;
 use super::device::{DeviceModel, Returnable};
 use super::rigid::below_peak;
@@ -238,7 +239,12 @@ impl Column {
 
 impl Body for FlexibleBody {
     type Kin = Kinematics;
-    const COORDINATES: &'static [&'static str] = &["u", "u_dot", "theta", "theta_dot"];
+    const COORDINATES: &'static [HistoryColumn] = &[
+        HistoryColumn::U,
+        HistoryColumn::UDot,
+        HistoryColumn::Theta,
+        HistoryColumn::ThetaDot,
+    ];
     const THETA: usize = THETA;
     const THETA_DOT: usize = THETA_DOT;
     const MOVES_IN_CONTACT: bool = true;

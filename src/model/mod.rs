@@ -2,6 +2,7 @@
 //! [`OdeSystem`] plus the discrete logic the simulation driver calls between steps.
 
 pub mod clutch;
+pub mod column;
 pub mod contact;
 pub mod device;
 pub mod flexible;
@@ -11,6 +12,7 @@ pub mod shell;
 
 use crate::solver::search::{brent_max, illinois_root};
 use crate::solver::{Dense, OdeSystem};
+use column::HistoryColumn;
 use serde::{Deserialize, Serialize};
 
 /// Why a simulation ended.
@@ -66,20 +68,7 @@ pub struct Energy {
 }
 
 impl Energy {
-    /// History column names of [`Energy::terms`], in the same order.
-    pub const COLUMNS: [&'static str; 9] = [
-        "e_input",
-        "e_structure",
-        "e_inerter",
-        "e_column_damping",
-        "e_device_damping",
-        "e_friction",
-        "e_impact",
-        "e_disengagement",
-        "e_reset",
-    ];
-
-    /// Every term of the partition, in the order of [`Energy::COLUMNS`].
+    /// Every term of the partition, in the order of [`HistoryColumn::ENERGY`].
     pub fn terms(&self) -> [f64; 9] {
         [
             self.input,
@@ -241,7 +230,7 @@ pub trait SimModel<const N: usize>: OdeSystem<N> {
     fn counters(&self) -> Counters;
     /// Name of event `index` (for event logs).
     fn event_name(&self, index: usize) -> &'static str;
-    fn history_columns(&self) -> Vec<&'static str>;
+    fn history_columns(&self) -> Vec<HistoryColumn>;
     fn history_row(&self, t: f64, y: &[f64; N]) -> Vec<f64>;
 }
 

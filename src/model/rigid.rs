@@ -4,6 +4,7 @@
 //! State: [θ, θ̇ | flywheels | accumulators] ([`super::shell::Layout`]); the block's own
 //! accumulator is the work of the Dirac impact moment.
 
+use super::column::HistoryColumn;
 use super::device::{DeviceModel, Returnable};
 use super::shell::{Body, Landing, Mode, OwnLoss, Rocking};
 use super::{Ledger, Measures, Peaks, extremum_on_step};
@@ -194,7 +195,7 @@ impl RigidBody {
 impl Body for RigidBody {
     /// (S, C) of [`RigidBody::sc`].
     type Kin = (f64, f64);
-    const COORDINATES: &'static [&'static str] = &["theta", "theta_dot"];
+    const COORDINATES: &'static [HistoryColumn] = &[HistoryColumn::Theta, HistoryColumn::ThetaDot];
     const THETA: usize = THETA;
     const THETA_DOT: usize = THETA_DOT;
     const MOVES_IN_CONTACT: bool = false;

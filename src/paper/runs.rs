@@ -8,7 +8,7 @@
 use super::fair::Series;
 use crate::presets::{self, flexible_fig14, rigid_fig8};
 use crate::scene::*;
-use crate::sim::{self, History, SceneResult};
+use crate::sim::{self, History, HistoryColumn, SceneResult};
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
@@ -66,31 +66,32 @@ pub fn history(scene: &Scene) -> anyhow::Result<Arc<(SceneResult, History)>> {
     })
 }
 
-/// History columns the rows read (the model's names, MODEL.md).
+/// History columns the rows read (from the table, [`HistoryColumn`]).
 pub mod col {
-    pub const T: &str = "t";
-    pub const THETA: &str = "theta";
-    pub const FLYWHEEL_A: &str = "flywheel_a_vel";
-    pub const FLYWHEEL_B: &str = "flywheel_b_vel";
-    pub const CLUTCH_A: &str = "clutch_force_a";
-    pub const CLUTCH_B: &str = "clutch_force_b";
-    pub const DEVICE_FORCE: &str = "device_force";
+    use crate::sim::HistoryColumn as C;
+    pub const T: C = C::T;
+    pub const THETA: C = C::Theta;
+    pub const FLYWHEEL_A: C = C::FlywheelAVel;
+    pub const FLYWHEEL_B: C = C::FlywheelBVel;
+    pub const CLUTCH_A: C = C::ClutchForceA;
+    pub const CLUTCH_B: C = C::ClutchForceB;
+    pub const DEVICE_FORCE: C = C::DeviceForce;
     /// The device-side energy: flywheels + clutch spring and everything the device dissipates.
-    pub const DEVICE_ENERGY: [&str; 5] = [
-        "e_inerter",
-        "e_device_damping",
-        "e_friction",
-        "e_disengagement",
-        "e_reset",
+    pub const DEVICE_ENERGY: [C; 5] = [
+        C::EInerter,
+        C::EDeviceDamping,
+        C::EFriction,
+        C::EDisengagement,
+        C::EReset,
     ];
 }
 
 /// The sequential law's engagement switch event.
 pub const SEQUENTIAL_SWITCH: &str = "sequential_switch";
 
-pub fn column(h: &History, name: &str) -> anyhow::Result<Vec<f64>> {
-    h.column(name)
-        .ok_or_else(|| anyhow::anyhow!("paper: history has no column {name}"))
+pub fn column(h: &History, column: HistoryColumn) -> anyhow::Result<Vec<f64>> {
+    h.column(column)
+        .ok_or_else(|| anyhow::anyhow!("paper: history has no column {column}"))
 }
 
 /// What a row reads from a scene's result; None where the structure overturned.
@@ -297,7 +298,7 @@ pub fn returned_fraction(scene: &Scene) -> anyhow::Result<f64> {
     let h = history(scene)?;
     let parts: Vec<Vec<f64>> = col::DEVICE_ENERGY
         .iter()
-        .map(|n| column(&h.1, n))
+        .map(|c| column(&h.1, *c))
         .collect::<anyhow::Result<_>>()?;
     let d: Vec<f64> = (0..parts[0].len())
         .map(|i| parts.iter().map(|p| p[i]).sum())

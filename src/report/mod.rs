@@ -43,7 +43,7 @@ pub const WRITERS: crate::sweep::Writers<'static> = crate::sweep::Writers {
 /// A history as CSV: one header line, then one row per sample (see [`crate::sim::Sampling`]).
 pub fn history_csv(history: &History) -> anyhow::Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(&history.columns)?;
+    w.write_record(history.columns.iter().map(|c| c.name()))?;
     for row in &history.rows {
         w.write_record(row.iter().map(|v| format!("{v:.10e}")))?;
     }

@@ -3,6 +3,7 @@
 
 use crate::excitation::{Library, Motion, Pulse, RecordMotion};
 pub use crate::model::Measures;
+pub use crate::model::column::{ColumnInfo, EnergyRole, HistoryColumn};
 use crate::model::device::DeviceModel;
 use crate::model::flexible::FlexibleModel;
 use crate::model::rigid::RigidModel;
@@ -77,15 +78,15 @@ pub struct SceneResult {
 /// rows (before and after the jump) at each event.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct History {
-    pub columns: Vec<&'static str>,
+    pub columns: Vec<HistoryColumn>,
     pub rows: Vec<Vec<f64>>,
     /// Located events in order: (time, name).
     pub events: Vec<(f64, &'static str)>,
 }
 
 impl History {
-    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
-        let i = self.columns.iter().position(|c| *c == name)?;
+    pub fn column(&self, column: HistoryColumn) -> Option<Vec<f64>> {
+        let i = self.columns.iter().position(|c| *c == column)?;
         Some(self.rows.iter().map(|r| r[i]).collect())
     }
 }

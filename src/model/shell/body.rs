@@ -2,6 +2,7 @@
 
 use super::{Layout, Phase};
 use crate::excitation::Motion;
+use crate::model::column::HistoryColumn;
 use crate::model::device::{DeviceModel, Returnable};
 use crate::model::{Ledger, Measures, Peaks};
 use crate::solver::{Dense, Direction};
@@ -60,7 +61,7 @@ pub trait Body {
     /// by the right-hand side, the event functions and the peak searches that need them.
     type Kin: Copy;
     /// History names of the body's state components, in state order.
-    const COORDINATES: &'static [&'static str];
+    const COORDINATES: &'static [HistoryColumn];
     /// Indices of θ and θ̇ in the state.
     const THETA: usize;
     const THETA_DOT: usize;

@@ -2,6 +2,7 @@
 
 use super::{Accumulator, Body, Ev, Phase, Rocking};
 use crate::excitation::G;
+use crate::model::column::HistoryColumn;
 use crate::model::rigid::below_peak;
 use crate::model::{
     Action, ClosedFormEnd, Counters, EndReason, Energy, Peaks, SimModel, refine_sampled,
@@ -382,21 +383,11 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
         }
     }
 
-    fn history_columns(&self) -> Vec<&'static str> {
-        let device = [
-            "ground_accel",
-            "x",
-            "x_dot",
-            "flywheel_a_vel",
-            "flywheel_b_vel",
-            "clutch_force_a",
-            "clutch_force_b",
-            "device_force",
-        ];
-        std::iter::once("t")
+    fn history_columns(&self) -> Vec<HistoryColumn> {
+        std::iter::once(HistoryColumn::T)
             .chain(B::COORDINATES.iter().copied())
-            .chain(device)
-            .chain(Energy::COLUMNS)
+            .chain(HistoryColumn::DEVICE)
+            .chain(HistoryColumn::ENERGY)
             .collect()
     }
 
@@ -404,6 +395,7 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
         let layout = self.mode.layout;
         let (x, xdot) = self.x_xdot(y);
         let (fa, fb, fd) = self.device_force(t, y);
+        // In the order of HistoryColumn::DEVICE.
         let device = [
             self.mode.motion.accel(t),
             x,

@@ -6,7 +6,7 @@ use crate::report::figure::{
     Axes, Canvas, Dash, FigureOptions, FigureSize, LegendEntry, SeriesStyle, Swatch, build_chart,
     draw_line, err, render, split_figure,
 };
-use crate::sim::History;
+use crate::sim::{History, HistoryColumn};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -52,10 +52,11 @@ pub fn plot_history(
     scene: &crate::scene::Scene,
     history: &History,
 ) -> anyhow::Result<()> {
+    use HistoryColumn as C;
     let t = history
-        .column("t")
+        .column(C::T)
         .ok_or_else(|| anyhow::anyhow!("the history has no time column"))?;
-    let col = |n: &str| history.column(n);
+    let col = |c: C| history.column(c);
     let nonzero = |v: &Option<Vec<f64>>| v.as_ref().is_some_and(|v| v.iter().any(|x| *x != 0.0));
     let solid = |i: usize| SeriesStyle {
         marker: None,
@@ -65,8 +66,8 @@ pub fn plot_history(
     let mut panels: Vec<HistoryPanel> = Vec::new();
     let mut legend: Vec<LegendEntry> = Vec::new();
     let alpha = scene.structure.alpha();
-    let flexible = col("u").is_some();
-    if let Some(theta) = col("theta") {
+    let flexible = col(C::U).is_some();
+    if let Some(theta) = col(C::Theta) {
         panels.push(if flexible {
             HistoryPanel {
                 y_label: "θ [rad]".into(),
@@ -81,21 +82,21 @@ pub fn plot_history(
             }
         });
     }
-    if let Some(u) = col("u") {
+    if let Some(u) = col(C::U) {
         panels.push(HistoryPanel {
             y_label: "u [m]".into(),
             lines: vec![(u, solid(0))],
             stack: vec![],
         });
     }
-    if let Some(ag) = col("ground_accel") {
+    if let Some(ag) = col(C::GroundAccel) {
         panels.push(HistoryPanel {
             y_label: "ag [g]".into(),
             lines: vec![(ag.iter().map(|v| v / 9.81).collect(), solid(0))],
             stack: vec![],
         });
     }
-    let (va, vb) = (col("flywheel_a_vel"), col("flywheel_b_vel"));
+    let (va, vb) = (col(C::FlywheelAVel), col(C::FlywheelBVel));
     if nonzero(&va) || nonzero(&vb) {
         let mut lines = Vec::new();
         let a_style = solid(2);
@@ -106,14 +107,14 @@ pub fn plot_history(
         if let Some(v) = va.filter(|v| v.iter().any(|x| *x != 0.0)) {
             lines.push((v, a_style));
             legend.push(LegendEntry {
-                label: "flywheel a".into(),
+                label: C::FlywheelAVel.label().into(),
                 swatch: Swatch::Line(a_style),
             });
         }
         if let Some(v) = vb.filter(|v| v.iter().any(|x| *x != 0.0)) {
             lines.push((v, b_style));
             legend.push(LegendEntry {
-                label: "flywheel b".into(),
+                label: C::FlywheelBVel.label().into(),
                 swatch: Swatch::Line(b_style),
             });
         }
@@ -123,7 +124,7 @@ pub fn plot_history(
             stack: vec![],
         });
     }
-    let fd = col("device_force");
+    let fd = col(C::DeviceForce);
     if nonzero(&fd) {
         panels.push(HistoryPanel {
             y_label: "Fd [N]".into(),
@@ -132,33 +133,33 @@ pub fn plot_history(
         });
     }
     // Energy partition: every stored or dissipated term stacked, the input work on top.
-    let terms: Vec<&str> = history
+    let terms: Vec<C> = history
         .columns
         .iter()
         .copied()
-        .filter(|c| c.starts_with("e_") && *c != "e_input")
+        .filter(|c| c.energy().is_some() && *c != C::EInput)
         .collect();
     if !terms.is_empty() {
         let mut stack = Vec::new();
         for (i, name) in terms.iter().enumerate() {
-            let v = col(name).expect("listed");
+            let v = col(*name).expect("listed");
             if v.iter().all(|x| *x == 0.0) {
                 continue;
             }
             let color =
                 crate::report::figure::PALETTE[(i + 1) % crate::report::figure::PALETTE.len()];
             legend.push(LegendEntry {
-                label: energy_label(name),
+                label: name.label().into(),
                 swatch: Swatch::Fill(color.mix(0.55).rgb_blend()),
             });
             stack.push((v, color));
         }
         let input_style = solid(0);
         let mut lines = vec![];
-        if let Some(e) = col("e_input") {
+        if let Some(e) = col(C::EInput) {
             lines.push((e, input_style));
             legend.push(LegendEntry {
-                label: "input work".into(),
+                label: C::EInput.label().into(),
                 swatch: Swatch::Line(input_style),
             });
         }
@@ -189,21 +190,6 @@ impl Blend for RGBAColor {
         let a = self.alpha();
         let f = |c: u8| (c as f64 * a + 255.0 * (1.0 - a)).round() as u8;
         RGBColor(f(r), f(g), f(b))
-    }
-}
-
-fn energy_label(column: &str) -> String {
-    match column {
-        "e_structure" => "structure (kinetic + potential)".into(),
-        "e_inerter" => "flywheels + clutch spring".into(),
-        "e_dissipated" => "dissipated".into(),
-        "e_column_damping" => "column damping".into(),
-        "e_device_damping" => "device damping".into(),
-        "e_friction" => "friction".into(),
-        "e_impact" => "impacts".into(),
-        "e_disengagement" => "disengagement".into(),
-        "e_reset" => "clutch resets".into(),
-        other => other.trim_start_matches("e_").replace('_', " "),
     }
 }
 

@@ -11,7 +11,7 @@ use super::super::widgets::{Hint, fmt_coords, fmt_num};
 use super::{Action, Component, Shared};
 use crate::numfmt::fmt_condition;
 use crate::sim::check::{Check, Reproducibility, short_name};
-use crate::sim::{self, History, SceneResult};
+use crate::sim::{self, EnergyRole, History, HistoryColumn, SceneResult};
 use crate::study::ScenePoint;
 use crossterm::event::{KeyCode, KeyEvent};
 use ratatui::Frame;
@@ -279,62 +279,52 @@ struct Panel {
 /// (input, stored, dissipated). A device chart whose series are all zero (a bare structure) is
 /// left out.
 fn panels(history: &History) -> Vec<Panel> {
-    let col = |name: &str| history.column(name);
-    let moving = |name: &'static str, label: &'static str| {
-        col(name)
+    use HistoryColumn as C;
+    let col = |c: C| history.column(c);
+    let moving = |c: C| {
+        col(c)
             .filter(|v| v.iter().any(|x| *x != 0.0))
-            .map(|v| (label, v))
+            .map(|v| (c.label(), v))
     };
     let mut panels = vec![Panel {
         title: "rotation θ",
-        unit: "rad",
-        series: col("theta").map(|v| ("θ", v)).into_iter().collect(),
+        unit: C::Theta.info().unit,
+        series: col(C::Theta)
+            .map(|v| (C::Theta.label(), v))
+            .into_iter()
+            .collect(),
     }];
-    if let Some(u) = col("u") {
+    if let Some(u) = col(C::U) {
         panels.push(Panel {
             title: "deformation u",
-            unit: "m",
-            series: vec![("u", u)],
+            unit: C::U.info().unit,
+            series: vec![(C::U.label(), u)],
         });
     }
     // A device chart with the series of `columns` that move, if any does.
-    let moving_panel = |title, unit, columns: [(&'static str, &'static str); 2]| {
-        let series: Vec<_> = columns
-            .into_iter()
-            .filter_map(|(c, l)| moving(c, l))
-            .collect();
+    let moving_panel = |title, columns: [C; 2]| {
+        let series: Vec<_> = columns.into_iter().filter_map(moving).collect();
         (!series.is_empty()).then_some(Panel {
             title,
-            unit,
+            unit: columns[0].info().unit,
             series,
         })
     };
     panels.extend(moving_panel(
         "flywheel velocity ẏ",
-        "m/s",
-        [
-            ("flywheel_a_vel", "flywheel a"),
-            ("flywheel_b_vel", "flywheel b"),
-        ],
+        [C::FlywheelAVel, C::FlywheelBVel],
     ));
-    if let Some(clutches) = moving_panel(
-        "clutch force",
-        "N",
-        [
-            ("clutch_force_a", "clutch a"),
-            ("clutch_force_b", "clutch b"),
-        ],
-    ) {
+    if let Some(clutches) = moving_panel("clutch force", [C::ClutchForceA, C::ClutchForceB]) {
         panels.push(clutches);
-    } else if let Some(device) = moving("device_force", "Fd") {
+    } else if let Some(device) = moving(C::DeviceForce) {
         panels.push(Panel {
             title: "device force",
-            unit: "N",
+            unit: C::DeviceForce.info().unit,
             series: vec![device],
         });
     }
-    let sum = |names: &[&str]| -> Option<Vec<f64>> {
-        let columns: Vec<Vec<f64>> = names.iter().filter_map(|n| col(n)).collect();
+    let sum = |columns: &[C]| -> Option<Vec<f64>> {
+        let columns: Vec<Vec<f64>> = columns.iter().filter_map(|c| col(*c)).collect();
         let first = columns.first()?;
         Some(
             (0..first.len())
@@ -342,16 +332,14 @@ fn panels(history: &History) -> Vec<Panel> {
                 .collect(),
         )
     };
-    let losses: Vec<&str> = history
-        .columns
-        .iter()
-        .copied()
-        .filter(|c| c.starts_with("e_") && !["e_input", "e_structure", "e_inerter"].contains(c))
-        .collect();
+    let role = |role: EnergyRole| -> Vec<C> {
+        let of_role = history.columns.iter().copied();
+        of_role.filter(|c| c.energy() == Some(role)).collect()
+    };
     let energy: Vec<_> = [
-        ("input", sum(&["e_input"])),
-        ("stored", sum(&["e_structure", "e_inerter"])),
-        ("dissipated", sum(&losses)),
+        ("input", sum(&role(EnergyRole::Input))),
+        ("stored", sum(&role(EnergyRole::Stored))),
+        ("dissipated", sum(&role(EnergyRole::Dissipated))),
     ]
     .into_iter()
     .filter_map(|(l, v)| Some((l, v?)))
@@ -359,7 +347,7 @@ fn panels(history: &History) -> Vec<Panel> {
     if !energy.is_empty() {
         panels.push(Panel {
             title: "energy",
-            unit: "J",
+            unit: C::EInput.info().unit,
             series: energy,
         });
     }
@@ -371,7 +359,7 @@ fn draw_histories(history: &History, theme: Theme, frame: &mut Frame, area: Rect
     let panels = panels(history);
     let rows = panels.len().div_ceil(2).max(1);
     let row_areas = Layout::vertical(vec![Constraint::Ratio(1, rows as u32); rows]).split(area);
-    let t = history.column("t").unwrap_or_default();
+    let t = history.column(HistoryColumn::T).unwrap_or_default();
     for (pair, row) in panels.chunks(2).zip(row_areas.iter()) {
         let cells = Layout::horizontal(vec![Constraint::Ratio(1, pair.len() as u32); pair.len()])
             .split(*row);
