@@ -49,7 +49,7 @@ impl Expect {
     }
 }
 
-fn rank(a: Agreement) -> usize {
+pub fn rank(a: Agreement) -> usize {
     match a {
         Agreement::Agrees => 0,
         Agreement::Roughly => 1,
@@ -441,4 +441,36 @@ fn every_rows_numbers_and_verdict_are_recomputed() {
         all.extend(problems(row, &recompute()));
     }
     assert!(all.is_empty(), "{}", all.join("\n"));
+}
+
+/// Three of the reruns behind disagreements (one unstated setting changed), their verdict
+/// codes (0 agrees, 1 roughly, 2 disagrees) recomputed: the reasons quote measured runs.
+#[test]
+fn sensitivity_reruns_are_recomputed() {
+    let cases = [
+        (
+            "fig8-faster-decrease",
+            "c̄ = 0.5 s⁻¹",
+            crate::paper_rows_rigid::decay_with_cbar(0.5),
+        ),
+        (
+            "fig19-operational-immaterial",
+            "√(kθ/J) = 10 p",
+            crate::paper_rows_flexible::xi_immaterial_at_stiffness(10.0),
+        ),
+        (
+            "fig21-operational-negligible",
+            "fμ = 0.02 mr g",
+            crate::paper_rows_flexible::friction_negligible(0.02),
+        ),
+    ];
+    for (id, name, agreement) in cases {
+        let row = paper::row(id).expect("the row runs");
+        let code = row
+            .value(&format!(
+                "sensitivity (0 agrees, 1 roughly, 2 disagrees): {name}"
+            ))
+            .unwrap_or_else(|| panic!("{id}: no sensitivity value for {name}"));
+        assert_eq!(code, rank(agreement) as f64, "{id}: {name}");
+    }
 }

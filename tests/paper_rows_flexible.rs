@@ -446,3 +446,19 @@ fn s9_play_acceleration() -> Expect {
         &spectrum(play(0.01), horizontal),
     )
 }
+
+/// fig19-operational-immaterial's verdict with the clutch frequency √(kθ/J) = `k` p.
+pub fn xi_immaterial_at_stiffness(k: f64) -> Agreement {
+    let at = |x: f64| {
+        clutch(|c| {
+            c.damping = Damping::XiTheta(x);
+            c.stiffness = ClutchStiffness::FrequencyRatio(k);
+        })
+    };
+    immaterial_both(at(0.0), &[("ξθ = 0.02", at(0.02))]).agreement
+}
+
+/// fig21-operational-negligible's verdict at friction `f` (× mr g).
+pub fn friction_negligible(f: f64) -> Agreement {
+    immaterial_both(friction(0.0), &[("friction", friction(f))]).agreement
+}

@@ -520,3 +520,14 @@ fn s9_protected_smaller() -> Expect {
     )
     .with("beside: |ẍ + a_g|max mean ratio", other.value("mean ratio"))
 }
+
+/// fig8-faster-decrease's verdict with the mechanistic clutch's c̄ changed.
+pub fn decay_with_cbar(cbar: f64) -> Agreement {
+    let mut c = Clutch::paper_default(presets::SIGMA);
+    c.damping = Damping::CBar(cbar);
+    faster(
+        &fig8_theta(sequential()),
+        &fig8_theta(Device::Mechanistic(c)),
+    )
+    .agreement
+}
