@@ -180,6 +180,9 @@ impl Default for Measures {
     }
 }
 
+/// One end of an accepted step: time, state and derivative.
+pub type StepEnd<'a, const N: usize> = (f64, &'a [f64; N], &'a [f64; N]);
+
 /// What the simulation driver needs from a structure family.
 pub trait SimModel<const N: usize>: OdeSystem<N> {
     /// State at t = 0 and the first action (e.g. idle until the ground lifts the block).
@@ -219,6 +222,12 @@ pub trait SimModel<const N: usize>: OdeSystem<N> {
     /// Characteristic magnitudes for the error control: of the leading state components (all
     /// but the four trailing accumulators), and of the energies in the accumulators.
     fn tolerance_scales(&self) -> (Vec<f64>, f64);
+    /// Whether [`SimModel::observe_step`] must read the interior of the step from (t0, y0) to
+    /// (t1, y1), with derivatives f0 and f1 there: false only where no value inside the step
+    /// can raise a peak, so the step's dense output need not be built.
+    fn step_reads_interior(&self, _start: StepEnd<'_, N>, _end: StepEnd<'_, N>) -> bool {
+        true
+    }
     /// Update peaks over an accepted step (dense output over [t0, t1]).
     fn observe_step(&mut self, dense: &Dense<N>, t_end: f64);
     /// Update peaks at a single point (start, events, idle periods).

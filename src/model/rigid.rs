@@ -10,7 +10,7 @@ use super::shell::{Body, Landing, Mode, OwnLoss, Rocking};
 use super::{Ledger, Measures, Peaks, extremum_on_step};
 use crate::excitation::{G, Motion};
 use crate::scene::{Form, Impact, RigidBlock};
-use crate::solver::{Dense, Direction};
+use crate::solver::{Dense, Direction, no_root_inside};
 use std::f64::consts::PI;
 
 /// Housner's coefficient of restitution (Eq. 3): r = (1 − 1.5 sin²α)².
@@ -429,6 +429,31 @@ impl Body for RigidBody {
         (Some(abs_g), Some(angular))
     }
 
+    /// Flat, nothing is observed. Rocking, where θ̇ keeps its sign over the step, |θ| is
+    /// monotone and its largest value on the step is at an end: if that lies below the running
+    /// peak by more than [`REACH_MARGIN`]·α (far above the interpolant's distance from the
+    /// solution, a step's error), [`Body::observe_step`] would skip the step, having built the
+    /// dense output only to read its bound. θ̇ is taken to keep its sign where the event
+    /// screen's test ([`no_root_inside`]) clears it from θ̇ and θ̈ at the ends: the assumption
+    /// (g resolved on the step's scale) under which the integrator already skips the event
+    /// sub-samples of such a step.
+    fn step_may_raise_peaks(
+        &self,
+        m: &Mode,
+        (t0, y0, f0): (f64, &[f64], &[f64]),
+        (t1, y1, f1): (f64, &[f64], &[f64]),
+        peaks: &Peaks,
+    ) -> bool {
+        if !m.rocking() {
+            return false;
+        }
+        let h = t1 - t0;
+        let (w0, w1) = (y0[THETA_DOT], y1[THETA_DOT]);
+        let monotone = no_root_inside((w0, w0), h * f0[THETA_DOT], w1, h * f1[THETA_DOT]);
+        let ends = y0[THETA].abs().max(y1[THETA].abs());
+        !monotone || ends + REACH_MARGIN * self.alpha >= peaks.rotation
+    }
+
     fn observe_point(&self, _m: &Mode, _measures: Measures, y: &[f64], peaks: &mut Peaks) {
         peaks.rotation = peaks.rotation.max(y[THETA].abs());
         peaks.drift = peaks.drift.max(self.drift_of(y[THETA]));
@@ -514,6 +539,12 @@ impl Body for RigidBody {
         };
     }
 }
+
+/// Margin, as a fraction of α, between the larger |θ| of a monotone step's ends and the
+/// running peak rotation below which the step is not searched
+/// ([`RigidBody::step_may_raise_peaks`]): the interpolant's distance from the solution (a
+/// step's error, ~rtol·α) is far below it.
+const REACH_MARGIN: f64 = 0.01;
 
 /// Relative enlargement of the interpolant's rate bound of θ̇ before it stands for a bound
 /// of the right-hand side's θ̈ ([`RigidBody::acceleration_bounds`]).

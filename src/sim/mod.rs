@@ -461,14 +461,30 @@ fn drive<const N: usize, M: SimModel<N>>(
                 motion.next_breakpoint(t)
             };
             let t_stop = breakpoint.map_or(duration, |b| b.min(duration));
+            let start = (t, y, *integ.derivative());
             let outcome = integ.step(model, t_stop)?;
             // No step is taken when the stop lies within rounding of t (intervals below what
-            // f64 resolves at this t): nothing to observe then, but it counts as work.
-            let dense = integ.dense().copied();
-            match &dense {
-                Some(dense) => model.observe_step(dense, integ.t()),
-                None => stalls += 1,
-            }
+            // f64 resolves at this t): nothing to observe then, but it counts as work. The
+            // dense output (DOP853's three extra stages) is built only for a step whose
+            // interior someone reads: the history, a located event, or the peaks.
+            let dense = if !integ.stepped() {
+                stalls += 1;
+                None
+            } else if integ.dense().is_some()
+                || history.is_some()
+                || model.step_reads_interior(
+                    (start.0, &start.1, &start.2),
+                    (integ.t(), integ.y(), integ.derivative()),
+                )
+            {
+                let dense = integ.dense_now(model);
+                if let Some(dense) = &dense {
+                    model.observe_step(dense, integ.t());
+                }
+                dense
+            } else {
+                None
+            };
             watch.check(
                 integ.stats.steps + integ.stats.rejected + closed_form_steps + stalls,
                 integ.t(),

@@ -8,7 +8,7 @@
 // Transcribed digit for digit.
 #![allow(clippy::excessive_precision)]
 
-use super::{Dense, Integrator, OdeSystem, Trial};
+use super::{Dense, Integrator, OdeSystem, Step, Trial};
 
 pub const STAGES: usize = 12;
 pub const STAGES_EXTENDED: usize = 16;
@@ -244,13 +244,20 @@ fn combine<const N: usize>(c: &[f64], k: &[[f64; N]]) -> [f64; N] {
 }
 
 impl<const N: usize> Integrator<N> {
-    /// Stage `s` of the extended DOP853 tableau into `self.k[s]`.
+    /// Stage `s` of the extended DOP853 tableau, for the step of size h from (t0, y0), into
+    /// `self.k[s]`.
     #[inline(always)]
-    fn dop853_stage<S: OdeSystem<N>>(&mut self, sys: &S, h: f64, s: usize) {
+    fn dop853_stage<S: OdeSystem<N>>(
+        &mut self,
+        sys: &S,
+        (t0, y0): (f64, &[f64; N]),
+        h: f64,
+        s: usize,
+    ) {
         let acc = combine(&A[s][..s], &self.k[..s]);
-        let ys: [f64; N] = std::array::from_fn(|i| self.y[i] + h * acc[i]);
+        let ys: [f64; N] = std::array::from_fn(|i| y0[i] + h * acc[i]);
         let mut ks = [0.0; N];
-        sys.rhs(self.t + C[s] * h, &ys, &mut ks);
+        sys.rhs(t0 + C[s] * h, &ys, &mut ks);
         self.k[s] = ks;
     }
 
@@ -259,10 +266,10 @@ impl<const N: usize> Integrator<N> {
     /// err = |h|·‖e5‖² / √(‖e5‖² + 0.01‖e3‖²), per norm group.
     pub(super) fn trial_dop853<S: OdeSystem<N>>(&mut self, sys: &S, h: f64) -> Trial<N> {
         self.k[0] = self.f;
-        for s in 1..STAGES {
-            self.dop853_stage(sys, h, s);
-        }
         let y = self.y;
+        for s in 1..STAGES {
+            self.dop853_stage(sys, (self.t, &y), h, s);
+        }
         let acc = combine(&B, &self.k);
         let y1: [f64; N] = std::array::from_fn(|i| y[i] + h * acc[i]);
         let mut f1 = [0.0; N];
@@ -291,18 +298,14 @@ impl<const N: usize> Integrator<N> {
         Trial { y1, f1, err }
     }
 
-    /// DOP853's 7th-order dense output: three more stages, then the coefficients.
-    pub(super) fn dense_dop853<S: OdeSystem<N>>(
-        &mut self,
-        sys: &S,
-        h: f64,
-        y1: &[f64; N],
-    ) -> Dense<N> {
+    /// DOP853's 7th-order dense output of the step `step` (its start and size, and its end
+    /// y1) whose stages are in `self.k`: three more stages, then the coefficients.
+    pub(super) fn dense_dop853<S: OdeSystem<N>>(&mut self, sys: &S, step: &Step<N>) -> Dense<N> {
+        let (y0, h, y1) = (&step.y0, step.h, &step.y1);
         for s in STAGES + 1..STAGES_EXTENDED {
-            self.dop853_stage(sys, h, s);
+            self.dop853_stage(sys, (step.t0, y0), h, s);
         }
         self.stats.rhs_evals += 3;
-        let y0 = &self.y;
         let k = &self.k;
         let mut r = [[0.0; N]; 8];
         for (row, d) in D.iter().enumerate() {
@@ -317,7 +320,7 @@ impl<const N: usize> Integrator<N> {
             r[3][i] = 2.0 * dy - h * (k[12][i] + k[0][i]);
         }
         Dense {
-            t0: self.t,
+            t0: step.t0,
             h,
             r,
             top: 7,

@@ -1,7 +1,7 @@
 //! Event location: the signs at a restart, the per-step screen, the sub-sampled scan and the
 //! root refinement on the dense output.
 
-use super::{Dense, Integrator, MAX_EVENTS, OdeSystem};
+use super::{Dense, Integrator, MAX_EVENTS, OdeSystem, Step};
 
 /// Sub-intervals of each step on which event signs are sampled, so that a function crossing
 /// twice inside one step is still seen.
@@ -101,11 +101,11 @@ impl<const N: usize> Integrator<N> {
     pub(super) fn locate_event<S: OdeSystem<N>>(
         &mut self,
         sys: &S,
-        dense: &Dense<N>,
-        y1: &[f64; N],
+        step: &Step<N>,
         f1: &[f64; N],
         ends_at_stop: bool,
     ) -> Option<(usize, f64)> {
+        let (y1, h, t1) = (&step.y1, step.h, step.t0 + step.h);
         let m = sys.event_count();
         if m == 0 {
             return None;
@@ -115,12 +115,10 @@ impl<const N: usize> Integrator<N> {
         if !self.opts.event_screen || self.force_scan || paused {
             self.force_scan = false;
             self.rates_valid = false;
-            let t1 = dense.t1();
             sys.events(t1, y1, &mut self.g_val[..m]);
             self.stats.event_calls += 1;
-            return self.scan(sys, dense, Some(&self.g_val.clone()));
+            return self.scan(sys, Some(&self.g_val.clone()));
         }
-        let h = dense.h;
         let eps = 1e-7 * h;
         if !self.rates_valid {
             let (t0, y0, f0) = (self.t, self.y, self.f);
@@ -129,7 +127,6 @@ impl<const N: usize> Integrator<N> {
             self.event_rates(sys, t0, &y0, &f0, eps, &mut g0, &mut rates0, true);
             self.g_rate = rates0;
         }
-        let t1 = dense.t1();
         let mut g1 = [0.0; MAX_EVENTS];
         let mut rates1 = [0.0; MAX_EVENTS];
         let closed_form = self.event_rates(sys, t1, y1, f1, -eps, &mut g1, &mut rates1, false);
@@ -155,7 +152,7 @@ impl<const N: usize> Integrator<N> {
             self.sign_only = [false; MAX_EVENTS];
             None
         } else {
-            self.scan(sys, dense, Some(&g1))
+            self.scan(sys, Some(&g1))
         };
         if found.is_none() {
             self.g_val = g1;
@@ -172,9 +169,11 @@ impl<const N: usize> Integrator<N> {
     fn scan<S: OdeSystem<N>>(
         &mut self,
         sys: &S,
-        dense: &Dense<N>,
         at_end: Option<&[f64; MAX_EVENTS]>,
     ) -> Option<(usize, f64)> {
+        let dense = &self
+            .dense_now(sys)
+            .expect("the step just accepted has a dense output");
         let m = sys.event_count();
         let mut g_prev = self.g;
         let mut t_prev = dense.t0;
@@ -259,7 +258,7 @@ impl<const N: usize> Integrator<N> {
 /// applied) has c₀ = 0 and passes when g leaves zero with its tracked sign (s·da > 0) and
 /// stays on that side: the scan would see no sign change there either. An untracked zero
 /// (tracked 0) takes the side g leaves to, as the scan adopts whatever sign it samples next.
-pub(super) fn no_root_inside((a, tracked): (f64, f64), da: f64, b: f64, db: f64) -> bool {
+pub fn no_root_inside((a, tracked): (f64, f64), da: f64, b: f64, db: f64) -> bool {
     let s = if a != 0.0 {
         a.signum()
     } else if tracked != 0.0 {

@@ -23,6 +23,7 @@ pub mod search;
 mod tests;
 
 pub use dense::Dense;
+pub use events::no_root_inside;
 
 use thiserror::Error;
 
@@ -266,9 +267,21 @@ pub struct Integrator<const N: usize> {
     /// Stage derivatives of the last trial step.
     k: [[f64; N]; 16],
     dense: Option<Dense<N>>,
+    /// The last accepted DOP853 step while its dense output is not built yet: the three extra
+    /// stages are computed only when something reads the step's interior ([`Self::dense_now`]).
+    pending: Option<Step<N>>,
     needs_restart: bool,
     /// The system's [`OdeSystem::max_step`] at the last restart.
     h_cap: f64,
+}
+
+/// An accepted step: its start, size and end state.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Step<const N: usize> {
+    pub(crate) t0: f64,
+    pub(crate) h: f64,
+    pub(crate) y0: [f64; N],
+    pub(crate) y1: [f64; N],
 }
 
 /// The step's error estimate and its end point.
@@ -298,6 +311,7 @@ impl<const N: usize> Integrator<N> {
             screen_pause: 0,
             k: [[0.0; N]; 16],
             dense: None,
+            pending: None,
             needs_restart: true,
             h_cap: f64::INFINITY,
         }
@@ -316,9 +330,28 @@ impl<const N: usize> Integrator<N> {
         &self.f
     }
 
-    /// Dense output of the last step (None right after a restart).
+    /// Dense output of the last step if it is built (None right after a restart, and after a
+    /// DOP853 step until [`Self::dense_now`] builds it).
     pub fn dense(&self) -> Option<&Dense<N>> {
         self.dense.as_ref()
+    }
+
+    /// Whether the last call of [`Self::step`] took a step (its dense output can be had).
+    pub fn stepped(&self) -> bool {
+        self.dense.is_some() || self.pending.is_some()
+    }
+
+    /// Dense output of the last step, built now if it is not yet (DOP853's three extra stages:
+    /// 3 of its 15 RHS calls per step, which a step nobody reads inside does not pay).
+    pub fn dense_now<S: OdeSystem<N>>(&mut self, sys: &S) -> Option<Dense<N>> {
+        if let Some(step) = self.pending.take() {
+            let clock = self.opts.time_stages.then(std::time::Instant::now);
+            self.dense = Some(self.dense_dop853(sys, &step));
+            if let Some(clock) = clock {
+                self.stats.stage_nanos += clock.elapsed().as_nanos() as u64;
+            }
+        }
+        self.dense
     }
 
     /// (Re)start at (t, y): after an event's jump, or when the right-hand side changes form.
@@ -334,6 +367,7 @@ impl<const N: usize> Integrator<N> {
         }
         self.err_old = 1e-4;
         self.dense = None;
+        self.pending = None;
         self.needs_restart = false;
         self.reset_event_signs(sys);
     }
@@ -465,19 +499,27 @@ impl<const N: usize> Integrator<N> {
                 self.err_old = err.max(1e-4);
                 let h_new = h / fac;
                 self.stats.steps += 1;
-                let dense = match self.opts.method {
-                    Method::Dp54 => self.dense_dp54(h, &y1),
-                    Method::Dop853 => self.dense_dop853(sys, h, &y1),
+                let step = Step {
+                    t0: self.t,
+                    h,
+                    y0: self.y,
+                    y1,
+                };
+                (self.dense, self.pending) = match self.opts.method {
+                    Method::Dp54 => (Some(self.dense_dp54(h, &y1)), None),
+                    Method::Dop853 => (None, Some(step)),
                 };
                 if let Some(clock) = clock {
                     self.stats.stage_nanos += clock.elapsed().as_nanos() as u64;
                 }
-                let event = self.locate_event(sys, &dense, &y1, &f1, hits_stop);
-                self.dense = Some(dense);
+                let event = self.locate_event(sys, &step, &f1, hits_stop);
                 self.h = if hits_stop { self.h.max(h_new) } else { h_new };
                 if let Some((index, t_event)) = event {
                     self.stats.events += 1;
                     self.t = t_event;
+                    let dense = self
+                        .dense_now(sys)
+                        .expect("a located event built the dense output");
                     self.y = dense.state(t_event);
                     self.needs_restart = true;
                     return Ok(StepOutcome::Event(index));

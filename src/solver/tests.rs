@@ -62,7 +62,7 @@ fn dense_output_is_fourth_order_accurate() {
     it.restart(&Harmonic, 0.0, [1.0, 0.0]);
     it.h = 0.1;
     it.step(&Harmonic, 10.0).unwrap();
-    let d = *it.dense().unwrap();
+    let d = it.dense_now(&Harmonic).unwrap();
     for k in 0..=10 {
         let t = d.t0 + d.h * k as f64 / 10.0;
         let y = d.state(t);
@@ -197,7 +197,7 @@ fn dense_error(method: Method, h: f64) -> (f64, f64) {
     it.restart(&Harmonic, t0, [t0.cos(), -t0.sin()]);
     it.h = h;
     it.step(&Harmonic, 10.0).unwrap();
-    let d = *it.dense().unwrap();
+    let d = it.dense_now(&Harmonic).unwrap();
     assert_eq!(d.h, h);
     let (mut ey, mut edy) = (0.0f64, 0.0f64);
     for k in 1..10 {

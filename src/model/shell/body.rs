@@ -123,6 +123,18 @@ pub trait Body {
         t_end: f64,
         peaks: &mut Peaks,
     );
+    /// Whether [`Body::observe_step`] could raise a peak anywhere inside the step from
+    /// (t0, y0) to (t1, y1), derivatives f0 and f1 there; true unless the step's ends rule it
+    /// out (the step's dense output is then not built).
+    fn step_may_raise_peaks(
+        &self,
+        _m: &Mode,
+        _start: (f64, &[f64], &[f64]),
+        _end: (f64, &[f64], &[f64]),
+        _peaks: &Peaks,
+    ) -> bool {
+        true
+    }
     /// Rotation, deformation and drift peaks at one point.
     fn observe_point(&self, m: &Mode, measures: Measures, y: &[f64], peaks: &mut Peaks);
     /// Upper bounds of |absolute acceleration|/g and of |θ̈|/p² (as the peak searches read

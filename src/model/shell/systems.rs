@@ -5,7 +5,7 @@ use crate::excitation::G;
 use crate::model::column::HistoryColumn;
 use crate::model::rigid::below_peak;
 use crate::model::{
-    Action, ClosedFormEnd, Counters, EndReason, Energy, Peaks, SimModel, refine_sampled,
+    Action, ClosedFormEnd, Counters, EndReason, Energy, Peaks, SimModel, StepEnd, refine_sampled,
 };
 use crate::solver::{Dense, Direction, OdeSystem};
 
@@ -245,6 +245,20 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
             ),
         };
         Some((t1, end))
+    }
+
+    /// The acceleration peaks read every step's interior; the body's own peaks only where its
+    /// bound from the step's ends does not rule a rise out.
+    fn step_reads_interior(&self, start: StepEnd<'_, N>, end: StepEnd<'_, N>) -> bool {
+        let m = &self.mode;
+        self.measures.abs_acceleration
+            || (m.rocking() && self.peaks.angular_acceleration_p2.is_some())
+            || self.body.step_may_raise_peaks(
+                m,
+                (start.0, &start.1[..], &start.2[..]),
+                (end.0, &end.1[..], &end.2[..]),
+                &self.peaks,
+            )
     }
 
     /// The acceleration peaks are the largest of 4 + 1 samples per step, refined around the
