@@ -16,7 +16,6 @@ const STUDY: &str = r#"(
     excitation: record(suite: (name: "far_field"), scale: [1.5, 3.0, 5.0, 8.0], scale_to: pga_star, tail: 10.0),
     quantities: [peak_rotation_ratio],
     spectrum: scale,
-    duration: 10.0,
     fragility: (damage_states: levels([0.2, 0.5, 1.0]), bootstrap: 200, seed: 7),
 )"#;
 const SCENES: usize = 352;

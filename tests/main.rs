@@ -15,6 +15,7 @@ mod exact_contact;
 mod excitation;
 mod figures;
 mod flexible;
+mod fragility_ida;
 mod fragility_run;
 mod fragility_views;
 mod fuzz;

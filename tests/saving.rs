@@ -37,7 +37,7 @@ fn edits(study: &Study) -> Vec<Study> {
     renamed.name.push_str("_v2");
     out.push(renamed);
     let mut longer = study.clone();
-    longer.duration *= 2.0;
+    longer.duration = longer.duration.map(|d| 2.0 * d);
     out.push(longer);
     let mut tighter = study.clone();
     tighter.rtol /= 10.0;

@@ -144,8 +144,14 @@ fn fragility_summary(
     f: &rocklab::study::fragility::Fragility,
     results: &SweepResults,
 ) {
-    let rows = report::stripes::rows(study, results).expect("the study lays out");
-    let fit = report::stripes::analyse(f, study, &rows);
+    let fit = if f.method.ida_resolution().is_some() {
+        let ida = report::ida::ida(study, results).expect("the study lays out");
+        s.push_str(&report::ida::scenes_line(&ida));
+        report::ida::analyse(f, study, &ida.rows)
+    } else {
+        let rows = report::stripes::rows(study, results).expect("the study lays out");
+        report::stripes::analyse(f, study, &rows)
+    };
     let num = |v: Option<f64>| v.map_or("-".into(), sig4);
     let _ = writeln!(
         s,
@@ -160,7 +166,7 @@ fn fragility_summary(
             .collect();
         let _ = writeln!(
             s,
-            "  {} ≥ {}: {} median {} [{}, {}] β {} [{}, {}]; exceed {}",
+            "  {} ≥ {}: {} median {} [{}, {}] β {} [{}, {}]; {}",
             c.variant.label(),
             c.damage_state,
             c.status.name(),
@@ -170,7 +176,14 @@ fn fragility_summary(
             num(c.beta),
             num(c.beta_lo),
             num(c.beta_hi),
-            stripes.join(" ")
+            if c.method == rocklab::report::fragility::Method::Ida {
+                format!(
+                    "{} records, {} censored, {} resurrections",
+                    c.n_records, c.n_censored, c.resurrections
+                )
+            } else {
+                format!("exceed {}", stripes.join(" "))
+            }
         );
     }
     for r in &fit.ratios {

@@ -4,6 +4,7 @@
 use rocklab::excitation::suite::{Component, SUITES, Set, SuiteSelect};
 use rocklab::excitation::{G, Library, Source};
 use rocklab::scene::{Excitation, RecordScale};
+use rocklab::study::Study;
 use sha2::{Digest, Sha256};
 use std::path::PathBuf;
 
@@ -173,7 +174,13 @@ fn study(excitation: &str) -> Result<rocklab::study::Study, rocklab::study::Stud
     rocklab::study::Study::from_ron_str(
         &format!(
             "(version: 1, name: \"s\", structure: rigid(p: 2.0, alpha: [0.1, 0.2]), \
-             devices: [none], excitation: {excitation}, spectrum: scale, duration: 30.0)"
+             devices: [none], excitation: {excitation}, spectrum: scale{duration})",
+            // A record's `tail` sets each scene's duration: the study then gives none.
+            duration = if excitation.contains("tail:") {
+                ""
+            } else {
+                ", duration: 30.0"
+            }
         ),
         "s.ron",
     )
@@ -252,4 +259,38 @@ fn bad_suites_are_errors_that_name_the_field() {
         assert!(e.to_string().contains(says), "{excitation}: {e}");
         assert!(e.line.is_some(), "{excitation}: {e}");
     }
+}
+
+/// A study with a record `tail` gives no `duration` (it would be silently unused): both are
+/// refused at the duration's line with a hint, and a study with neither names what is missing.
+#[test]
+fn duration_and_tail_are_one_or_the_other() {
+    let text = |excitation: &str, duration: &str| {
+        format!(
+            "(\n    version: 1,\n    name: \"s\",\n    structure: rigid(p: 2.0, alpha: 0.2),\n    \
+             devices: [none],\n    excitation: {excitation},\n    spectrum: scale,\n{duration})"
+        )
+    };
+    let tail = "record(names: [\"landers\"], scale: [1.0, 2.0], tail: 10.0)";
+    let e = Study::from_ron_str(&text(tail, "    duration: 10.0,\n"), "s.ron").unwrap_err();
+    assert_eq!(
+        (e.origin.as_str(), e.line, e.field.as_deref()),
+        ("s.ron", Some(8), Some("duration")),
+        "{e}"
+    );
+    assert!(e.to_string().contains("unused") && e.to_string().contains("remove `duration`"));
+    let no_tail = "record(names: [\"landers\"], scale: [1.0, 2.0])";
+    let e = Study::from_ron_str(&text(no_tail, ""), "s.ron").unwrap_err();
+    assert_eq!(e.field.as_deref(), Some("duration"), "{e}");
+    assert!(
+        e.to_string().contains("missing") && e.to_string().contains("tail: 10.0"),
+        "{e}"
+    );
+    // Either alone is a study; the tail sets each scene's duration from its record.
+    let s = Study::from_ron_str(&text(tail, ""), "s.ron").unwrap();
+    assert_eq!(s.duration, None);
+    let end = s.expand().unwrap()[0].scene.duration;
+    assert!(end > 10.0, "{end}");
+    let s = Study::from_ron_str(&text(no_tail, "    duration: 7.0,\n"), "s.ron").unwrap();
+    assert!(s.expand().unwrap().iter().all(|p| p.scene.duration == 7.0));
 }

@@ -152,6 +152,15 @@ pub fn refuse_design_shards(study: &Study, what: &str) -> anyhow::Result<()> {
         ))
         .into());
     }
+    if sweep::is_ida(study) {
+        return Err(UsageError::new(format!(
+            "study {}: it is an incremental dynamic analysis (fragility method ida) and cannot \
+             run as {what}: each probe of a record's hunt needs the verdict of the one before. \
+             Run it unsharded (`rocklab run`)",
+            study.name
+        ))
+        .into());
+    }
     Ok(())
 }
 

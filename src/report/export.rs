@@ -43,7 +43,11 @@ pub fn write_tables(
         &out.join("results.columns.csv"),
         &results_columns_csv(results)?,
     )?;
-    super::write_atomic(&out.join("summary.txt"), summary(results).as_bytes())?;
+    let mut text = summary(results);
+    if crate::sweep::is_ida(study) {
+        text.push_str(&super::ida::scenes_line(&super::ida::ida(study, results)?));
+    }
+    super::write_atomic(&out.join("summary.txt"), text.as_bytes())?;
     if study.map.is_some() {
         super::write_atomic(&out.join("boundary.csv"), &boundary_csv(results)?)?;
     }

@@ -7,6 +7,7 @@ pub mod design;
 mod export;
 mod figure;
 pub mod fragility;
+pub mod ida;
 pub mod naming;
 mod plot;
 mod plot_design;

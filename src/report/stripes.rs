@@ -11,7 +11,7 @@ use super::fragility::{
 use crate::excitation::library::{self, Library};
 use crate::scene::Excitation;
 use crate::study::fragility::{Fragility, im_name};
-use crate::study::{DeviceKind, ExcitationFamily, Layout, Quantity, Study};
+use crate::study::{DeviceKind, ExcitationFamily, Layout, Quantity, ScenePoint, Study};
 use crate::sweep::{SceneOutcome, SweepResults};
 use std::path::Path;
 
@@ -37,12 +37,23 @@ pub struct StripeRow {
 
 /// The fragility variant of a scene: the device (its label if the study gives one) and every
 /// varying parameter that is neither the IM (`scale`) nor the record, by its results.csv name.
-fn variant_of(layout: &Layout, o: &SceneOutcome) -> Variant {
+/// A scene off the study's grid (an IDA's bisection probe) takes its device from a study
+/// point of the same group in `on_grid`.
+pub(super) fn variant_of(layout: &Layout, point: &ScenePoint, on_grid: &[&ScenePoint]) -> Variant {
+    let point = if point.index >= layout.len() {
+        on_grid
+            .iter()
+            .find(|p| p.group == point.group)
+            .copied()
+            .unwrap_or(point)
+    } else {
+        point
+    };
     let device = layout
-        .locate(o.point.index)
+        .locate(point.index)
         .map(|(v, _)| &layout.variants[v])
         .map_or_else(
-            || o.point.scene.device.name().to_string(),
+            || point.scene.device.name().to_string(),
             |v| {
                 let default = if v.kind == DeviceKind::None {
                     "bare"
@@ -56,8 +67,7 @@ fn variant_of(layout: &Layout, o: &SceneOutcome) -> Variant {
                 }
             },
         );
-    let params = o
-        .point
+    let params = point
         .coords
         .iter()
         .filter(|(label, _)| label != "scale")
@@ -66,7 +76,7 @@ fn variant_of(layout: &Layout, o: &SceneOutcome) -> Variant {
     Variant { device, params }
 }
 
-fn component_of(library: Option<&Library>, name: &str) -> String {
+pub(super) fn component_of(library: Option<&Library>, name: &str) -> String {
     let Some(library) = library else {
         return String::new();
     };
@@ -103,6 +113,12 @@ fn scale_of(library: Option<&Library>, o: &SceneOutcome) -> f64 {
 pub fn rows(study: &Study, results: &SweepResults) -> anyhow::Result<Vec<StripeRow>> {
     let layout = study.layout()?;
     let library = library::global().ok();
+    let on_grid: Vec<&ScenePoint> = results
+        .outcomes
+        .iter()
+        .map(|o| &o.point)
+        .filter(|p| p.index < layout.len())
+        .collect();
     Ok(results
         .outcomes
         .iter()
@@ -120,7 +136,7 @@ pub fn rows(study: &Study, results: &SweepResults) -> anyhow::Result<Vec<StripeR
                 Err(why) => (vec![None; study.quantities.len()], false, Some(why.clone())),
             };
             StripeRow {
-                variant: variant_of(&layout, o),
+                variant: variant_of(&layout, &o.point, &on_grid),
                 component: component_of(library, &record),
                 scale: scale_of(library, o),
                 record,
@@ -210,13 +226,24 @@ pub fn observations(f: &Fragility, study: &Study, rows: &[StripeRow]) -> Vec<Str
 
 /// The fitted report of a fragility study's results.
 pub fn analyse(f: &Fragility, study: &Study, rows: &[StripeRow]) -> FragilityReport {
-    let opts = FragilityOptions {
+    let opts = options(f);
+    let mut report = analyse_stripes(&observations(f, study, rows), &opts);
+    name_axes(&mut report, f, study);
+    report
+}
+
+/// The options of a fragility section's fits.
+pub(super) fn options(f: &Fragility) -> FragilityOptions {
+    FragilityOptions {
         damage_states: f.damage_states.levels(),
         bootstrap: f.bootstrap,
         seed: f.seed,
         confidence: f.confidence,
-    };
-    let mut report = analyse_stripes(&observations(f, study, rows), &opts);
+    }
+}
+
+/// Name a report's intensity measure and damage measure for its figure and readouts.
+pub(super) fn name_axes(report: &mut FragilityReport, f: &Fragility, study: &Study) {
     report.im = match &study.excitation {
         ExcitationFamily::Record { scale_to, .. } => im_label(*scale_to).to_string(),
         _ => String::new(),
@@ -225,7 +252,6 @@ pub fn analyse(f: &Fragility, study: &Study, rows: &[StripeRow]) -> FragilityRep
         Quantity::PeakRotationRatio => "θmax/α".to_string(),
         q => q.label().to_string(),
     };
-    report
 }
 
 fn im_label(scale_to: crate::study::RecordScaling) -> &'static str {
@@ -246,6 +272,10 @@ pub fn write(out: &Path, study: &Study, results: &SweepResults) -> anyhow::Resul
     };
     let rows = rows(study, results)?;
     super::write_atomic(&out.join(STRIPES_CSV), &stripes_csv(study, &rows)?)?;
+    if f.method.ida_resolution().is_some() {
+        // An IDA's scenes are its hunts' probes: ida.csv and the capacities' fit.
+        return super::ida::write(out, f, study, results);
+    }
     if results.cancelled {
         // A fit of part of the scenes would read as the study's: the rerun that finishes
         // them writes it.

@@ -115,6 +115,11 @@ impl StudyError {
                 }
             }
         }
+        if found.is_none() && !path.contains('.') {
+            // A top-level field that is not in the file (missing): where it would go, the
+            // study's closing parenthesis.
+            found = last_close(text);
+        }
         if let Some(at) = found {
             let before = &text[..at];
             self.line = Some(before.matches('\n').count() + 1);
@@ -122,6 +127,20 @@ impl StudyError {
         }
         self
     }
+}
+
+/// Offset of the last `)` outside comments.
+fn last_close(text: &str) -> Option<usize> {
+    let mut offset = 0;
+    let mut last = None;
+    for line in text.split_inclusive('\n') {
+        let code = line.split("//").next().unwrap_or(line);
+        if let Some(i) = code.rfind(')') {
+            last = Some(offset + i);
+        }
+        offset += line.len();
+    }
+    last
 }
 
 /// Offset of `name` used as a key (`name:` or `name(`) outside comments.

@@ -158,7 +158,7 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ),
     (
         "tail",
-        "each scene lasts its record's length plus this many seconds (instead of duration)",
+        "each scene lasts its record's length plus this many seconds (then no duration)",
     ),
     (
         "kinks",
@@ -199,7 +199,8 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ),
     (
         "resolution",
-        "relative resolution of the answer (0.01: the bracket ends within 1 % of it)",
+        "design: relative resolution of the answer (0.01: the bracket ends within 1 % of it); \
+         fragility ida: the widest final bracket of a capacity, in IM units",
     ),
     (
         "target",
@@ -226,9 +227,17 @@ const FIELD_HELP: &[(&str, &str)] = &[
         "coefficient of restitution r (None: Housner's r from the geometry; 1: elastic)",
     ),
     ("width", "width n of the Gaussian impact moment (rad)"),
-    ("duration", "simulated time per scene (s)"),
+    (
+        "duration",
+        "simulated time per scene (s); not with a record excitation's tail",
+    ),
     ("rtol", "integrator relative tolerance"),
-    ("method", "integrator: auto (by rtol), dp54 or dop853"),
+    (
+        "method",
+        "integrator: auto (by rtol), dp54 or dop853; in a fragility section: stripes (every \
+         record at every scale value) or ida(resolution: r) (hunt up the scale values per \
+         record, bisect each state's first exceedance to r, IM units)",
+    ),
     (
         "stop_when_settled",
         "end a scene once the structure has settled after the motion",

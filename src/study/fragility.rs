@@ -5,6 +5,11 @@
 //! resumable (and shardable) sweep as spectra. After the sweep, `report::stripes` turns the
 //! scenes into observations, fits them (report::fragility) and writes stripes.csv,
 //! fragility.csv and fragility.json.
+//!
+//! With `method: ida(resolution: r)` the `scale` values are instead the hunt's ladder of an
+//! incremental dynamic analysis (sweep/ida.rs): per record and variant, climb the ladder
+//! until the highest damage state is reached, then bisect every state's first exceedance to
+//! r (IM units); report::ida writes ida.csv and fits the capacities (censored at the top).
 
 use super::{Axis, ExcitationFamily, Quantity, RecordScaling, StructureFamily, Study, StudyError};
 use serde::{Deserialize, Serialize};
@@ -13,6 +18,9 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Fragility {
+    /// Multiple-stripe analysis (default) or incremental dynamic analysis.
+    #[serde(default, skip_serializing_if = "Method::is_stripes")]
+    pub method: Method,
     /// Thresholds of the damage measure (default 0.2, 0.5, 1 = overturning for θmax/α).
     #[serde(default)]
     pub damage_states: DamageStates,
@@ -31,6 +39,37 @@ pub struct Fragility {
     #[serde(default = "default_confidence")]
     pub confidence: f64,
 }
+
+/// How a fragility analysis uses the record excitation's `scale` values.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum Method {
+    /// Multiple-stripe analysis: every record at every `scale` value (the stripes).
+    #[default]
+    Stripes,
+    /// Incremental dynamic analysis: per record and variant, hunt up the `scale` values (the
+    /// ladder, lowest first) until the highest damage state is reached, then bisect each
+    /// state's first exceedance until its bracket is no wider than `resolution` (IM units).
+    Ida { resolution: f64 },
+}
+
+impl Method {
+    pub fn is_stripes(&self) -> bool {
+        *self == Method::Stripes
+    }
+
+    /// The IDA's resolution, if the method is IDA.
+    pub fn ida_resolution(&self) -> Option<f64> {
+        match self {
+            Method::Ida { resolution } => Some(*resolution),
+            Method::Stripes => None,
+        }
+    }
+}
+
+/// Most bisection steps an IDA bracket may need (the ladder's top over the resolution is at
+/// most 2^this).
+pub const MAX_BISECTIONS: u32 = 16;
 
 /// The damage states of a fragility analysis.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -68,6 +107,7 @@ impl DamageStates {
 impl Default for Fragility {
     fn default() -> Self {
         Fragility {
+            method: Method::default(),
             damage_states: DamageStates::default(),
             measure: default_measure(),
             bootstrap: default_bootstrap(),
@@ -185,6 +225,9 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
              flexible structure peak_drift or peak_deformation",
         ));
     }
+    if let Some(resolution) = f.method.ida_resolution() {
+        validate_ida(study, resolution)?;
+    }
     if f.bootstrap > MAX_BOOTSTRAP {
         return Err(StudyError::field(
             "fragility.bootstrap",
@@ -197,6 +240,37 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
             "fragility.confidence",
             format!("{} is not a confidence level", f.confidence),
             "between 0 and 1, e.g. 0.9 for 5th–95th percentile intervals",
+        ));
+    }
+    Ok(())
+}
+
+/// An IDA's ladder (the `scale` values) and resolution.
+fn validate_ida(study: &Study, resolution: f64) -> Result<(), StudyError> {
+    let ExcitationFamily::Record { scale, .. } = &study.excitation else {
+        return Ok(());
+    };
+    let ladder = scale.expand();
+    if ladder.iter().any(|v| !(v.is_finite() && *v > 0.0))
+        || ladder.windows(2).any(|w| w[1] <= w[0])
+    {
+        return Err(StudyError::field(
+            "excitation.scale",
+            "an IDA's ladder must be positive intensities, increasing",
+            "e.g. scale: (from: 1.0, to: 16.0, steps: 9, log: true): the hunt climbs them in order",
+        ));
+    }
+    let top = ladder.last().copied().unwrap_or(1.0);
+    let finest = top / f64::from(1u32 << MAX_BISECTIONS);
+    if !(resolution.is_finite() && resolution >= finest) {
+        return Err(StudyError::field(
+            "fragility.method",
+            format!("resolution {resolution} is not an IM interval of at least {finest:.3e}"),
+            &format!(
+                "ida(resolution: r): the widest final bracket in IM units, ≥ the ladder's top \
+                 ({top}) / 2^{MAX_BISECTIONS}, e.g. ida(resolution: {})",
+                crate::numfmt::fmt_sig(top / 100.0)
+            ),
         ));
     }
     Ok(())

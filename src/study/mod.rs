@@ -53,8 +53,10 @@ pub struct Study {
     pub map: Option<MapAxes>,
     #[serde(default)]
     pub impact: Impact,
-    /// Simulated time per scene (s).
-    pub duration: f64,
+    /// Simulated time per scene (s). Required, unless a record excitation's `tail` sets each
+    /// scene's (then refused: it would be ignored).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duration: Option<f64>,
     /// Integrator relative tolerance.
     #[serde(default = "crate::scene::default_rtol")]
     pub rtol: f64,
@@ -227,7 +229,8 @@ pub enum ExcitationFamily {
         /// Whether the integrator stops at every sample (default) or steps over the kinks.
         #[serde(default)]
         kinks: KinkPolicy,
-        /// Each scene lasts its record's length plus `tail` seconds (instead of `duration`).
+        /// Each scene lasts its record's length plus `tail` seconds (the study then gives no
+        /// `duration`).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         tail: Option<f64>,
     },

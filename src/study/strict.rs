@@ -67,6 +67,7 @@ pub fn wrapper_names() -> Vec<&'static str> {
         variants::<Form>(),
         variants::<super::design::DesignTarget>(),
         variants::<super::fragility::DamageStates>(),
+        variants::<super::fragility::Method>(),
     ]
     .concat();
     names.push("Some");

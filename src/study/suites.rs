@@ -93,7 +93,13 @@ pub(super) fn scene_duration(study: &Study, excitation: &Excitation) -> Result<f
         Excitation::Record { name, baseline, .. },
     ) = (&study.excitation, excitation)
     else {
-        return Ok(study.duration);
+        return study.duration.ok_or_else(|| {
+            StudyError::field(
+                "duration",
+                "missing: how long each scene is simulated",
+                "add `duration: 10.0` (seconds), or for records `tail: 10.0` in the excitation",
+            )
+        });
     };
     if !(tail.is_finite() && *tail >= 0.0) {
         return Err(StudyError::field(

@@ -8,6 +8,8 @@ use crate::study::{ScenePoint, Study, StudyError};
 pub mod adaptive;
 pub mod design;
 mod facade;
+pub mod hunt;
+pub mod ida;
 mod journal;
 mod output;
 pub mod rounds;
@@ -143,10 +145,23 @@ pub fn run_study(
         return design::run_design(study, opts, library, checkpoint, cancel, progress)
             .map_err(|e| StudyError::field("design", e.to_string(), "run it without --shard"));
     }
+    if is_ida(study) {
+        return ida::run_ida(study, opts, library, checkpoint, cancel, progress).map_err(|e| {
+            StudyError::field("fragility.method", e.to_string(), "run it without --shard")
+        });
+    }
     let mut results = run_checkpointed(&points, opts, library, checkpoint, cancel, progress);
     results.study_hash = study.hash();
     results.study = Some(study.clone());
     Ok(results)
+}
+
+/// Whether a study is an incremental dynamic analysis (its scenes come from hunts).
+pub fn is_ida(study: &Study) -> bool {
+    study
+        .fragility
+        .as_ref()
+        .is_some_and(|f| f.method.ida_resolution().is_some())
 }
 
 /// Run `points` (or the shard's slice of them). Never panics on a bad scene: failures are
@@ -342,6 +357,8 @@ fn run_into(
         adaptive::run_refined(study, points, opts, library, checkpoint, cancel, progress)?
     } else if study.design.is_some() {
         design::run_design(study, opts, library, checkpoint, cancel, progress)?
+    } else if is_ida(study) {
+        ida::run_ida(study, opts, library, checkpoint, cancel, progress)?
     } else {
         run_checkpointed(points, opts, library, checkpoint, cancel, progress)
     };

@@ -43,12 +43,34 @@ pub(super) fn check_top_level(study: &Study) -> Result<(), StudyError> {
             ));
         }
     }
-    if !(study.duration.is_finite() && study.duration > 0.0) {
-        return Err(StudyError::field(
-            "duration",
-            format!("{} is not a duration", study.duration),
-            "simulated time per scene in seconds, > 0",
-        ));
+    let tail = matches!(
+        &study.excitation,
+        ExcitationFamily::Record { tail: Some(_), .. }
+    );
+    match (study.duration, tail) {
+        (Some(_), true) => {
+            return Err(StudyError::field(
+                "duration",
+                "unused: with `excitation.tail` each scene lasts its record's length plus the tail",
+                "remove `duration`, or remove `tail` to give every scene the same duration",
+            ));
+        }
+        (None, false) => {
+            return Err(StudyError::field(
+                "duration",
+                "missing: how long each scene is simulated",
+                "add `duration: 10.0` (seconds), or for records `tail: 10.0` in the excitation \
+                 (each scene: its record's length plus 10 s)",
+            ));
+        }
+        (Some(d), false) if !(d.is_finite() && d > 0.0) => {
+            return Err(StudyError::field(
+                "duration",
+                format!("{d} is not a duration"),
+                "simulated time per scene in seconds, > 0",
+            ));
+        }
+        _ => {}
     }
     if !(1e-14..=0.1).contains(&study.rtol) {
         return Err(StudyError::field(
