@@ -4,7 +4,7 @@
 
 use super::UsageError;
 use crate::report;
-use crate::sim::check::{Check, Reproducibility, check};
+use crate::sim::check::{Check, CheckCsvRow, Reproducibility, check};
 use crate::sweep::SceneOutcome;
 use rayon::prelude::*;
 use std::io::IsTerminal;
@@ -116,7 +116,9 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
         .clone()
         .unwrap_or_else(|| path.with_file_name("check.csv"));
     // Opened before the work, so a bad path costs nothing.
-    let mut w = csv::Writer::from_path(&csv_path)
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(false)
+        .from_path(&csv_path)
         .map_err(|e| UsageError::new(format!("--csv {}: {e}", csv_path.display())))?;
     let library = crate::excitation::library::global()?;
     let bar = std::io::stderr().is_terminal().then(|| {
@@ -148,19 +150,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    w.write_record([
-        "scene",
-        "verdict",
-        "rtol",
-        "reference_rtol",
-        "quantity",
-        "value",
-        "reference",
-        "change",
-        "condition",
-        "negligible",
-        "overturn_flips",
-    ])?;
+    w.write_record(CheckCsvRow::HEADER)?;
     let (mut counts, mut failed) = ([0usize; 3], Vec::new());
     for (o, c) in &checks {
         let c = match c {
@@ -171,20 +161,8 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
             }
         };
         counts[c.verdict as usize] += 1;
-        for p in &c.peaks {
-            w.write_record([
-                o.point.index.to_string(),
-                c.verdict.name().to_string(),
-                format!("{:e}", c.rtol),
-                format!("{:e}", c.reference_rtol),
-                p.quantity.to_string(),
-                format!("{:e}", p.value),
-                format!("{:e}", p.reference),
-                format!("{:e}", p.change),
-                format!("{:e}", p.condition),
-                p.negligible.to_string(),
-                c.overturn_flips.to_string(),
-            ])?;
+        for row in CheckCsvRow::rows(o.point.index, c) {
+            w.serialize(row)?;
         }
     }
     w.flush()?;

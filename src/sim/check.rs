@@ -22,7 +22,7 @@ use super::{SceneResult, SimError, run_bounded};
 use crate::excitation::Library;
 use crate::numfmt::fmt_condition;
 use crate::scene::Scene;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Relative change of the inputs the condition number is measured with: 100× the default
 /// rtol's 1e-5 below it, so a peak that moves visibly for it cannot be reproduced by an
@@ -87,7 +87,7 @@ fn finite_or_null<S: serde::Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Reproducibility {
     /// Every peak within [`CONVERGED`] of the reference, none ill-conditioned (negligible
@@ -372,5 +372,109 @@ impl Check {
             },
         };
         out
+    }
+}
+
+/// One row of `check.csv`: one scene's check of one peak. `rocklab check` writes these and
+/// the workbench reads them back: one type, its header [`CheckCsvRow::HEADER`] (serde's field
+/// names, which a test holds it to).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CheckCsvRow {
+    pub scene: usize,
+    pub verdict: Reproducibility,
+    #[serde(serialize_with = "exponent")]
+    pub rtol: f64,
+    #[serde(serialize_with = "exponent")]
+    pub reference_rtol: f64,
+    /// The quantity's key ([`Quantity::info`]).
+    pub quantity: String,
+    #[serde(serialize_with = "exponent")]
+    pub value: f64,
+    #[serde(serialize_with = "exponent")]
+    pub reference: f64,
+    #[serde(serialize_with = "exponent")]
+    pub change: f64,
+    #[serde(serialize_with = "exponent")]
+    pub condition: f64,
+    pub negligible: bool,
+    pub overturn_flips: bool,
+}
+
+/// Numbers in check.csv read as `1e-5`, `3.2e6` (Rust's `{:e}`, which parses back exactly).
+fn exponent<S: serde::Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(&format!("{v:e}"))
+}
+
+impl CheckCsvRow {
+    /// The header line, also written when no scene could be checked.
+    pub const HEADER: [&'static str; 11] = [
+        "scene",
+        "verdict",
+        "rtol",
+        "reference_rtol",
+        "quantity",
+        "value",
+        "reference",
+        "change",
+        "condition",
+        "negligible",
+        "overturn_flips",
+    ];
+
+    /// The rows of scene `scene`'s check, one per peak.
+    pub fn rows(scene: usize, c: &Check) -> impl Iterator<Item = CheckCsvRow> + '_ {
+        c.peaks.iter().map(move |p| CheckCsvRow {
+            scene,
+            verdict: c.verdict,
+            rtol: c.rtol,
+            reference_rtol: c.reference_rtol,
+            quantity: p.quantity.to_string(),
+            value: p.value,
+            reference: p.reference,
+            change: p.change,
+            condition: p.condition,
+            negligible: p.negligible,
+            overturn_flips: c.overturn_flips,
+        })
+    }
+}
+
+#[cfg(test)]
+mod csv_tests {
+    use super::*;
+
+    /// The header is serde's field names, and a row reads back as written (numbers in
+    /// `{:e}` form, the verdict in snake_case).
+    #[test]
+    fn check_csv_rows_round_trip_under_their_header() {
+        let row = CheckCsvRow {
+            scene: 7,
+            verdict: Reproducibility::IllConditioned,
+            rtol: 1e-5,
+            reference_rtol: 1e-8,
+            quantity: "peak_rotation".into(),
+            value: 0.123,
+            reference: 0.125,
+            change: 0.016,
+            condition: 3.2e6,
+            negligible: false,
+            overturn_flips: true,
+        };
+        let mut w = csv::Writer::from_writer(Vec::new());
+        w.serialize(&row).unwrap();
+        let text = String::from_utf8(w.into_inner().unwrap()).unwrap();
+        let mut lines = text.lines();
+        assert_eq!(lines.next(), Some(CheckCsvRow::HEADER.join(",").as_str()));
+        assert_eq!(
+            lines.next(),
+            Some(
+                "7,ill_conditioned,1e-5,1e-8,peak_rotation,1.23e-1,1.25e-1,1.6e-2,3.2e6,false,true"
+            )
+        );
+        let back: Vec<CheckCsvRow> = csv::Reader::from_reader(text.as_bytes())
+            .deserialize()
+            .collect::<Result<_, _>>()
+            .unwrap();
+        assert_eq!(back, vec![row]);
     }
 }

@@ -21,6 +21,7 @@ use super::prompt::Prompt;
 use super::{Action, Component, Shared};
 use crate::report::{self, OverturningMap, Quantity, Spectrum};
 use crate::sim::SceneResult;
+use crate::sim::check::{CheckCsvRow, Reproducibility};
 use crate::study::ScenePoint;
 use crate::sweep::SweepResults;
 use crossterm::event::{KeyCode, KeyEvent};
@@ -60,22 +61,12 @@ pub struct Results {
     pub design: Vec<crate::sweep::design::DesignRow>,
 }
 
-/// One scene's line of `check.csv`, as the readout shows it.
+/// One scene's lines of `check.csv`, as the readout shows it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneCheck {
-    /// `converged`, `not_converged` or `ill_conditioned`.
-    pub verdict: String,
+    pub verdict: Reproducibility,
     /// The largest κ of the judged peaks.
     pub condition: f64,
-}
-
-/// The columns of `check.csv` the readout needs (the others are ignored).
-#[derive(serde::Deserialize)]
-struct CheckRow {
-    scene: usize,
-    verdict: String,
-    condition: f64,
-    negligible: bool,
 }
 
 impl Results {
@@ -184,7 +175,7 @@ impl Results {
         let fail = |e: csv::Error| format!("{}: {e}", path.display());
         let mut reader = csv::Reader::from_path(&path).map_err(fail)?;
         let mut checks = std::collections::HashMap::<usize, SceneCheck>::new();
-        for row in reader.deserialize::<CheckRow>() {
+        for row in reader.deserialize::<CheckCsvRow>() {
             let row = row.map_err(fail)?;
             let entry = checks.entry(row.scene).or_insert(SceneCheck {
                 verdict: row.verdict,

@@ -177,11 +177,7 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
         .map_or(String::new(), |c| {
             format!(
                 "  check: {} (κ {})",
-                match c.verdict.as_str() {
-                    "ill_conditioned" => "ill-conditioned",
-                    "not_converged" => "not converged",
-                    other => other,
-                },
+                c.verdict.label(),
                 crate::numfmt::fmt_condition(c.condition)
             )
         });
