@@ -6,7 +6,7 @@
 use rocklab::report::compare::{self, MapCell};
 use rocklab::report::select::Selector;
 use rocklab::report::{self, Group, OverturningMap, PointState, Quantity};
-use rocklab::sim::SceneResult;
+use rocklab::sim::{Peaks, SceneResult};
 use rocklab::study::{DeviceKind, Study};
 use rocklab::sweep::{SceneOutcome, SweepResults};
 
@@ -23,26 +23,20 @@ enum Fake {
 /// template result of one real (short) scene.
 fn synthetic(study: &Study, fake: impl Fn(&rocklab::study::ScenePoint) -> Fake) -> SweepResults {
     let points = study.expand().unwrap();
-    let template: SceneResult = rocklab::sim::run(
-        &points[0].scene,
-        rocklab::excitation::library::global().unwrap(),
-    )
-    .unwrap();
     let outcomes = points
         .iter()
         .filter_map(|p| {
             let result = match fake(p) {
                 Fake::NotRun => return None,
                 Fake::Failed => Err("synthetic failure".to_string()),
-                Fake::Overturned => Ok(SceneResult {
-                    overturned: true,
-                    ..template.clone()
-                }),
-                Fake::Peak(v) => Ok(SceneResult {
-                    overturned: false,
-                    peak_rotation_ratio: v,
-                    ..template.clone()
-                }),
+                Fake::Overturned => Ok(SceneResult::from_peaks(true, 0.3, Peaks::default(), 1.0)),
+                Fake::Peak(v) => {
+                    let peaks = Peaks {
+                        rotation: v * 0.1,
+                        ..Peaks::default()
+                    };
+                    Ok(SceneResult::from_peaks(false, 0.5, peaks, v))
+                }
             };
             Some(SceneOutcome {
                 point: p.clone(),

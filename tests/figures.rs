@@ -36,22 +36,19 @@ fn shipped_studies() -> Vec<(String, Study)> {
 /// first scene of every 9 overturned, so overturned marks are drawn too.
 fn synthetic_results(study: &Study) -> SweepResults {
     let points = study.expand().unwrap();
-    let template = rocklab::sim::run(
-        &Study::builtin_default().expand().unwrap()[0].scene,
-        rocklab::excitation::library::global().unwrap(),
-    )
-    .unwrap();
     let outcomes = points
         .into_iter()
         .map(|point| {
-            let mut r = template.clone();
             let f = 0.2 + 0.5 * ((point.index as f64) * 0.37).sin().abs();
-            r.overturned = point.index % 9 == 0;
-            r.peak_rotation_ratio = f;
-            r.peaks.rotation = f * 0.17;
-            r.peaks.deformation = f * 0.01;
-            r.peaks.drift = f * 0.05;
-            r.peaks.abs_acceleration_g = f * 0.4;
+            let peaks = rocklab::sim::Peaks {
+                rotation: f * 0.17,
+                deformation: f * 0.01,
+                drift: f * 0.05,
+                abs_acceleration_g: f * 0.4,
+                angular_acceleration_p2: Some(f * 0.3),
+            };
+            let overturned = point.index % 9 == 0;
+            let r = rocklab::sim::SceneResult::from_peaks(overturned, 10.0, peaks, f);
             SceneOutcome {
                 point,
                 result: Ok(r),

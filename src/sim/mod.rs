@@ -2,12 +2,12 @@
 //! locate event, apply jump, restart), track peaks and the energy balance.
 
 use crate::excitation::{Library, Motion, Pulse, RecordMotion};
-pub use crate::model::Measures;
 pub use crate::model::column::{ColumnInfo, EnergyRole, HistoryColumn};
 use crate::model::device::DeviceModel;
 use crate::model::flexible::FlexibleModel;
 use crate::model::rigid::RigidModel;
-use crate::model::{Action, ClosedFormEnd, Counters, EndReason, Energy, Peaks, SimModel};
+use crate::model::{Action, ClosedFormEnd, Counters, EndReason, Energy, SimModel};
+pub use crate::model::{Measures, Peaks};
 use crate::scene::{Excitation, Impact, RigidBlock, Scene, Structure};
 use crate::solver::{Integrator, Method, Options, SolverError, Stats, StepOutcome};
 use history::Recorder;
@@ -72,6 +72,33 @@ pub struct SceneResult {
     /// What was computed ([`Bounds::measures`]); peaks and energies not measured read 0.
     #[serde(default)]
     pub measured: Measures,
+}
+
+impl SceneResult {
+    /// A result made of its peaks alone, without a run: it ended at `end_time`, overturned or
+    /// at the end of its duration, every measure computed, no energies, counters or solver
+    /// statistics. For tests and made-up results that exercise aggregation, reports and
+    /// drawing.
+    pub fn from_peaks(overturned: bool, end_time: f64, peaks: Peaks, rotation_ratio: f64) -> Self {
+        SceneResult {
+            overturned,
+            end_reason: if overturned {
+                EndReason::Overturned
+            } else {
+                EndReason::Duration
+            },
+            end_time,
+            peaks,
+            peak_rotation_ratio: rotation_ratio,
+            counters: Counters::default(),
+            energy: Energy::default(),
+            energy_residual: 0.0,
+            stats: Stats::default(),
+            wall_seconds: 0.0,
+            form_used: None,
+            measured: Measures::ALL,
+        }
+    }
 }
 
 /// A time history: column names and one row per sample time of its [`Sampling`], plus two
