@@ -89,6 +89,9 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
 /// and keeps what finished. A second signal exits at once (finished scenes are journalled).
 static CANCEL: AtomicBool = AtomicBool::new(false);
 
+/// The last of those signals received (its number), for the exit status.
+static SIGNAL: AtomicUsize = AtomicUsize::new(0);
+
 /// SIGINT (Ctrl-C), SIGTERM (Slurm's time limit, `kill`) and SIGHUP (a dropped SSH session)
 /// all stop a sweep the same way.
 fn install_signal_handlers() {
@@ -96,8 +99,46 @@ fn install_signal_handlers() {
     for signal in [SIGINT, SIGTERM, SIGHUP] {
         // The shutdown goes first: it fires only once the flag is set by an earlier signal.
         let _ = signal_hook::flag::register_conditional_shutdown(signal, 128 + signal, &CANCEL);
+        let _ = signal_hook::flag::register_usize(signal, &SIGNAL, signal as usize);
         let _ = signal_hook::flag::register(signal, &CANCEL);
     }
+}
+
+/// How often a finishing run looks for a signal: well under the second a batch system's
+/// `--signal=B:TERM@60` warning is counted in.
+const SIGNAL_POLL: Duration = Duration::from_millis(25);
+
+/// From here on the sweep is over and every finished scene is in the journal (appended and
+/// synced before the results are written): a signal while the results and tables are written
+/// ends the process within [`SIGNAL_POLL`] instead of after the writes (minutes for a very
+/// large study), and the same command run again writes them from the journal, computing
+/// nothing. A write interrupted this way leaves the previous file in place (writes are
+/// atomic renames). A sweep stopped by a signal has none to wait for: its partial results are
+/// written, and a second signal ends it at once (the conditional shutdown above).
+fn stop_on_signal_while_writing(results: &SweepResults, journal: PathBuf) {
+    if results.cancelled {
+        return;
+    }
+    say(&format!(
+        "writing the results of {} scenes (a signal now stops at once; the journal keeps them)",
+        results.outcomes.len()
+    ));
+    let scenes = results.outcomes.len();
+    std::thread::spawn(move || {
+        while !CANCEL.load(Ordering::Relaxed) {
+            std::thread::sleep(SIGNAL_POLL);
+        }
+        let signal = SIGNAL.load(Ordering::Relaxed) as i32;
+        say(&format!(
+            "stopped by signal {signal} while writing the results: the journal {} keeps all \
+             {scenes} finished scenes; run the same command again to write the results (it \
+             computes nothing)",
+            journal.display()
+        ));
+        // _exit: the main thread may be mid-write; nothing of ours needs flushing (the
+        // journal is synced, results files are renamed into place whole or not at all).
+        signal_hook::low_level::exit(128 + signal);
+    });
 }
 
 /// A line on stderr that never fails the run: after SIGHUP the terminal may be gone.
@@ -213,12 +254,16 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         }
     }
     if args.dry_run {
-        let mut groups: Vec<(String, usize)> = Vec::new();
+        // Groups in order of first appearance, found by name (a study may have as many
+        // groups as scenes: a scan per scene would be quadratic).
+        let mut groups: Vec<(&str, usize)> = Vec::new();
+        let mut at: std::collections::HashMap<&str, usize> = Default::default();
         for p in &points {
-            match groups.iter_mut().find(|(g, _)| *g == p.group) {
-                Some((_, n)) => *n += 1,
-                None => groups.push((p.group.clone(), 1)),
-            }
+            let i = *at.entry(p.group.as_str()).or_insert_with(|| {
+                groups.push((p.group.as_str(), 0));
+                groups.len() - 1
+            });
+            groups[i].1 += 1;
         }
         let mut text = format!(
             "study {} (hash {}): {} scenes in {} groups\n",
@@ -264,6 +309,16 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let library = crate::excitation::library::global()?;
     let scene_time_limit =
         (args.scene_time_limit > 0.0).then(|| Duration::from_secs_f64(args.scene_time_limit));
+    let journal = output.journal_path().to_path_buf();
+    let results_writer = |path: &Path, results: &SweepResults| {
+        reporter.finish();
+        stop_on_signal_while_writing(results, journal.clone());
+        (report::WRITERS.results)(path, results)
+    };
+    let writers = sweep::Writers {
+        results: &results_writer,
+        ..report::WRITERS
+    };
     let results = output.run(
         &study,
         &points,
@@ -272,7 +327,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         scene_time_limit,
         &CANCEL,
         &|p| reporter.report(p),
-        report::WRITERS,
+        writers,
     );
     reporter.finish();
     let finished = results?;
