@@ -302,6 +302,7 @@ fn fig12_is_two_panels_side_by_side_at_the_asked_size_and_resolution() {
         format: ImageFormat::Png,
         size: Some(FigureSize::parse("160x80mm").unwrap()),
         dpi: 300.0,
+        max_megapixels: 100.0,
     };
     let spectra = report::spectra(&results);
     let path = report::plot_spectra(
@@ -326,6 +327,7 @@ fn fig12_is_two_panels_side_by_side_at_the_asked_size_and_resolution() {
         format: ImageFormat::Svg,
         size: Some(FigureSize::parse("6.3x3.15in").unwrap()),
         dpi: 300.0,
+        max_megapixels: 100.0,
     };
     let path = report::plot_spectra(
         dir.path(),

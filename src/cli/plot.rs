@@ -24,8 +24,8 @@ pub struct PlotArgs {
     #[arg(long, default_value_t = 300.0, value_parser = parse_dpi)]
     pub dpi: f64,
     /// Largest PNG, in megapixels, that --size and --dpi may ask for (each megapixel takes
-    /// 3 MB of memory while it is drawn).
-    #[arg(long, default_value_t = 100.0)]
+    /// 3 MB of memory while it is drawn; at most 2000).
+    #[arg(long, default_value_t = report::MAX_MEGAPIXELS, value_parser = parse_megapixels)]
     pub max_megapixels: f64,
     /// Draw only the series that match, as `compare --a/--b` selects: a device kind or label
     /// with parameter values in the study's syntax, e.g. `mechanistic`, `bare`,
@@ -68,27 +68,40 @@ fn parse_dpi(text: &str) -> Result<f64, String> {
     }
 }
 
-/// A PNG of `--size` at `--dpi` must fit in `--max-megapixels`: checked before anything is
-/// drawn or allocated (plotters would try to allocate it, or panic past its limits).
+/// A PNG of `--size` at `--dpi` must fit in `--max-megapixels`: checked before the results
+/// are read or anything is drawn (each figure checks its own size again, default sizes too).
 fn check_pixels(args: &PlotArgs) -> Result<(), UsageError> {
     let (Some(size), Some(_)) = (args.size, &args.png) else {
         return Ok(());
     };
     let options = FigureOptions {
-        format: ImageFormat::Png,
         size: Some(size),
-        dpi: args.dpi,
+        ..figure_options(args, ImageFormat::Png)
     };
-    let (w, h) = options.canvas(size).pixels;
-    let megapixels = f64::from(w) * f64::from(h) / 1e6;
-    if args.max_megapixels.is_nan() || megapixels > args.max_megapixels {
-        return Err(UsageError::new(format!(
-            "--size {:.0}x{:.0}mm at --dpi {} is a {w}×{h} px PNG ({megapixels:.0} megapixels), \
-             over the limit of {} megapixels; lower --size or --dpi, or raise --max-megapixels",
-            size.width_mm, size.height_mm, args.dpi, args.max_megapixels
-        )));
+    match options.canvas(size, "a figure") {
+        Ok(_) => Ok(()),
+        Err(e) => Err(UsageError::new(e.to_string())),
     }
-    Ok(())
+}
+
+fn figure_options(args: &PlotArgs, format: ImageFormat) -> FigureOptions {
+    FigureOptions {
+        format,
+        size: args.size,
+        dpi: args.dpi,
+        max_megapixels: args.max_megapixels,
+    }
+}
+
+fn parse_megapixels(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if v > 0.0 && v <= report::MEGAPIXELS_CEILING => Ok(v),
+        _ => Err(format!(
+            "--max-megapixels {text}: give a number above 0 and at most {} (the most a PNG \
+             can be drawn at)",
+            report::MEGAPIXELS_CEILING
+        )),
+    }
 }
 
 pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
@@ -156,11 +169,7 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
     for (dir, format) in targets {
         std::fs::create_dir_all(&dir)
             .with_context(|| format!("cannot create output directory {}", dir.display()))?;
-        let options = FigureOptions {
-            format,
-            size: args.size,
-            dpi: args.dpi,
-        };
+        let options = figure_options(args, format);
         // A design study's scenes are the search's probes: its figure is the design chart.
         if let Some(path) = report::plot_design(&dir, &options, &results)? {
             written.push(path);

@@ -3,6 +3,7 @@
 //! greyscale printing, clean tick labels, light major grid, and a legend drawn outside the
 //! panels (so it never hides data). Plotters draws; this module decides how it looks.
 
+use crate::numfmt::fmt_digits;
 use anyhow::{Context, anyhow};
 use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
@@ -84,7 +85,19 @@ pub struct FigureOptions {
     pub size: Option<FigureSize>,
     /// PNG resolution; SVG is laid out at 96 px per inch (CSS pixels).
     pub dpi: f64,
+    /// Largest PNG in megapixels (each takes 3 MB while drawn), whatever the size came from.
+    pub max_megapixels: f64,
 }
+
+/// The default of [`FigureOptions::max_megapixels`] (`plot --max-megapixels`).
+pub const MAX_MEGAPIXELS: f64 = 100.0;
+/// The most `--max-megapixels` may allow: plotters' bitmap backend indexes pixels with 32-bit
+/// signed integers (2 147 megapixels), past which it panics (issue 29: 2000x2000mm at 2400 dpi).
+pub const MEGAPIXELS_CEILING: f64 = 2000.0;
+/// The smallest a figure may be drawn, as a fraction of the size that suits its panels: text
+/// keeps its point size, so below this the panels have no room left (at 5x5 mm plotters'
+/// rasteriser spent minutes and gigabytes filling panels of negative size).
+pub const MIN_SIZE_FRACTION: f64 = 0.5;
 
 impl FigureOptions {
     pub fn new(format: ImageFormat) -> Self {
@@ -92,6 +105,7 @@ impl FigureOptions {
             format,
             size: None,
             dpi: 300.0,
+            max_megapixels: MAX_MEGAPIXELS,
         }
     }
 
@@ -102,16 +116,49 @@ impl FigureOptions {
         }
     }
 
-    /// Pixel size of a figure and the scale from typographic points to pixels.
-    pub fn canvas(&self, default: FigureSize) -> Canvas {
+    /// Pixel size of the figure `what` (whose panels suit `default`) and the scale from
+    /// typographic points to pixels. Refused before anything is allocated: a `--size` under
+    /// [`MIN_SIZE_FRACTION`] of the default, and a PNG over [`Self::max_megapixels`].
+    pub fn canvas(&self, default: FigureSize, what: &str) -> anyhow::Result<Canvas> {
         let size = self.size.unwrap_or(default);
+        let (min_w, min_h) = (
+            (default.width_mm * MIN_SIZE_FRACTION).ceil(),
+            (default.height_mm * MIN_SIZE_FRACTION).ceil(),
+        );
+        if size.width_mm < min_w || size.height_mm < min_h {
+            anyhow::bail!(
+                "--size {}x{}mm is too small for {what}: its panels and labels need at least \
+                 {min_w}x{min_h}mm (its own size is {}x{}mm); give a larger --size, or leave \
+                 --size out",
+                fmt_digits(size.width_mm, 4),
+                fmt_digits(size.height_mm, 4),
+                fmt_digits(default.width_mm, 4),
+                fmt_digits(default.height_mm, 4),
+            );
+        }
         let ppi = self.pixels_per_inch();
         let px = |mm: f64| ((mm / 25.4 * ppi).round() as u32).max(16);
-        Canvas {
+        let canvas = Canvas {
             size,
             pixels: (px(size.width_mm), px(size.height_mm)),
             pt: ppi / 72.0,
+        };
+        let (w, h) = canvas.pixels;
+        let megapixels = f64::from(w) * f64::from(h) / 1e6;
+        let cap = self.max_megapixels.min(MEGAPIXELS_CEILING);
+        if self.format == ImageFormat::Png && megapixels > cap {
+            anyhow::bail!(
+                "{what} at {}x{}mm and --dpi {} is a {w}×{h} px PNG ({} megapixels), over the \
+                 limit of {} megapixels; lower --size or --dpi, or raise --max-megapixels (at \
+                 most {MEGAPIXELS_CEILING})",
+                fmt_digits(size.width_mm, 4),
+                fmt_digits(size.height_mm, 4),
+                fmt_digits(self.dpi, 4),
+                fmt_digits(megapixels, 3),
+                fmt_digits(cap, 4),
+            );
         }
+        Ok(canvas)
     }
 }
 
@@ -681,12 +728,50 @@ mod tests {
         let mut o = FigureOptions::new(ImageFormat::Png);
         o.size = Some(FigureSize::mm(160.0, 80.0));
         o.dpi = 300.0;
-        let c = o.canvas(FigureSize::mm(1.0, 1.0));
+        let c = o.canvas(FigureSize::mm(1.0, 1.0), "a figure").unwrap();
         // 160 mm = 6.299 in → 1890 px at 300 dpi; a point is 300/72 px.
         assert_eq!(c.pixels, (1890, 945));
         assert!((c.pt - 300.0 / 72.0).abs() < 1e-12);
         o.format = ImageFormat::Svg;
-        assert_eq!(o.canvas(FigureSize::mm(1.0, 1.0)).pixels, (605, 302));
+        assert_eq!(
+            o.canvas(FigureSize::mm(1.0, 1.0), "a figure")
+                .unwrap()
+                .pixels,
+            (605, 302)
+        );
+    }
+
+    #[test]
+    fn sizes_below_half_the_panels_and_pngs_over_the_pixel_cap_are_refused() {
+        let mut o = FigureOptions::new(ImageFormat::Svg);
+        let own = FigureSize::mm(160.0, 150.0);
+        o.size = Some(FigureSize::mm(5.0, 5.0));
+        let e = o.canvas(own, "the scene figure").unwrap_err().to_string();
+        assert!(
+            e.contains("--size 5x5mm is too small for the scene figure")
+                && e.contains("at least 80x75mm"),
+            "{e}"
+        );
+        // One side too small is enough.
+        o.size = Some(FigureSize::mm(100.0, 5.0));
+        assert!(o.canvas(own, "x").is_err());
+        o.size = Some(FigureSize::mm(80.0, 75.0));
+        assert_eq!(o.canvas(own, "x").unwrap().pixels, (302, 283));
+        // A default size at a high resolution is held to the same cap as --size.
+        o.size = None;
+        o.format = ImageFormat::Png;
+        o.dpi = 2400.0;
+        let e = o.canvas(own, "the scene figure").unwrap_err().to_string();
+        assert!(e.contains("15118×14173 px PNG (214 megapixels)"), "{e}");
+        o.max_megapixels = 300.0;
+        assert!(o.canvas(own, "x").is_ok());
+        // Never past what plotters can index, whatever the flag says.
+        o.size = Some(FigureSize::mm(2000.0, 2000.0));
+        o.max_megapixels = f64::INFINITY;
+        let e = o.canvas(own, "x").unwrap_err().to_string();
+        assert!(e.contains("limit of 2000 megapixels"), "{e}");
+        o.max_megapixels = f64::NAN;
+        assert!(o.canvas(own, "x").is_err());
     }
 
     #[test]

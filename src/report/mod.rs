@@ -25,7 +25,7 @@ pub use export::{
     CsvLayout, Parameter, boundary_csv, parameter, results_columns_csv, results_csv,
     results_csv_layout, results_json, save_results, stand_in_records, summary, write_tables,
 };
-pub use figure::{FigureOptions, FigureSize, ImageFormat};
+pub use figure::{FigureOptions, FigureSize, ImageFormat, MAX_MEGAPIXELS, MEGAPIXELS_CEILING};
 pub use plot::{
     MAX_SERIES, PlotChoice, plot_history, plot_map_differences, plot_maps, plot_spectra,
     scene_title,

@@ -157,7 +157,7 @@ pub fn plot_design(
         unit => format!("{x_label} ({unit})"),
     };
     let y_title = format!("least {}", param.label());
-    let canvas = options.canvas(FigureSize::mm(140.0, 100.0));
+    let canvas = options.canvas(FigureSize::mm(140.0, 100.0), "the design chart")?;
     let chart = Chart {
         title: &title,
         legend: &legend,

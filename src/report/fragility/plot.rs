@@ -135,10 +135,13 @@ pub fn plot_fragility(
     }
     let cols = states.len().min(3);
     let rows = states.len().div_ceil(cols);
-    let canvas = options.canvas(FigureSize::mm(
-        if cols == 1 { 110.0 } else { 62.0 * cols as f64 },
-        62.0 * rows as f64 + 24.0,
-    ));
+    let canvas = options.canvas(
+        FigureSize::mm(
+            if cols == 1 { 110.0 } else { 62.0 * cols as f64 },
+            62.0 * rows as f64 + 24.0,
+        ),
+        "the fragility figure",
+    )?;
     let path = dir.join(format!("fragility.{}", options.format.extension()));
     let title = format!(
         "Fragility: P(damage state reached | {}), medians with {:.0} % bootstrap intervals",

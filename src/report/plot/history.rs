@@ -169,7 +169,10 @@ pub fn plot_history(
             stack,
         });
     }
-    let canvas = options.canvas(FigureSize::mm(160.0, 32.0 * panels.len() as f64 + 22.0));
+    let canvas = options.canvas(
+        FigureSize::mm(160.0, 32.0 * panels.len() as f64 + 22.0),
+        "the scene history figure",
+    )?;
     render(
         path,
         options,

@@ -56,10 +56,13 @@ pub fn plot_maps(
             swatch: Swatch::Fill(WHITE),
         },
     ];
-    let canvas = options.canvas(FigureSize::mm(
-        if cols == 1 { 100.0 } else { 65.0 * cols as f64 },
-        60.0 * rows as f64 + 18.0,
-    ));
+    let canvas = options.canvas(
+        FigureSize::mm(
+            if cols == 1 { 100.0 } else { 65.0 * cols as f64 },
+            60.0 * rows as f64 + 18.0,
+        ),
+        "the overturning maps",
+    )?;
     let title = figure_title(results);
     let path = dir.join(format!("maps.{}", options.format.extension()));
     render(
@@ -253,10 +256,13 @@ pub fn plot_map_differences(
         .collect();
     let cols = pairs.len().min(3);
     let rows = pairs.len().div_ceil(cols);
-    let canvas = options.canvas(FigureSize::mm(
-        if cols == 1 { 110.0 } else { 65.0 * cols as f64 },
-        60.0 * rows as f64 + 24.0,
-    ));
+    let canvas = options.canvas(
+        FigureSize::mm(
+            if cols == 1 { 110.0 } else { 65.0 * cols as f64 },
+            60.0 * rows as f64 + 24.0,
+        ),
+        "the maps compared",
+    )?;
     let title = format!("Overturning maps compared: A = {a}, B = {b}");
     let path = dir.join(format!("maps-difference.{}", options.format.extension()));
     render(

@@ -430,7 +430,7 @@ pub fn plot_spectra(
         if cols == 1 { 120.0 } else { 85.0 * cols as f64 },
         62.0 * rows as f64 + 12.0 + 6.0 * (legend.len() as f64 / 3.0).ceil(),
     );
-    let canvas = options.canvas(default);
+    let canvas = options.canvas(default, "the spectra")?;
     let title = figure_title(results);
     let name = match &facet_label {
         Some(l) => format!("spectra-by-{}", parameter(l).name),
