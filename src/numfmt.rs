@@ -25,10 +25,14 @@ pub fn fmt_digits(v: f64, digits: usize) -> String {
     }
 }
 
-/// A short, exact-enough rendering of a parameter value for labels.
+/// A short, exact-enough rendering of a parameter value for labels (scientific from 1e9:
+/// `{:.4}` of 1e308 would be 309 digits).
 pub fn fmt_num(v: f64) -> String {
     if v == v.round() && v.abs() < 1e9 {
         return format!("{}", v as i64);
+    }
+    if v.is_nan() || v.abs() >= 1e9 {
+        return fmt_digits(v, 6);
     }
     let s = format!("{v:.4}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
@@ -36,6 +40,17 @@ pub fn fmt_num(v: f64) -> String {
         format!("{v:.3e}")
     } else {
         s.to_string()
+    }
+}
+
+/// A value as the user wrote it, for messages: the shortest decimals that read back as the
+/// same number, in scientific notation below 1e-4 and from 1e9 (Rust's `{}` writes 1e308 as
+/// 309 digits).
+pub fn fmt_exact(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e9).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
     }
 }
 

@@ -500,7 +500,7 @@ impl Frequency {
 /// A physically invalid scene value. `field` uses the CLI flag spelling without dashes
 /// (`k_theta` ↔ `--k-theta`), so both the CLI and study files can point at it.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{field} = {value}: {expected}")]
+#[error("{field} = {}: {expected}", crate::numfmt::fmt_exact(*.value))]
 pub struct Invalid {
     pub field: &'static str,
     pub value: f64,

@@ -135,11 +135,7 @@ impl UsageError {
 
     pub fn invalid(flag: &str, value: f64, expected: &str) -> Self {
         // 1e-300 as 1e-300, not as 300 digits.
-        let shown = if value != 0.0 && !(1e-4..1e9).contains(&value.abs()) {
-            format!("{value:e}")
-        } else {
-            format!("{value}")
-        };
+        let shown = crate::numfmt::fmt_exact(value);
         UsageError(format!("invalid value {shown} for {flag}: {expected}"))
     }
 

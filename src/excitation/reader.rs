@@ -3,6 +3,7 @@
 
 use super::G;
 use super::record::Series;
+use crate::numfmt::fmt_exact;
 use std::fmt;
 
 /// A file that cannot be read as an acceleration history.
@@ -103,16 +104,23 @@ impl Units {
 /// the integrator can resolve.
 pub const MIN_DT: f64 = 1e-6;
 
-/// A time step that is finite and at least [`MIN_DT`].
+/// The largest time step accepted (s): a sample a second or more apart records nothing a
+/// rocking structure responds to, and a huge step (1e308) would make the record's length
+/// infinite (reported as a bad duration the user never gave).
+pub const MAX_DT: f64 = 1.0;
+
+/// A time step that is finite, at least [`MIN_DT`] and at most [`MAX_DT`].
 fn checked_dt(dt: f64, origin: &str, line: usize, what: &str) -> Result<f64, ParseError> {
-    if dt.is_finite() && dt >= MIN_DT {
+    if dt.is_finite() && (MIN_DT..=MAX_DT).contains(&dt) {
         Ok(dt)
     } else {
         Err(err(
             origin,
             line,
             format!(
-                "{what} {dt:e} s is not a usable time step: it must be finite and ≥ {MIN_DT:e} s"
+                "{what} {} s is not a usable time step: it must be finite, ≥ {MIN_DT:e} s and \
+                 ≤ {MAX_DT} s",
+                fmt_exact(dt)
             ),
         ))
     }
@@ -431,10 +439,13 @@ fn at2_npts_dt(line: &str, origin: &str, line_no: usize) -> Result<(usize, f64),
         )));
     }
     if !(npts >= 1.0 && npts.fract() == 0.0) {
-        return Err(bad(&format!("NPTS = {npts} is not a positive integer")));
+        return Err(bad(&format!(
+            "NPTS = {} is not a positive integer",
+            fmt_exact(npts)
+        )));
     }
     if !(dt > 0.0 && dt.is_finite()) {
-        return Err(bad(&format!("DT = {dt} must be > 0")));
+        return Err(bad(&format!("DT = {} must be > 0", fmt_exact(dt))));
     }
     Ok((npts as usize, dt))
 }

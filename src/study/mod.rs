@@ -19,7 +19,7 @@ pub mod writer;
 
 pub use crate::sim::{Quantity, QuantityInfo};
 pub use error::StudyError;
-pub use expand::{DeviceKind, Layout, Parameter, Part, VariantLayout, device_label};
+pub use expand::{DeviceKind, Layout, MAX_SCENES, Parameter, Part, VariantLayout, device_label};
 pub use strict::{ANGLE_FIELDS, parse_angle};
 pub use values::Values;
 
@@ -394,6 +394,7 @@ impl Study {
         // A byte-order mark (some Windows editors write one) is no part of the study.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         strict::check_names(text, origin)?;
+        strict::check_not_numbers(text, origin)?;
         let resolved = strict::resolve_degrees(text, origin)?;
         let study = ron_options()
             .from_str(&resolved)

@@ -135,6 +135,56 @@ pub fn check_names(text: &str, origin: &str) -> Result<(), StudyError> {
     Ok(())
 }
 
+/// Words RON reads as a unit value, or as a float no study field takes, where a number is
+/// expected: `alpha: nan` would otherwise be reported as "found a unit value".
+const NOT_NUMBERS: [&str; 5] = ["nan", "inf", "infinity", "+inf", "-inf"];
+
+/// NaN and infinities, in any spelling, where a study has a value: refused with the field
+/// named, before serde would report `nan` as "a unit value". (A text our syntax reader
+/// cannot read is left to RON, whose message says what is wrong with it.)
+pub fn check_not_numbers(text: &str, origin: &str) -> Result<(), StudyError> {
+    let Ok(doc) = syntax::parse(text, false) else {
+        return Ok(());
+    };
+    not_numbers(&doc.root, "", origin)
+}
+
+fn not_numbers(value: &syntax::Value, field: &str, origin: &str) -> Result<(), StudyError> {
+    match value {
+        syntax::Value::Atom(word, at) => {
+            let lower = word.to_ascii_lowercase();
+            let lower = lower.trim_start_matches(['+', '-']);
+            if NOT_NUMBERS.contains(&lower) {
+                return Err(StudyError {
+                    origin: origin.to_string(),
+                    line: Some(at.line),
+                    column: Some(at.column),
+                    field: (!field.is_empty()).then(|| field.to_string()),
+                    message: format!(
+                        "`{word}` is not a number a study accepts (NaN and infinities are not \
+                         values of any parameter)"
+                    ),
+                    hint: Some("give a finite number, e.g. 0.5".into()),
+                });
+            }
+            Ok(())
+        }
+        syntax::Value::Group { name, items, .. } => {
+            for (i, item) in items.iter().enumerate() {
+                let label = match (&item.key, field.is_empty()) {
+                    (Some((key, _)), true) => key.clone(),
+                    (Some((key, _)), false) => format!("{field}.{key}"),
+                    // A wrapper's single argument stands for the field itself.
+                    (None, _) if !name.is_empty() && items.len() == 1 => field.to_string(),
+                    (None, _) => format!("{field}[{i}]"),
+                };
+                not_numbers(&item.value, &label, origin)?;
+            }
+            Ok(())
+        }
+    }
+}
+
 /// The strict reading of a parsed study, on the text it was read from: every key appears once
 /// in its group (a range's `from`, `to`, `steps` included), and every `name(` stands where the
 /// study, written back, has the same name. RON reads a parameter's value with

@@ -6,7 +6,7 @@
 mod layout;
 mod validate;
 
-pub use layout::{DeviceKind, Layout, Parameter, Part, VariantLayout, device_label};
+pub use layout::{DeviceKind, Layout, MAX_SCENES, Parameter, Part, VariantLayout, device_label};
 
 use super::{
     AmplitudeAxis, Axis, DeviceVariant, ExcitationFamily, FrequencyAxis, ScenePoint,

@@ -3,6 +3,7 @@
 
 use super::super::{Axis, ExcitationFamily, StructureFamily, Study, StudyError, VERSION};
 use super::{Parameter, device_label};
+use crate::numfmt::fmt_exact;
 
 pub(super) fn check_top_level(study: &Study) -> Result<(), StudyError> {
     if study.version != VERSION {
@@ -154,18 +155,20 @@ pub(super) fn check_axes(study: &Study, params: &[Parameter]) -> Result<(), Stud
         if let Some(v) = values.iter().find(|v| !v.is_finite()) {
             return Err(StudyError::field(
                 path,
-                format!("{v} is not a finite number"),
+                format!("{} is not a finite number", fmt_exact(*v)),
                 "",
             ));
         }
     }
-    // A value given twice would run the same scenes twice under one label.
+    // A value given twice would run the same scenes twice under one label. Sets, not a scan
+    // of the values before each: a range may have a million steps.
     for p in params {
         if let Some(names) = &p.names {
+            let mut seen = std::collections::HashSet::new();
             if let Some((i, name)) = names
                 .iter()
                 .enumerate()
-                .find(|(i, n)| names[..*i].contains(n))
+                .find(|(_, n)| !seen.insert(n.as_str()))
             {
                 return Err(StudyError::field(
                     format!("{}[{i}]", p.path),
@@ -173,16 +176,16 @@ pub(super) fn check_axes(study: &Study, params: &[Parameter]) -> Result<(), Stud
                     "list each record once",
                 ));
             }
-        } else if let Some(v) = p
-            .values
-            .iter()
-            .enumerate()
-            .find(|(i, v)| p.values[..*i].contains(v))
-            .map(|(_, v)| *v)
-        {
+        } else if let Some(v) = {
+            // Equal as numbers: -0.0 + 0.0 is 0.0 (the values are finite, checked above).
+            let mut seen = std::collections::HashSet::new();
+            p.values
+                .iter()
+                .find(|v| !seen.insert((**v + 0.0).to_bits()))
+        } {
             return Err(StudyError::field(
                 p.path.clone(),
-                format!("the value {v} is given twice"),
+                format!("the value {} is given twice", fmt_exact(*v)),
                 "each value of a list or range must be distinct (a range needs from ≠ to)",
             ));
         }
@@ -247,9 +250,18 @@ pub(super) fn invalid_scene(
         }
         f => format!("devices[{d}].{f}"),
     };
+    // A size derived from p: the message speaks of the p the user wrote.
+    let what = match path.as_str() {
+        "structure.p" => format!(
+            "gives a size R = {} m, which {}",
+            fmt_exact(e.value),
+            e.expected
+        ),
+        _ => e.to_string(),
+    };
     StudyError::field(
         path,
-        format!("{} = {}: {}", e.field, e.value, e.expected),
+        what,
         "physically invalid values are rejected before anything runs",
     )
 }
