@@ -22,7 +22,9 @@ pub struct ResultSet {
     pub results_path: PathBuf,
 }
 
-/// `results.json` → None, `results.shard-i-of-N.json` → (i, N); with `.journal` too.
+/// `results.json` → None, `results.shard-i-of-N.json` → (i, N); with `.journal` too. A name
+/// with more shards than any study has scenes is no set rocklab wrote (`run` refuses such a
+/// shard count), and listing its absent shards would take forever: it is not a set.
 fn parse_set_name(name: &str) -> Option<Option<(usize, usize)>> {
     let stem = name
         .strip_suffix(".json")
@@ -33,7 +35,7 @@ fn parse_set_name(name: &str) -> Option<Option<(usize, usize)>> {
     let rest = stem.strip_prefix("results.shard-")?;
     let (i, n) = rest.split_once("-of-")?;
     let (i, n) = (i.parse().ok()?, n.parse().ok()?);
-    (i < n).then_some(Some((i, n)))
+    (i < n && n <= crate::study::MAX_SCENES).then_some(Some((i, n)))
 }
 
 /// The results sets (by results file or journal) in `dir`, unsharded first, then by shard.
@@ -173,6 +175,11 @@ mod tests {
             Some(Some((2, 4)))
         );
         assert_eq!(parse_set_name("results.shard-4-of-4.json"), None);
+        assert_eq!(
+            parse_set_name("results.shard-0-of-1000000.json"),
+            Some(Some((0, 1_000_000)))
+        );
+        assert_eq!(parse_set_name("results.shard-0-of-1000001.json"), None);
         assert_eq!(parse_set_name("results.csv"), None);
         assert_eq!(parse_set_name("results.json.previous"), None);
     }
