@@ -1,5 +1,6 @@
-//! Property-based fuzzing (proptest) of the three input surfaces: the record reader (AT2 and
-//! column files), the study parser, and the `simulate` flag set. The property: any input
+//! Property-based fuzzing (proptest) of the input surfaces: the record reader (AT2 and
+//! column files), the study parser, the records index (index.ron) and the `simulate` flag
+//! set. The property: any input
 //! gives a value or a clear error, never a panic (a panic fails the case and proptest shrinks
 //! it to a minimal reproduction). Bounded: a fixed number of cases per target so `cargo test`
 //! stays quick and deterministic (a fixed seed); raise PROPTEST_CASES and set
@@ -100,6 +101,24 @@ proptest! {
 
 const BASE_STUDY: &str = include_str!("../studies/default.ron");
 
+/// `base` with each edit applied in turn: at a fraction of the text, `cut` bytes replaced by
+/// the token (both ends moved to character boundaries). The study and index targets share it.
+fn spliced(base: &str, edits: Vec<(f64, usize, String)>) -> String {
+    let mut text = base.to_string();
+    for (at, cut, token) in edits {
+        let mut i = ((text.len() as f64) * at) as usize;
+        while !text.is_char_boundary(i) {
+            i -= 1;
+        }
+        let mut j = (i + cut).min(text.len());
+        while !text.is_char_boundary(j) {
+            j += 1;
+        }
+        text.replace_range(i..j, &token);
+    }
+    text
+}
+
 /// Tokens a study edit may splice in: names, numbers, punctuation, as typos and hostile edits.
 fn study_token() -> impl Strategy<Value = String> {
     prop_oneof![
@@ -122,7 +141,9 @@ fn study_token() -> impl Strategy<Value = String> {
         Just("0".to_string()),
         Just("1e308".to_string()),
         Just("NaN".to_string()),
+        Just("nan".to_string()),
         Just("inf".to_string()),
+        Just("-inf".to_string()),
         Just("\u{feff}".to_string()),
         Just("/*".to_string()),
         Just("//".to_string()),
@@ -138,18 +159,7 @@ proptest! {
     fn the_study_parser_never_panics(
         edits in proptest::collection::vec((0.0f64..1.0, 0usize..6, study_token()), 1..4)
     ) {
-        let mut text = BASE_STUDY.to_string();
-        for (at, cut, token) in edits {
-            let mut i = ((text.len() as f64) * at) as usize;
-            while !text.is_char_boundary(i) {
-                i -= 1;
-            }
-            let mut j = (i + cut).min(text.len());
-            while !text.is_char_boundary(j) {
-                j += 1;
-            }
-            text.replace_range(i..j, &token);
-        }
+        let text = spliced(BASE_STUDY, edits);
         if let Ok(study) = Study::from_ron_str(&text, "fuzz.ron") {
             // A valid study round-trips to the same study.
             let back = Study::from_ron_str(&study.to_ron_string(), "back.ron");
@@ -290,18 +300,7 @@ proptest! {
     fn the_records_index_never_panics(
         edits in proptest::collection::vec((0.0f64..1.0, 0usize..8, index_token()), 1..3)
     ) {
-        let mut text = BASE_INDEX.to_string();
-        for (at, cut, token) in edits {
-            let mut i = ((text.len() as f64) * at) as usize;
-            while !text.is_char_boundary(i) {
-                i -= 1;
-            }
-            let mut j = (i + cut).min(text.len());
-            while !text.is_char_boundary(j) {
-                j += 1;
-            }
-            text.replace_range(i..j, &token);
-        }
+        let text = spliced(BASE_INDEX, edits);
         let dir = tempfile::tempdir().unwrap();
         let records = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("records");
         for entry in std::fs::read_dir(&records).unwrap() {

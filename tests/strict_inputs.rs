@@ -3,6 +3,37 @@
 //! index with a name or Table 1 row given twice or units that are not an acceleration's or
 //! not the file's, a `$ROCKLAB_RECORDS` that names no directory), and bounded resources (a
 //! history capped before it fills memory, shard counts and figure sizes bounded).
+//!
+//! Every case of the issue and the test that covers it:
+//!
+//! | issue 29 case | test |
+//! |---|---|
+//! | `sigma: xi(0.5)`, `alpha_ratio(g(1.5))`, `play: sine(0.001)`, `alpha: p(0.2)`, `ratio(ratio(4.0))` | study.rs `a_wrapper_or_key_that_means_nothing_is_refused_where_it_is_written` |
+//! | raw string with a quote desyncs the name scanner | same test (the `r#"tricky " quote"#` part) |
+//! | duplicate key inside a range | same test (`from` twice) |
+//! | selectors skip the strict reading (`compare --a 'mechanistic(friction: foo(0.0))'`) | src/report/select.rs `selectors_parse_in_study_syntax` |
+//! | the TUI editor takes `xi(0.5)` for `mass` | `the_editors_parser_refuses_a_wrapper_on_mass` (below; the editor parses with `Study::parse_ron`) |
+//! | AT2 NPTS smaller than its data; an extra value on a line; `VELOCITY` header; two `# dt:`; `# npts: 10` with 3 values | `record_files_that_disagree_with_themselves_are_refused` |
+//! | AT2 of 1e300 with `--scale-pga` "is all zeros" | messages.rs `a_huge_record_scaled_to_a_pga_and_baseline_corrected_runs` |
+//! | index.ron: `landers` twice, `units: "furlongs"`, `"cm/s2"` against `# units: g`, `table1` twice | `a_records_index_that_names_twice_or_mislabels_units_is_refused` |
+//! | `ROCKLAB_RECORDS=/nonexist` ignored | `a_records_variable_that_names_no_directory_is_an_error` |
+//! | a journal line edited on disk is reused | checkpoint.rs `an_edited_journal_line_is_recomputed_not_reused` |
+//! | `run --force` three times overwrites `results.json.previous` | checkpoint.rs `forced_runs_never_overwrite_set_aside_results` |
+//! | `simulate … --duration 1e300 --history` grows to 8.4 GB | `a_history_stops_at_its_row_cap` |
+//! | `plot --size 5x5mm` / `100x5mm` / PNG: minutes, gigabytes | `figures_too_small_for_their_panels_are_refused` (below), figure.rs `sizes_below_half_the_panels_and_pngs_over_the_pixel_cap_are_refused` |
+//! | `plot --png --size 2000x2000mm --dpi 2400` panics | `a_figure_over_the_pixel_cap_is_refused_before_drawing`, figure.rs (the 2000-megapixel ceiling) |
+//! | `status` quadratic in the shard count | BENCHMARKS.md "Post-processing and status at scale"; status.rs `set_names_parse` (no shard count above the scene cap) |
+//! | `run --shard 0/1000000` on a 36-scene study | `a_shard_count_above_the_scene_count_is_refused` |
+//! | 400 000-scene post-processing quadratic | BENCHMARKS.md "Post-processing and status at scale" (no timing assertions) |
+//! | SIGTERM ignored during post-processing | finalise.rs `a_signal_while_the_results_are_written_stops_at_once_and_loses_no_scene` |
+//! | `slurm --partition $'p\n#SBATCH …'`, `--account 'a b;id'` | slurm.rs `hostile_values_never_reach_a_script_as_code` |
+//! | `simulate --p 1e300` / `--p 1e-300` name `--size` | messages.rs `a_p_that_gives_no_usable_size_names_p` |
+//! | AT2 1e300 under `--scale-pga 0.5 --baseline` "is all zeros" | messages.rs `a_huge_record_scaled_to_a_pga_and_baseline_corrected_runs` |
+//! | `--scene-time-limit 0.0001` prints "limit of 0 s" | messages.rs `a_tiny_scene_time_limit_is_reported_as_given` |
+//! | `table … \| head -1` prints "Broken pipe", exits 1 | messages.rs `table_into_a_pipe_closed_after_one_line_exits_quietly` |
+//! | `nan` in a study: "found a unit value" | messages.rs `nan_and_infinities_in_a_study_name_the_field` |
+//! | 1e308 printed as a 309-digit number | messages.rs `huge_numbers_in_messages_read_in_scientific_notation` |
+//! | fuzz targets: study parser, record reader, index (bounded, in `cargo test`) | fuzz.rs `the_study_parser_never_panics*`, `the_record_reader_never_panics*`, `the_records_index_never_panics` |
 
 use crate::util::rocklab_command;
 use rocklab::excitation::library::{Library, RecordError};
@@ -236,4 +267,67 @@ fn a_figure_over_the_pixel_cap_is_refused_before_drawing() {
         stderr.contains("--max-megapixels") && stderr.contains("100 megapixels"),
         "{stderr}"
     );
+}
+
+/// The workbench's editor reads an edited study with `Study::parse_ron`: a wrapper that means
+/// nothing on `mass` is refused there too, naming it.
+#[test]
+fn the_editors_parser_refuses_a_wrapper_on_mass() {
+    let text = include_str!("../studies/default.ron");
+    let from = "rigid(p: 2.0,";
+    assert!(text.contains(from));
+    let edited = text.replacen(from, "rigid(mass: xi(0.5), p: 2.0,", 1);
+    let e = rocklab::study::Study::parse_ron(&edited, "edit").unwrap_err();
+    assert!(e.to_string().contains("`xi(…)` means nothing here"), "{e}");
+    assert_eq!(e.field.as_deref(), Some("structure.mass"), "{e}");
+}
+
+/// `plot --size` below what a figure's panels and labels need is refused with the size it
+/// needs, for SVG and PNG, before plotters gets a panel of no size (it spent minutes and
+/// gigabytes on 5x5mm); at that size the figure is drawn.
+#[test]
+fn figures_too_small_for_their_panels_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = crate::util::run_into("default", &out);
+    assert!(o.status.success());
+    let figs = dir.path().join("figs");
+    let plot = |format: &str, size: &str| {
+        crate::util::rocklab(&[
+            "plot",
+            out.to_str().unwrap(),
+            format,
+            figs.to_str().unwrap(),
+            "--scene",
+            "0",
+            "--size",
+            size,
+        ])
+    };
+    for (format, size) in [
+        ("--svg", "5x5mm"),
+        ("--svg", "100x5mm"),
+        ("--png", "5x5mm"),
+        ("--png", "100x5mm"),
+    ] {
+        let o = plot(format, size);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{format} {size}: {stderr}");
+        assert!(
+            stderr.contains(&format!("--size {size} is too small for the"))
+                && stderr.contains("at least"),
+            "{format} {size}: {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{stderr}");
+    }
+    // At 80x91mm every figure of the default study fits (the scene figure needs 80x75mm).
+    let o = plot("--png", "80x91mm");
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    assert!(figs.join("scene-0.png").exists());
+    // No temporary file is left behind by a refused figure.
+    for entry in std::fs::read_dir(&figs).unwrap() {
+        let name = entry.unwrap().file_name();
+        assert!(!name.to_string_lossy().starts_with(".tmp"), "{name:?}");
+    }
 }
