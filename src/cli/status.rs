@@ -85,6 +85,8 @@ pub fn dir_status(dir: &Path) -> anyhow::Result<Vec<SetStatus>> {
                     total: None,
                     running: None,
                     study_hash: None,
+                    remaining_at_most: None,
+                    note: None,
                 });
             }
         }
@@ -118,7 +120,11 @@ pub fn run(args: &StatusArgs) -> anyhow::Result<()> {
     for s in &statuses {
         let shard = s.shard.map_or("-".into(), |(i, n)| format!("{i}/{n}"));
         let known = s.total.is_some() || s.ok + s.failed > 0;
-        let missing = s.missing().map_or("?".into(), |m| m.to_string());
+        let missing = match (s.missing(), s.remaining_at_most) {
+            (Some(m), _) => m.to_string(),
+            (None, Some(most)) => format!("≤{most}"),
+            (None, None) => "?".into(),
+        };
         let state = match (&s.running, s.missing()) {
             (Some(pid), _) if pid.is_empty() => "running".to_string(),
             (Some(pid), _) => format!("running (pid {pid})"),
@@ -131,6 +137,9 @@ pub fn run(args: &StatusArgs) -> anyhow::Result<()> {
             s.ok + s.failed,
             s.failed
         ));
+        if let Some(note) = &s.note {
+            text.push_str(&format!("{:<10} {note}\n", ""));
+        }
     }
     let hashes: std::collections::BTreeSet<&String> = statuses
         .iter()
@@ -193,6 +202,8 @@ mod tests {
             total,
             running: running.map(String::from),
             study_hash: None,
+            remaining_at_most: None,
+            note: None,
         };
         let statuses = [
             s(0, 10, Some(10), None),

@@ -25,7 +25,7 @@
 // StudyError is large by design (file, position, field, hint; built once): see study/mod.rs.
 #![allow(clippy::result_large_err)]
 
-use super::rounds::{self, RoundEnd, Rounds};
+use super::rounds::{self, Rounds};
 use super::{Checkpoint, Progress, SceneOutcome, SweepOptions, SweepResults, build_id};
 use crate::excitation::Library;
 use crate::scene::{ClutchStiffness, Damping, Device, Scene};
@@ -390,6 +390,28 @@ impl Search {
         self.states[p] = state;
     }
 
+    /// An upper bound on the scenes still to run: per unfinished point, the probes it may
+    /// still evaluate (both ends, every bisection down to the floor of the resolution, the
+    /// verification values) less those evaluated, times its scenes per probe.
+    pub fn remaining_at_most(&self) -> usize {
+        let (bottom, top) = self.design.bracket;
+        let floor = self.design.resolution * 1e-3 * (top - bottom);
+        let bisections = ((top - bottom) / floor).log2().ceil().max(0.0) as usize;
+        self.points
+            .iter()
+            .zip(&self.states)
+            .filter(|(_, s)| s.phase != Phase::Done)
+            .map(|(point, state)| {
+                let most = match point.sized {
+                    true => 2 + bisections + self.design.verify,
+                    false => 1,
+                };
+                let evaluated = state.probes.iter().filter(|p| p.eval.is_some()).count();
+                most.saturating_sub(evaluated) * point.nominal.len()
+            })
+            .sum()
+    }
+
     /// Every scene the search has asked for that has finished, as outcomes (in index order).
     pub fn outcomes(&self) -> Vec<SceneOutcome> {
         let mut out: Vec<SceneOutcome> = self
@@ -648,22 +670,53 @@ pub fn replay(study: &Study, outcomes: &[SceneOutcome]) -> Result<Vec<DesignRow>
         .iter()
         .map(|o| (o.point.key.clone(), o.result.clone()))
         .collect();
-    let mut search = Search::new(study)?;
-    rounds::drive(&mut search, |round| {
-        // A round with a scene missing stops the replay there (none of it is recorded).
-        let found: Option<Vec<SceneOutcome>> = round
-            .into_iter()
-            .map(|point| {
-                let result = by_key.get(&point.key)?.clone();
-                Some(SceneOutcome { point, result })
-            })
-            .collect();
-        RoundEnd {
-            go_on: found.is_some(),
-            outcomes: found.unwrap_or_default(),
+    Ok(progress(study, &by_key)?.rows)
+}
+
+/// How far a design search got on finished scenes (by key: a journal's or a results file's).
+pub struct DesignProgress {
+    /// The answer per design point (Incomplete where the search has not finished).
+    pub rows: Vec<DesignRow>,
+    /// Every probe scene the replayed search asked for that has finished.
+    pub outcomes: Vec<SceneOutcome>,
+    pub complete: bool,
+    /// At most this many further scenes finish the search (each unfinished point's probes
+    /// left at most, times its scenes per probe; shared scenes make it fewer).
+    pub remaining_at_most: usize,
+}
+
+impl DesignProgress {
+    /// `rocklab status`'s line: design points answered, probes, what is left at most.
+    pub fn describe(&self) -> String {
+        let answered = (self.rows.iter())
+            .filter(|r| r.status != DesignStatus::Incomplete)
+            .count();
+        let probes: usize = self.rows.iter().map(|r| r.probes).sum();
+        let mut text = format!(
+            "design search: {answered} of {} design points answered, {probes} probes",
+            self.rows.len()
+        );
+        if !self.complete {
+            text.push_str(&format!(
+                "; at most {} more scenes (a bisection ends when its bracket is within the \
+                 resolution: how many probes that takes is known only then)",
+                self.remaining_at_most
+            ));
         }
-    });
-    Ok(search.rows())
+        text
+    }
+}
+
+/// The search replayed on `finished`: its rows, the scenes it used and what is left.
+pub fn progress(study: &Study, finished: &Finished) -> Result<DesignProgress, StudyError> {
+    let mut search = Search::new(study)?;
+    let run = rounds::replay(&mut search, finished);
+    Ok(DesignProgress {
+        rows: search.rows(),
+        outcomes: search.outcomes(),
+        complete: run.complete && search.complete(),
+        remaining_at_most: search.remaining_at_most(),
+    })
 }
 
 /// A design study's sweep: the search's rounds through the journal

@@ -225,6 +225,11 @@ pub struct SetStatus {
     /// The pid of the process writing this set now.
     pub running: Option<String>,
     pub study_hash: Option<String>,
+    /// A search in rounds (design) not finished: it needs at most this many more scenes
+    /// (`total` is None: how many exactly is known only at its end).
+    pub remaining_at_most: Option<usize>,
+    /// What the search has answered so far, for `rocklab status` to print.
+    pub note: Option<String>,
 }
 
 impl SetStatus {
@@ -245,6 +250,8 @@ pub fn set_status(results_path: &Path, shard: Option<(usize, usize)>) -> SetStat
         total: None,
         running,
         study_hash: None,
+        remaining_at_most: None,
+        note: None,
     };
     if let Ok((header, counts)) = count_journal(&journal) {
         status.ok = counts.ok;
@@ -281,5 +288,28 @@ pub fn set_status(results_path: &Path, shard: Option<(usize, usize)>) -> SetStat
         }
         status.study_hash = Some(results.study_hash);
     }
+    design_status(&mut status, results_path);
     status
+}
+
+/// A design study's set: its search replayed on the finished scenes (journal or results,
+/// whichever holds more) says whether it is complete and bounds what is left; the nominal
+/// grid's size, which the journal's header holds, means nothing for it.
+fn design_status(status: &mut SetStatus, results_path: &Path) {
+    let Ok(Some((results, _))) = load_fullest(results_path) else {
+        return;
+    };
+    let Some(study) = results.study.as_ref().filter(|s| s.design.is_some()) else {
+        return;
+    };
+    let finished = (results.outcomes.iter())
+        .map(|o| (o.point.key.clone(), o.result.clone()))
+        .collect();
+    let Ok(progress) = super::design::progress(study, &finished) else {
+        return;
+    };
+    let done = status.ok + status.failed;
+    status.total = progress.complete.then_some(done);
+    status.remaining_at_most = (!progress.complete).then_some(progress.remaining_at_most);
+    status.note = Some(progress.describe());
 }

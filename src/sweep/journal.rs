@@ -317,6 +317,24 @@ pub fn results_from_journal(path: &Path) -> anyhow::Result<SweepResults> {
     let Some(study) = header.study.clone() else {
         anyhow::bail!("{}: the journal names no study", path.display());
     };
+    if study.design.is_some() {
+        // A design search's scenes are its probes, off the expansion: the search replayed on
+        // the journalled scenes gives them back (design studies are never sharded).
+        let finished = (contents.entries.into_iter())
+            .map(|(key, entry)| (key, entry.result))
+            .collect();
+        let progress = super::design::progress(&study, &finished)
+            .map_err(|e| anyhow::anyhow!("{}: its study no longer expands: {e}", path.display()))?;
+        return Ok(SweepResults {
+            study_hash: header.study_hash,
+            cancelled: !progress.complete,
+            study: Some(study),
+            outcomes: progress.outcomes,
+            shard: header.shard,
+            build: header.build,
+            inferred: Vec::new(),
+        });
+    }
     let points = study
         .expand()
         .map_err(|e| anyhow::anyhow!("{}: its study no longer expands: {e}", path.display()))?;

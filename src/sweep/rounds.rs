@@ -7,12 +7,15 @@
 //!
 //! A search implements [`Rounds`]: `next_round` (the scenes to run next, from what it has
 //! recorded; empty when it is done) and `record` (a round's finished scenes). [`drive`] runs
-//! one to its end with any way of finishing a round (a lookup in a results file to replay a
-//! search, for instance); [`run_journalled`] finishes each round through the journal.
+//! one to its end with any way of finishing a round; [`replay`] finishes rounds from finished
+//! scenes (a journal, a results file); [`run_journalled`] finishes each round through the
+//! journal.
 
 use super::{Checkpoint, Progress, SceneOutcome, SweepOptions, run_checkpointed};
 use crate::excitation::Library;
+use crate::sim::SceneResult;
 use crate::study::ScenePoint;
+use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// A search that runs in rounds of scenes.
@@ -31,6 +34,29 @@ pub struct RoundEnd {
     /// False: stop after recording `outcomes` (cancelled, the journal failed, a scene is
     /// missing from a replay).
     pub go_on: bool,
+}
+
+/// Replay a search on finished scenes (by scene key: a journal's or a results file's): rounds
+/// are finished from `finished` until one asks for a scene it lacks, which stops the replay
+/// after recording what that round found. The outcomes are every scene found.
+pub fn replay(
+    rounds: &mut impl Rounds,
+    finished: &HashMap<String, Result<SceneResult, String>>,
+) -> RoundsRun {
+    drive(rounds, |round| {
+        let asked = round.len();
+        let outcomes: Vec<SceneOutcome> = round
+            .into_iter()
+            .filter_map(|point| {
+                let result = finished.get(&point.key)?.clone();
+                Some(SceneOutcome { point, result })
+            })
+            .collect();
+        RoundEnd {
+            go_on: outcomes.len() == asked,
+            outcomes,
+        }
+    })
 }
 
 /// What a driven search ran: every finished scene of every round, in the order the rounds
