@@ -41,10 +41,18 @@ pub const OPTIONAL_FIELDS: &[OptionalField] = &[
     optional("inerter", "label", "\"\""),
     optional("sequential", "label", "\"\""),
     optional("mechanistic", "k_theta", "[1000.0, 10000.0]"),
-    optional("mechanistic", "clutch_frequency_ratio", "50.0"),
+    optional("mechanistic", "clutch_frequency_ratio", "25.0"),
     optional("mechanistic", "cbar", "1.0"),
     optional("mechanistic", "xi_theta", "0.1"),
     optional("mechanistic", "label", "\"\""),
+];
+
+/// Pairs of fields of which a study sets one: the editor offers the other in their place.
+pub const EXCLUSIVE_FIELDS: &[(&str, &str)] = &[
+    ("p", "size"),
+    ("omega_n", "omega_ratio"),
+    ("k_theta", "clutch_frequency_ratio"),
+    ("cbar", "xi_theta"),
 ];
 
 /// The optional fields of a struct or variant (`study` for the top level).

@@ -135,14 +135,45 @@ fn same(text: &str, study: &Study) -> bool {
     Study::parse_ron(text, "save").is_ok_and(|back| back == *study)
 }
 
+/// `study` on one line, every field spelled out (defaults included), as serde writes it.
+pub fn compact(study: &Study) -> String {
+    ron::Options::default()
+        .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
+        .to_string(study)
+        .expect("studies serialise")
+}
+
+/// The comments of `original` that `text` no longer holds (a comment written twice counts
+/// twice): what a save of `text` over `original` would lose.
+pub fn lost_comments(original: &str, text: &str) -> Vec<String> {
+    let comments = |t: &str| -> Vec<String> {
+        syntax::lex(t)
+            .map(|toks| {
+                toks.iter()
+                    .filter(|k| k.kind == syntax::Kind::Comment)
+                    .map(|k| k.text(t).trim_end().to_string())
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    let mut kept = comments(text);
+    comments(original)
+        .into_iter()
+        .filter(|c| match kept.iter().position(|k| k == c) {
+            Some(i) => {
+                kept.remove(i);
+                false
+            }
+            None => true,
+        })
+        .collect()
+}
+
 /// `study` as text, laid out as the module says, keeping what it can of `original` (the
 /// text of the file the study was opened from, if any).
 pub fn write(study: &Study, original: Option<&str>) -> Written {
     let original = original.map(|t| t.strip_prefix('\u{feff}').unwrap_or(t));
-    let compact = ron::Options::default()
-        .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
-        .to_string(study)
-        .expect("studies serialise");
+    let compact = compact(study);
     let Some(fresh) = parse(&compact, false) else {
         // Not reached (the compact writer's output is plain RON); never fail a save for it.
         return Written {

@@ -129,7 +129,7 @@ impl App {
         };
         let mut app = App {
             screen: Screen::Study,
-            editor: StudyScreen::new(&study),
+            editor: StudyScreen::new(&study, original.as_deref()),
             shared: Shared {
                 options,
                 check: check(&study),
@@ -221,7 +221,7 @@ impl App {
         self.shared.dirty = false;
         self.shared.out_dir = Some(dir.clone());
         self.editor.cursor = 0;
-        self.set_study(study, None);
+        self.set_study(study, None, None);
         let cancelled = results.cancelled;
         let n = results.outcomes.len();
         self.show_results(results, cancelled);
@@ -252,12 +252,12 @@ impl App {
 
     /// A new study: its check (the expansion, computed once by the caller or here), the
     /// editor's rows and the run-time estimate follow.
-    fn set_study(&mut self, study: Study, points: Option<Vec<ScenePoint>>) {
+    fn set_study(&mut self, study: Study, points: Option<Vec<ScenePoint>>, text: Option<&str>) {
         self.shared.check = match points {
             Some(points) => Check::Ok(Arc::new(points)),
             None => check(&study),
         };
-        self.editor.study_changed(&study);
+        self.editor.study_changed(&study, text);
         self.shared.study = study;
         self.start_calibration();
     }
@@ -359,9 +359,17 @@ impl App {
             Action::Save => {
                 self.save();
             }
-            Action::StudyEdited(study, points) => {
+            Action::StudyEdited {
+                study,
+                points,
+                text,
+                note,
+            } => {
                 self.shared.dirty = true;
-                self.set_study(*study, Some(points));
+                self.set_study(*study, Some(points), Some(&text));
+                if let Some(note) = note {
+                    self.say(note);
+                }
             }
             Action::Say(msg) => self.say(msg),
             Action::Complain(msg) => self.complain(msg),
@@ -434,7 +442,8 @@ impl App {
                     self.shared.dirty = false;
                     self.editor.cursor = 0;
                     let folder = self.forget_out_dir();
-                    self.set_study(study, None);
+                    let text = self.shared.original.clone();
+                    self.set_study(study, None, text.as_deref());
                     self.say(format!("opened {}{folder}", path.display()));
                 }
                 Err(e) => self.complain(e.to_string()),
@@ -451,7 +460,7 @@ impl App {
                 self.shared.dirty = false;
                 self.editor.cursor = 0;
                 let folder = self.forget_out_dir();
-                self.set_study(study, None);
+                self.set_study(study, None, None);
                 self.say(format!("new study (the built-in default's values){folder}"));
             }
         }
@@ -640,10 +649,15 @@ impl App {
     /// spelling of the file it came from. If some comments cannot be kept, ask first (unless
     /// `drop_comments`), and keep the file it came from as `<path>.bak`.
     fn save_to(&mut self, path: PathBuf, drop_comments: bool) -> bool {
-        let written = self
+        // The editor's text keeps what the user typed (`deg(10)`, field order, comments); the
+        // comments of the file it came from that the edits removed are lost too.
+        let mut written = self
             .shared
             .study
-            .to_ron_keeping(self.shared.original.as_deref());
+            .to_ron_keeping(Some(&self.editor.tree.text()));
+        if let Some(original) = &self.shared.original {
+            written.lost = crate::study::writer::lost_comments(original, &written.text);
+        }
         if !written.lost.is_empty() && !drop_comments {
             self.prompt = Some(Prompt::DropComments(DropComments {
                 path,

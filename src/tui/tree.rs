@@ -1,618 +1,473 @@
-//! A study as an editable tree, built from its serde serialisation. The Study screen walks
-//! this tree instead of knowing the study's fields, so it keeps working as the schema grows.
-//! An edit replaces one node's RON text; the whole document is written back to RON and parsed
-//! by the study's own parser, which owns every rule and every error message.
+//! The study as the Study screen shows and edits it: the [`ron_syntax`](crate::ron_syntax)
+//! tree of its text, as its user wrote it (spelling such as `deg(10)`, field order,
+//! comments), beside the tree of its full serialisation, which supplies the fields the text
+//! leaves to their defaults. An edit replaces one item's text; the whole document is printed
+//! and parsed by the study's own parser, which owns every rule and every error message.
 
-use serde::ser::{self, Serialize};
-use std::fmt::{self, Write};
+use crate::ron_syntax::{self as syntax, Document, Item, Span, Value, flat, render};
+use crate::study::Study;
+use crate::study::fields::{EXCLUSIVE_FIELDS, optional_fields};
 
+/// One row of the Study screen: an item of the study's text, or a field it does not write.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Node {
-    Unit,
-    Bool(bool),
-    Int(i128),
-    Float(f64),
-    Str(String),
-    Char(char),
-    None,
-    Some(Box<Node>),
-    /// `[a, b]`
-    Seq(Vec<Node>),
-    /// `(a, b)`; also newtype and tuple structs.
-    Tuple(Vec<Node>),
-    /// `(name: value, …)`
-    Struct(Vec<(&'static str, Node)>),
-    Map(Vec<(Node, Node)>),
-    Variant(&'static str, Body),
-    /// RON text typed by the user, written out as is (an edit before it is parsed).
-    Raw(String),
+pub struct Row {
+    pub depth: usize,
+    pub label: String,
+    /// Item indices from the root (for a field not written: its group's path).
+    pub path: Vec<usize>,
+    /// Inline value (leaf rows), a short tag (rows whose children follow), the default
+    /// value of a field not written, or `unset`.
+    pub text: String,
+    pub leaf: bool,
+    /// The row is an element of a list: it can be duplicated or deleted.
+    pub in_list: bool,
+    /// A field the text does not write: editing it adds the field to the group at `path`.
+    pub absent: Option<String>,
 }
 
-#[derive(Clone, Debug, PartialEq)]
-pub enum Body {
-    Unit,
-    Newtype(Box<Node>),
-    Tuple(Vec<Node>),
-    Struct(Vec<(&'static str, Node)>),
+pub struct StudyTree {
+    doc: Document,
+    /// The study serialised whole (every default spelled out), for the fields `doc` omits.
+    full: Value,
 }
 
-impl Node {
-    pub fn from_value<T: Serialize + ?Sized>(value: &T) -> Result<Node, TreeError> {
-        value.serialize(NodeSerializer)
-    }
-
-    /// The node's children with their labels, in display order.
-    pub fn children(&self) -> Vec<(String, &Node)> {
-        fn indexed(items: &[Node]) -> Vec<(String, &Node)> {
-            items
-                .iter()
-                .enumerate()
-                .map(|(i, n)| (format!("[{i}]"), n))
-                .collect()
-        }
-        fn named<'a>(fields: &'a [(&'static str, Node)]) -> Vec<(String, &'a Node)> {
-            fields.iter().map(|(k, n)| (k.to_string(), n)).collect()
-        }
-        match self {
-            Node::Some(inner) => inner.children(),
-            Node::Seq(items) | Node::Tuple(items) => indexed(items),
-            Node::Struct(fields) => named(fields),
-            Node::Map(entries) => entries.iter().map(|(k, v)| (to_ron(k), v)).collect(),
-            Node::Variant(_, Body::Newtype(inner)) => inner.children(),
-            Node::Variant(_, Body::Tuple(items)) => indexed(items),
-            Node::Variant(_, Body::Struct(fields)) => named(fields),
-            _ => Vec::new(),
-        }
-    }
-
-    /// Short tag shown before an expanded node's children (`Mechanistic`, `[3]`, …).
-    pub fn tag(&self) -> String {
-        match self {
-            Node::Seq(items) => format!("[{} items]", items.len()),
-            Node::Some(inner) => inner.tag(),
-            Node::Variant(name, _) => name.to_string(),
-            Node::Map(entries) => format!("{{{} entries}}", entries.len()),
-            _ => String::new(),
-        }
-    }
-
-    pub fn is_seq(&self) -> bool {
-        matches!(self, Node::Seq(_))
-    }
-
-    pub fn get(&self, path: &[usize]) -> Option<&Node> {
-        match path.split_first() {
-            None => Some(self),
-            Some((&i, rest)) => self.child(i)?.get(rest),
-        }
-    }
-
-    fn child(&self, i: usize) -> Option<&Node> {
-        match self {
-            Node::Some(inner) | Node::Variant(_, Body::Newtype(inner)) => inner.child(i),
-            Node::Seq(items) | Node::Tuple(items) | Node::Variant(_, Body::Tuple(items)) => {
-                items.get(i)
-            }
-            Node::Struct(fields) | Node::Variant(_, Body::Struct(fields)) => {
-                fields.get(i).map(|(_, n)| n)
-            }
-            Node::Map(entries) => entries.get(i).map(|(_, v)| v),
-            _ => None,
-        }
-    }
-
-    fn child_mut(&mut self, i: usize) -> Option<&mut Node> {
-        match self {
-            Node::Some(inner) | Node::Variant(_, Body::Newtype(inner)) => inner.child_mut(i),
-            Node::Seq(items) | Node::Tuple(items) | Node::Variant(_, Body::Tuple(items)) => {
-                items.get_mut(i)
-            }
-            Node::Struct(fields) | Node::Variant(_, Body::Struct(fields)) => {
-                fields.get_mut(i).map(|(_, n)| n)
-            }
-            Node::Map(entries) => entries.get_mut(i).map(|(_, v)| v),
-            _ => None,
-        }
-    }
-
-    pub fn get_mut(&mut self, path: &[usize]) -> Option<&mut Node> {
-        match path.split_first() {
-            None => Some(self),
-            Some((&i, rest)) => self.child_mut(i)?.get_mut(rest),
-        }
-    }
-}
-
-/// RON text of a node, on one line.
-pub fn to_ron(node: &Node) -> String {
-    let mut out = String::new();
-    write_ron(node, &mut out);
-    out
-}
-
-/// RON text of the whole tree with the node at `path` replaced by raw `text`.
-pub fn to_ron_with(node: &Node, path: &[usize], text: &str) -> String {
-    let mut tree = node.clone();
-    if let Some(target) = tree.get_mut(path) {
-        *target = Node::Raw(text.to_string());
-    }
-    to_ron(&tree)
-}
-
-/// The named fields of a struct (or struct variant) node, to add or remove a field.
-pub fn fields_mut(node: &mut Node) -> Option<&mut Vec<(&'static str, Node)>> {
-    match node {
-        Node::Some(inner) | Node::Variant(_, Body::Newtype(inner)) => fields_mut(inner),
-        Node::Struct(fields) | Node::Variant(_, Body::Struct(fields)) => Some(fields),
-        _ => None,
-    }
-}
-
-/// Written for the study parser, which enables RON's `implicit_some`: `Some(x)` is written
-/// as `x`, as in hand-written study files.
-fn write_ron(node: &Node, out: &mut String) {
-    fn items<'a>(out: &mut String, nodes: impl Iterator<Item = (Option<&'a str>, &'a Node)>) {
-        for (i, (name, n)) in nodes.enumerate() {
-            if i > 0 {
-                out.push_str(", ");
-            }
-            if let Some(name) = name {
-                out.push_str(name);
-                out.push_str(": ");
-            }
-            write_ron(n, out);
-        }
-    }
-    match node {
-        Node::Unit => out.push_str("()"),
-        Node::Bool(b) => out.push_str(if *b { "true" } else { "false" }),
-        Node::Int(i) => out.push_str(&i.to_string()),
-        Node::Float(f) => out.push_str(&float_ron(*f)),
-        Node::Str(s) => {
-            let _ = write!(out, "{s:?}");
-        }
-        Node::Char(c) => {
-            let _ = write!(out, "{c:?}");
-        }
-        Node::None => out.push_str("None"),
-        Node::Some(inner) => write_ron(inner, out),
-        Node::Raw(text) => out.push_str(text),
-        Node::Seq(nodes) => {
-            out.push('[');
-            items(out, nodes.iter().map(|n| (None, n)));
-            out.push(']');
-        }
-        Node::Tuple(nodes) => {
-            out.push('(');
-            items(out, nodes.iter().map(|n| (None, n)));
-            out.push(')');
-        }
-        Node::Struct(fields) => {
-            out.push('(');
-            items(out, fields.iter().map(|(k, n)| (Some(*k), n)));
-            out.push(')');
-        }
-        Node::Map(entries) => {
-            out.push('{');
-            for (i, (k, v)) in entries.iter().enumerate() {
-                if i > 0 {
-                    out.push_str(", ");
-                }
-                write_ron(k, out);
-                out.push_str(": ");
-                write_ron(v, out);
-            }
-            out.push('}');
-        }
-        Node::Variant(name, body) => {
-            out.push_str(name);
-            match body {
-                Body::Unit => {}
-                Body::Newtype(inner) => {
-                    out.push('(');
-                    write_ron(inner, out);
-                    out.push(')');
-                }
-                Body::Tuple(nodes) => {
-                    out.push('(');
-                    items(out, nodes.iter().map(|n| (None, n)));
-                    out.push(')');
-                }
-                Body::Struct(fields) => {
-                    out.push('(');
-                    items(out, fields.iter().map(|(k, n)| (Some(*k), n)));
-                    out.push(')');
-                }
-            }
-        }
-    }
-}
-
-/// Floats as RON reads them back exactly: always with a decimal point or exponent.
-pub fn float_ron(f: f64) -> String {
-    if f.is_nan() {
-        "NaN".into()
-    } else if f.is_infinite() {
-        if f > 0.0 { "inf".into() } else { "-inf".into() }
-    } else {
-        let s = format!("{f:?}");
-        if s.contains(['.', 'e', 'E']) {
-            s
-        } else {
-            format!("{s}.0")
-        }
-    }
-}
-
-#[derive(Debug)]
-pub struct TreeError(String);
-
-impl fmt::Display for TreeError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for TreeError {}
-
-impl ser::Error for TreeError {
-    fn custom<T: fmt::Display>(msg: T) -> Self {
-        TreeError(msg.to_string())
-    }
-}
-
-struct NodeSerializer;
-
-pub struct SeqBuilder {
-    items: Vec<Node>,
-    finish: fn(Vec<Node>) -> Node,
-}
-
-pub struct StructBuilder {
-    fields: Vec<(&'static str, Node)>,
-    variant: Option<&'static str>,
-}
-
-pub struct TupleVariantBuilder {
-    name: &'static str,
-    items: Vec<Node>,
-}
-
-pub struct MapBuilder {
-    entries: Vec<(Node, Node)>,
-    key: Option<Node>,
-}
-
-impl ser::Serializer for NodeSerializer {
-    type Ok = Node;
-    type Error = TreeError;
-    type SerializeSeq = SeqBuilder;
-    type SerializeTuple = SeqBuilder;
-    type SerializeTupleStruct = SeqBuilder;
-    type SerializeTupleVariant = TupleVariantBuilder;
-    type SerializeMap = MapBuilder;
-    type SerializeStruct = StructBuilder;
-    type SerializeStructVariant = StructBuilder;
-
-    fn serialize_bool(self, v: bool) -> Result<Node, TreeError> {
-        Ok(Node::Bool(v))
-    }
-    fn serialize_i8(self, v: i8) -> Result<Node, TreeError> {
-        Ok(Node::Int(v.into()))
-    }
-    fn serialize_i16(self, v: i16) -> Result<Node, TreeError> {
-        Ok(Node::Int(v.into()))
-    }
-    fn serialize_i32(self, v: i32) -> Result<Node, TreeError> {
-        Ok(Node::Int(v.into()))
-    }
-    fn serialize_i64(self, v: i64) -> Result<Node, TreeError> {
-        Ok(Node::Int(v.into()))
-    }
-    fn serialize_u8(self, v: u8) -> Result<Node, TreeError> {
-        Ok(Node::Int(v.into()))
-    }
-    fn serialize_u16(self, v: u16) -> Result<Node, TreeError> {
-        Ok(Node::Int(v.into()))
-    }
-    fn serialize_u32(self, v: u32) -> Result<Node, TreeError> {
-        Ok(Node::Int(v.into()))
-    }
-    fn serialize_u64(self, v: u64) -> Result<Node, TreeError> {
-        Ok(Node::Int(v.into()))
-    }
-    fn serialize_f32(self, v: f32) -> Result<Node, TreeError> {
-        Ok(Node::Float(v.into()))
-    }
-    fn serialize_f64(self, v: f64) -> Result<Node, TreeError> {
-        Ok(Node::Float(v))
-    }
-    fn serialize_char(self, v: char) -> Result<Node, TreeError> {
-        Ok(Node::Char(v))
-    }
-    fn serialize_str(self, v: &str) -> Result<Node, TreeError> {
-        Ok(Node::Str(v.to_string()))
-    }
-    fn serialize_bytes(self, v: &[u8]) -> Result<Node, TreeError> {
-        Ok(Node::Seq(
-            v.iter().map(|b| Node::Int((*b).into())).collect(),
-        ))
-    }
-    fn serialize_none(self) -> Result<Node, TreeError> {
-        Ok(Node::None)
-    }
-    fn serialize_some<T: Serialize + ?Sized>(self, value: &T) -> Result<Node, TreeError> {
-        Ok(Node::Some(Box::new(value.serialize(NodeSerializer)?)))
-    }
-    fn serialize_unit(self) -> Result<Node, TreeError> {
-        Ok(Node::Unit)
-    }
-    fn serialize_unit_struct(self, _name: &'static str) -> Result<Node, TreeError> {
-        Ok(Node::Unit)
-    }
-    fn serialize_unit_variant(
-        self,
-        _name: &'static str,
-        _index: u32,
-        variant: &'static str,
-    ) -> Result<Node, TreeError> {
-        Ok(Node::Variant(variant, Body::Unit))
-    }
-    fn serialize_newtype_struct<T: Serialize + ?Sized>(
-        self,
-        _name: &'static str,
-        value: &T,
-    ) -> Result<Node, TreeError> {
-        Ok(Node::Tuple(vec![value.serialize(NodeSerializer)?]))
-    }
-    fn serialize_newtype_variant<T: Serialize + ?Sized>(
-        self,
-        _name: &'static str,
-        _index: u32,
-        variant: &'static str,
-        value: &T,
-    ) -> Result<Node, TreeError> {
-        let inner = value.serialize(NodeSerializer)?;
-        Ok(Node::Variant(variant, Body::Newtype(Box::new(inner))))
-    }
-    fn serialize_seq(self, len: Option<usize>) -> Result<SeqBuilder, TreeError> {
-        Ok(SeqBuilder {
-            items: Vec::with_capacity(len.unwrap_or(0)),
-            finish: Node::Seq,
-        })
-    }
-    fn serialize_tuple(self, len: usize) -> Result<SeqBuilder, TreeError> {
-        Ok(SeqBuilder {
-            items: Vec::with_capacity(len),
-            finish: Node::Tuple,
-        })
-    }
-    fn serialize_tuple_struct(
-        self,
-        _name: &'static str,
-        len: usize,
-    ) -> Result<SeqBuilder, TreeError> {
-        self.serialize_tuple(len)
-    }
-    fn serialize_tuple_variant(
-        self,
-        _name: &'static str,
-        _index: u32,
-        variant: &'static str,
-        _len: usize,
-    ) -> Result<TupleVariantBuilder, TreeError> {
-        Ok(TupleVariantBuilder {
-            name: variant,
+/// A document with an empty root, for a study that cannot be printed (not reached).
+fn empty() -> Document {
+    Document {
+        header: String::new(),
+        root: Value::Group {
+            name: String::new(),
+            at: Span::default(),
+            open: '(',
             items: Vec::new(),
+            tail: Vec::new(),
+            broken: None,
+        },
+        footer: Vec::new(),
+    }
+}
+
+impl StudyTree {
+    /// The tree of `study` as `text` (the file it was read from, or the text of its last
+    /// edit) writes it; without a text, as a save would write it afresh.
+    pub fn new(study: &Study, text: Option<&str>) -> StudyTree {
+        let written = study.to_ron_keeping(text).text;
+        StudyTree {
+            doc: syntax::parse(&written, true).unwrap_or_else(|_| empty()),
+            full: syntax::parse(&crate::study::writer::compact(study), false)
+                .map_or_else(|_| empty().root, |d| d.root),
+        }
+    }
+
+    /// The document as text.
+    pub fn text(&self) -> String {
+        render(&self.doc.header, &self.doc.root, &self.doc.footer)
+    }
+
+    /// The item at `path`.
+    pub fn item(&self, path: &[usize]) -> Option<&Item> {
+        let (last, parent) = path.split_last()?;
+        group(&self.doc.root, parent)?.items().get(*last)
+    }
+
+    /// The text to start editing the item at `path` from.
+    pub fn item_text(&self, path: &[usize]) -> String {
+        self.item(path).map_or(String::new(), |i| flat(&i.value))
+    }
+
+    /// The document with the item at `path` replaced by `text`.
+    pub fn replaced(&self, path: &[usize], text: &str) -> String {
+        self.edited(path, |items, i| items[i].value = atom(text))
+    }
+
+    /// The document with a new list element `text` after the one at `path`.
+    pub fn inserted_after(&self, path: &[usize], text: &str) -> String {
+        self.edited(path, |items, i| {
+            items.insert(i + 1, keyed(None, text));
         })
     }
-    fn serialize_map(self, _len: Option<usize>) -> Result<MapBuilder, TreeError> {
-        Ok(MapBuilder {
-            entries: Vec::new(),
-            key: None,
+
+    /// The document without the item at `path`.
+    pub fn removed(&self, path: &[usize]) -> String {
+        self.edited(path, |items, i| {
+            items.remove(i);
         })
     }
-    fn serialize_struct(
-        self,
-        _name: &'static str,
-        _len: usize,
-    ) -> Result<StructBuilder, TreeError> {
-        Ok(StructBuilder {
-            fields: Vec::new(),
-            variant: None,
-        })
+
+    /// The document with `field: text` added to the group at `path`, and the path of the new
+    /// item. A field that excludes another one set in the group (`size` and `p`) takes its
+    /// place, in one edit: the name of the field replaced comes back too.
+    pub fn added(
+        &self,
+        path: &[usize],
+        field: &str,
+        text: &str,
+    ) -> (String, Vec<usize>, Option<String>) {
+        let mut doc = self.doc.root.clone();
+        let mut at = path.to_vec();
+        let mut replaced = None;
+        if let Some(items) = group_mut(&mut doc, path) {
+            let other = exclusive_partner(field)
+                .and_then(|other| items.iter().position(|i| i.key() == Some(other)));
+            match other {
+                Some(i) => {
+                    replaced = items[i].key().map(str::to_string);
+                    let old = std::mem::replace(&mut items[i], keyed(Some(field), text));
+                    items[i].before = old.before;
+                    items[i].after = old.after;
+                    at.push(i);
+                }
+                None => {
+                    at.push(items.len());
+                    items.push(keyed(Some(field), text));
+                }
+            }
+        }
+        (
+            render(&self.doc.header, &doc, &self.doc.footer),
+            at,
+            replaced,
+        )
     }
-    fn serialize_struct_variant(
-        self,
-        _name: &'static str,
-        _index: u32,
-        variant: &'static str,
-        _len: usize,
-    ) -> Result<StructBuilder, TreeError> {
-        Ok(StructBuilder {
-            fields: Vec::new(),
-            variant: Some(variant),
-        })
+
+    fn edited(&self, path: &[usize], change: impl FnOnce(&mut Vec<Item>, usize)) -> String {
+        let mut root = self.doc.root.clone();
+        if let Some((last, parent)) = path.split_last()
+            && let Some(items) = group_mut(&mut root, parent)
+            && *last < items.len()
+        {
+            change(items, *last);
+        }
+        render(&self.doc.header, &root, &self.doc.footer)
+    }
+
+    /// The rows of the Study screen, in the order of the text; after each group's items, the
+    /// fields it leaves to their defaults (with the default) and the optional ones it leaves
+    /// unset.
+    pub fn rows(&self) -> Vec<Row> {
+        let mut rows = Vec::new();
+        let root = &self.doc.root;
+        let mut path = Vec::new();
+        for (i, item) in root.items().iter().enumerate() {
+            path.push(i);
+            self.flatten(item, 0, &mut path, label_of(i, item), false, &mut rows);
+            path.pop();
+        }
+        self.defaults("study", root, 0, &[], &mut rows);
+        rows
+    }
+
+    fn flatten(
+        &self,
+        item: &Item,
+        depth: usize,
+        path: &mut Vec<usize>,
+        label: String,
+        in_list: bool,
+        out: &mut Vec<Row>,
+    ) {
+        let value = &item.value;
+        let text = flat(value);
+        let (name, open) = match value {
+            Value::Group { name, open, .. } => (name.as_str(), *open),
+            Value::Atom(..) => ("", ' '),
+        };
+        let children = value.items();
+        let scalar_list = open == '['
+            && children
+                .iter()
+                .all(|c| c.key.is_none() && matches!(c.value, Value::Atom(..)));
+        let mut defaults = Vec::new();
+        self.defaults(name, value, depth + 1, path, &mut defaults);
+        // Groups with fields not written expand so that those show; an optional label alone
+        // does not justify a row per field.
+        let hidden = defaults.iter().any(|r| r.label != "label");
+        let inline = children.is_empty() || scalar_list || (text.chars().count() <= 40 && !hidden);
+        if inline {
+            out.push(Row {
+                depth,
+                label,
+                path: path.clone(),
+                text,
+                leaf: true,
+                in_list,
+                absent: None,
+            });
+            return;
+        }
+        out.push(Row {
+            depth,
+            label,
+            path: path.clone(),
+            text: match open {
+                '[' => format!("[{} items]", children.len()),
+                _ => name.to_string(),
+            },
+            leaf: false,
+            in_list,
+            absent: None,
+        });
+        for (i, child) in children.iter().enumerate() {
+            path.push(i);
+            self.flatten(child, depth + 1, path, label_of(i, child), open == '[', out);
+            path.pop();
+        }
+        out.extend(defaults);
+    }
+
+    /// Rows for the fields of the group at `path` (named `owner`) that its text does not
+    /// write: those with a default (from the full serialisation), then the optional ones.
+    fn defaults(
+        &self,
+        owner: &str,
+        value: &Value,
+        depth: usize,
+        path: &[usize],
+        out: &mut Vec<Row>,
+    ) {
+        let written: Vec<&str> = value.items().iter().filter_map(Item::key).collect();
+        // The same group in the full serialisation (not a value spelled otherwise, such as
+        // `deg(10)` for a number).
+        if let Some(full) =
+            counterpart(&self.full, &self.doc.root, path).filter(|f| name_of(f) == name_of(value))
+        {
+            for item in full.items() {
+                let Some(key) = item.key() else { continue };
+                if !written.contains(&key) && !is_none(&item.value) {
+                    out.push(absent_row(depth, path, key, shown(&item.value)));
+                }
+            }
+        }
+        let listed: Vec<String> = out.iter().map(|r| r.label.clone()).collect();
+        for f in optional_fields(owner) {
+            if !written.contains(&f.field) && !listed.iter().any(|l| l == f.field) {
+                out.push(absent_row(depth, path, f.field, "unset".into()));
+            }
+        }
     }
 }
 
-impl ser::SerializeSeq for SeqBuilder {
-    type Ok = Node;
-    type Error = TreeError;
-    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), TreeError> {
-        self.items.push(value.serialize(NodeSerializer)?);
-        Ok(())
-    }
-    fn end(self) -> Result<Node, TreeError> {
-        Ok((self.finish)(self.items))
-    }
-}
-
-impl ser::SerializeTuple for SeqBuilder {
-    type Ok = Node;
-    type Error = TreeError;
-    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), TreeError> {
-        ser::SerializeSeq::serialize_element(self, value)
-    }
-    fn end(self) -> Result<Node, TreeError> {
-        ser::SerializeSeq::end(self)
+fn absent_row(depth: usize, path: &[usize], field: &str, text: String) -> Row {
+    Row {
+        depth,
+        label: field.to_string(),
+        path: path.to_vec(),
+        text,
+        leaf: true,
+        in_list: false,
+        absent: Some(field.to_string()),
     }
 }
 
-impl ser::SerializeTupleStruct for SeqBuilder {
-    type Ok = Node;
-    type Error = TreeError;
-    fn serialize_field<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), TreeError> {
-        ser::SerializeSeq::serialize_element(self, value)
-    }
-    fn end(self) -> Result<Node, TreeError> {
-        ser::SerializeSeq::end(self)
+/// The field that cannot be set together with `field` (`p` for `size`), if any.
+fn exclusive_partner(field: &str) -> Option<&'static str> {
+    EXCLUSIVE_FIELDS.iter().find_map(|(a, b)| {
+        if *a == field {
+            Some(*b)
+        } else if *b == field {
+            Some(*a)
+        } else {
+            None
+        }
+    })
+}
+
+/// A row's label: the item's key, or its index in a list.
+fn label_of(i: usize, item: &Item) -> String {
+    item.key().map_or_else(|| format!("[{i}]"), str::to_string)
+}
+
+fn atom(text: &str) -> Value {
+    Value::Atom(text.trim().to_string(), Span::default())
+}
+
+fn keyed(key: Option<&str>, text: &str) -> Item {
+    Item {
+        key: key.map(|k| (k.to_string(), Span::default())),
+        value: atom(text),
+        before: Vec::new(),
+        after: None,
     }
 }
 
-impl ser::SerializeTupleVariant for TupleVariantBuilder {
-    type Ok = Node;
-    type Error = TreeError;
-    fn serialize_field<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), TreeError> {
-        self.items.push(value.serialize(NodeSerializer)?);
-        Ok(())
-    }
-    fn end(self) -> Result<Node, TreeError> {
-        Ok(Node::Variant(self.name, Body::Tuple(self.items)))
+fn name_of(value: &Value) -> Option<&str> {
+    match value {
+        Value::Group { name, .. } => Some(name),
+        Value::Atom(..) => None,
     }
 }
 
-impl ser::SerializeMap for MapBuilder {
-    type Ok = Node;
-    type Error = TreeError;
-    fn serialize_key<T: Serialize + ?Sized>(&mut self, key: &T) -> Result<(), TreeError> {
-        self.key = Some(key.serialize(NodeSerializer)?);
-        Ok(())
-    }
-    fn serialize_value<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), TreeError> {
-        let key = self
-            .key
-            .take()
-            .ok_or_else(|| TreeError("map value without a key".into()))?;
-        self.entries.push((key, value.serialize(NodeSerializer)?));
-        Ok(())
-    }
-    fn end(self) -> Result<Node, TreeError> {
-        Ok(Node::Map(self.entries))
+fn is_none(value: &Value) -> bool {
+    matches!(value, Value::Atom(a, _) if a == "None")
+}
+
+/// A default value as the user may type it: unset options (`None`) left out.
+fn shown(value: &Value) -> String {
+    match value {
+        Value::Atom(..) => flat(value),
+        Value::Group {
+            name,
+            at,
+            open,
+            items,
+            ..
+        } => flat(&Value::Group {
+            name: name.clone(),
+            at: *at,
+            open: *open,
+            items: items
+                .iter()
+                .filter(|i| !is_none(&i.value))
+                .map(|i| Item {
+                    key: i.key.clone(),
+                    value: Value::Atom(shown(&i.value), Span::default()),
+                    before: Vec::new(),
+                    after: None,
+                })
+                .collect(),
+            tail: Vec::new(),
+            broken: None,
+        }),
     }
 }
 
-impl ser::SerializeStruct for StructBuilder {
-    type Ok = Node;
-    type Error = TreeError;
-    fn serialize_field<T: Serialize + ?Sized>(
-        &mut self,
-        key: &'static str,
-        value: &T,
-    ) -> Result<(), TreeError> {
-        self.fields.push((key, value.serialize(NodeSerializer)?));
-        Ok(())
+/// The group at `path` under `root` (the root itself for an empty path).
+fn group<'a>(root: &'a Value, path: &[usize]) -> Option<&'a Value> {
+    let mut value = root;
+    for &i in path {
+        value = &value.items().get(i)?.value;
     }
-    fn end(self) -> Result<Node, TreeError> {
-        Ok(match self.variant {
-            Some(v) => Node::Variant(v, Body::Struct(self.fields)),
-            None => Node::Struct(self.fields),
-        })
+    Some(value)
+}
+
+fn group_mut<'a>(root: &'a mut Value, path: &[usize]) -> Option<&'a mut Vec<Item>> {
+    let mut value = root;
+    for &i in path {
+        let Value::Group { items, .. } = value else {
+            return None;
+        };
+        value = &mut items.get_mut(i)?.value;
+    }
+    match value {
+        Value::Group { items, .. } => Some(items),
+        Value::Atom(..) => None,
     }
 }
 
-impl ser::SerializeStructVariant for StructBuilder {
-    type Ok = Node;
-    type Error = TreeError;
-    fn serialize_field<T: Serialize + ?Sized>(
-        &mut self,
-        key: &'static str,
-        value: &T,
-    ) -> Result<(), TreeError> {
-        ser::SerializeStruct::serialize_field(self, key, value)
+/// The value of the full serialisation at the place of `path` in the text: keyed items by
+/// key, list elements by index.
+fn counterpart<'a>(full: &'a Value, text: &Value, path: &[usize]) -> Option<&'a Value> {
+    let (mut full, mut text) = (full, text);
+    for &i in path {
+        let item = text.items().get(i)?;
+        let theirs = match item.key() {
+            Some(k) => full.items().iter().find(|f| f.key() == Some(k))?,
+            None => full.items().get(i)?,
+        };
+        full = &theirs.value;
+        text = &item.value;
     }
-    fn end(self) -> Result<Node, TreeError> {
-        ser::SerializeStruct::end(self)
-    }
+    Some(full)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::*;
 
-    fn parse<T: serde::de::DeserializeOwned>(text: &str) -> T {
-        ron::Options::default()
-            .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
-            .from_str(text)
-            .unwrap()
+    fn tree(text: &str) -> (Study, StudyTree) {
+        let study = Study::from_ron_str(text, "t").unwrap();
+        let tree = StudyTree::new(&study, Some(text));
+        (study, tree)
     }
 
-    /// A scene with nested enums, an Option and a struct-valued variant; written as RON so
-    /// that fields the scene gains later take their defaults.
-    fn scene() -> Scene {
-        parse(
-            "(structure: rigid((size: 1.2, alpha: 0.25)), \
-              device: mechanistic((sigma: 0.3, play: 0.001)), \
-              impact: housner(restitution: Some(0.9)), \
-              excitation: pulse(shape: sine, amplitude: alpha_ratio(2.0), frequency: ratio(4.0)), \
-              duration: 10.0)",
-        )
+    const TEXT: &str = "// head\n(\n    version: 1,\n    name: \"x\",\n    \
+        structure: rigid(p: 2.0, alpha: deg(10)), // the block\n    \
+        devices: [none, sequential(sigma: 0.5)],\n    \
+        excitation: pulse(shape: sine, amplitude: alpha_ratio(1.5), frequency: ratio(4.0)),\n    \
+        duration: 2.0,\n    rtol: 1e-6,\n)\n";
+
+    fn row<'a>(rows: &'a [Row], label: &str) -> &'a Row {
+        rows.iter().find(|r| r.label == label).unwrap()
     }
 
     #[test]
-    fn ron_text_of_the_tree_parses_back_to_the_same_value() {
-        let s = scene();
-        let text = to_ron(&Node::from_value(&s).unwrap());
-        let back: Scene = parse(&text);
-        assert_eq!(back, s);
+    fn rows_show_the_text_as_written_and_the_defaults_it_leaves_out() {
+        let (_, tree) = tree(TEXT);
+        assert_eq!(tree.text(), TEXT);
+        let rows = tree.rows();
+        assert_eq!(row(&rows, "alpha").text, "deg(10)");
+        let mass = row(&rows, "mass");
+        assert_eq!(
+            (mass.text.as_str(), mass.absent.as_deref()),
+            ("1.0", Some("mass"))
+        );
+        assert_eq!(row(&rows, "size").text, "unset");
+        // rtol before duration as written; the defaults after them.
+        let at = |l: &str| rows.iter().position(|r| r.label == l).unwrap();
+        assert!(at("duration") < at("rtol") && at("rtol") < at("stop_when_settled"));
+        let impact = row(&rows, "impact");
+        assert!(!impact.text.contains("None"), "{}", impact.text);
     }
 
     #[test]
-    fn a_splice_replaces_exactly_one_node_at_any_depth() {
-        let s = scene();
-        let tree = Node::from_value(&s).unwrap();
-        // structure → Rigid(…) → alpha (field 1 of the block).
-        let text = to_ron_with(&tree, &[0, 1], "0.125");
-        let back: Scene = parse(&text);
-        let mut expected = s.clone();
-        if let Structure::Rigid(b) = &mut expected.structure {
-            b.alpha = 0.125;
-        }
-        assert_eq!(back, expected);
-        // The whole device, switched to another variant.
-        let text = to_ron_with(&tree, &[1], "sequential(sigma: 0.5)");
-        let back: Scene = parse(&text);
-        assert_eq!(back.device, Device::Sequential { sigma: 0.5 });
-        assert_eq!(tree.get(&[0, 1]), Some(&Node::Float(0.25)));
+    fn an_edit_keeps_spelling_order_and_comments() {
+        let (study, tree) = tree(TEXT);
+        let alpha = row(&tree.rows(), "alpha").path.clone();
+        let text = tree.replaced(&alpha, "deg([8, 12])");
+        let edited = Study::parse_ron(&text, "t").unwrap();
+        assert_ne!(edited, study);
+        let again = StudyTree::new(&edited, Some(&text));
+        assert_eq!(row(&again.rows(), "alpha").text, "deg([8, 12])");
+        let saved = edited.to_ron_keeping(Some(&again.text())).text;
+        assert!(
+            saved.contains("alpha: deg([8, 12])), // the block"),
+            "{saved}"
+        );
+        assert!(saved.find("duration").unwrap() < saved.find("rtol").unwrap());
+        assert!(saved.starts_with("// head\n"));
+        assert_eq!(Study::parse_ron(&saved, "t").unwrap(), edited);
     }
 
     #[test]
-    fn every_shipped_study_survives_the_tree_round_trip() {
+    fn size_replaces_p_in_one_edit() {
+        let (_, tree) = tree(TEXT);
+        let size = row(&tree.rows(), "size").path.clone();
+        let (text, at, replaced) = tree.added(&size, "size", "1.5");
+        assert_eq!(replaced.as_deref(), Some("p"));
+        let study = Study::parse_ron(&text, "t").unwrap();
+        let tree = StudyTree::new(&study, Some(&text));
+        assert_eq!(tree.item(&at).and_then(Item::key), Some("size"));
+        assert!(text.contains("rigid(size: 1.5, alpha: deg(10))"), "{text}");
+    }
+
+    /// A field left to its default shows that default, in a spelling the study reads back
+    /// (no `None`): written in, it changes nothing. For every shipped study.
+    #[test]
+    fn every_default_shown_is_the_default() {
         let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/studies");
         let mut seen = 0;
         for entry in std::fs::read_dir(dir).unwrap() {
             let path = entry.unwrap().path();
-            if path.extension().is_none_or(|e| e != "ron") {
-                continue;
-            }
-            // Studies of families this build cannot run yet are refused on load.
-            let Ok(study) = crate::study::Study::load(&path) else {
+            let Ok(study) = Study::load(&path) else {
                 continue;
             };
-            let text = to_ron(&Node::from_value(&study).unwrap());
-            let back = crate::study::Study::from_ron_str(&text, "tree").unwrap();
-            assert_eq!(back, study, "{}", path.display());
-            seen += 1;
+            let text = std::fs::read_to_string(&path).unwrap();
+            let tree = StudyTree::new(&study, Some(&text));
+            assert_eq!(tree.text(), study.to_ron_keeping(Some(&text)).text);
+            for row in tree.rows() {
+                let Some(field) = &row.absent else { continue };
+                if row.text == "unset" {
+                    continue;
+                }
+                assert!(!row.text.contains("None"), "{}: {field}", path.display());
+                let (doc, _, replaced) = tree.added(&row.path, field, &row.text);
+                assert_eq!(replaced, None);
+                let back = Study::parse_ron(&doc, "t")
+                    .unwrap_or_else(|e| panic!("{}: {field}: {e}", path.display()));
+                assert_eq!(back, study, "{}: {field} = {}", path.display(), row.text);
+                seen += 1;
+            }
         }
-        assert!(seen >= 2, "only {seen} studies found");
-    }
-
-    #[test]
-    fn floats_keep_their_exact_value() {
-        for f in [1.0, 0.1, 1e-6, 2.5e10, -3.0, f64::MIN_POSITIVE] {
-            let back: f64 = ron::from_str(&float_ron(f)).unwrap();
-            assert_eq!(back, f);
-        }
+        assert!(seen > 20, "{seen}");
     }
 }

@@ -87,8 +87,15 @@ pub enum Action {
     Request(Pending),
     /// Save the study to its file (or ask for one).
     Save,
-    /// The editor produced a new study, already parsed and expanded (once).
-    StudyEdited(Box<Study>, Vec<ScenePoint>),
+    /// The editor produced a new study, already parsed and expanded (once), from `text`
+    /// (kept: its spelling, order and comments are the study's from now on); `note` says
+    /// what the edit did beyond the field edited.
+    StudyEdited {
+        study: Box<Study>,
+        points: Vec<ScenePoint>,
+        text: String,
+        note: Option<String>,
+    },
     Say(String),
     Complain(String),
 }

@@ -4,12 +4,13 @@
 
 use super::super::edit::{EditOutcome, LineEdit};
 use super::super::theme::Theme;
-use super::super::tree::{self, Node};
+pub use super::super::tree::Row;
+use super::super::tree::StudyTree;
 use super::super::widgets::{Hint, edit_spans, fmt_duration, pad, scroll_offset, truncate};
 use super::prompt::{Pending, Prompt};
 use super::{Action, Check, Component, Shared};
 use crate::study::Study;
-use crate::study::fields::{self, optional_fields};
+use crate::study::fields;
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
@@ -17,23 +18,9 @@ use ratatui::style::Modifier;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
 
-/// One row of the Study screen: a node of the study tree.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Row {
-    pub depth: usize,
-    pub label: String,
-    pub path: Vec<usize>,
-    /// Inline value (leaf rows) or a short tag (rows whose children follow).
-    pub text: String,
-    pub leaf: bool,
-    /// The row is an element of a list: it can be duplicated or deleted.
-    pub in_list: bool,
-    /// An optional field that is not set: editing it adds the field to the struct at `path`.
-    pub absent: Option<&'static str>,
-}
-
 pub struct StudyScreen {
-    pub tree: Node,
+    /// The study's text as a tree: what the rows show and an edit changes.
+    pub tree: StudyTree,
     pub rows: Vec<Row>,
     pub cursor: usize,
     pub edit: Option<LineEdit>,
@@ -41,16 +28,17 @@ pub struct StudyScreen {
     pub edit_error: Option<String>,
     /// The edit is a new list element, to go after the selected one (`a`).
     pub inserting: bool,
-    /// Where the cursor goes once the edited study is back (a new list element).
+    /// Where the cursor goes once the edited study is back: the item edited or added.
     cursor_to: Option<Vec<usize>>,
     /// The last `/` search, for `n` / `N` (next / previous match, as in vim and less).
     last_search: Option<String>,
 }
 
 impl StudyScreen {
-    pub fn new(study: &Study) -> Self {
+    /// The screen on `study`, as `text` (its file) writes it.
+    pub fn new(study: &Study, text: Option<&str>) -> Self {
         let mut screen = StudyScreen {
-            tree: Node::Unit,
+            tree: StudyTree::new(study, None),
             rows: Vec::new(),
             cursor: 0,
             edit: None,
@@ -59,26 +47,28 @@ impl StudyScreen {
             cursor_to: None,
             last_search: None,
         };
-        screen.study_changed(study);
+        screen.study_changed(study, text);
         screen
     }
 
-    /// Rebuild the rows from a new study, keeping the cursor on the same node if it still
-    /// exists (or moving it where the last edit asked).
-    pub fn study_changed(&mut self, study: &Study) {
-        let keep = self.rows.get(self.cursor).map(|r| r.path.clone());
-        let target = self.cursor_to.take();
-        self.tree = Node::from_value(study).unwrap_or(Node::Unit);
-        let mut rows = Vec::new();
-        // The root is the whole study: list its fields at the top level.
-        for (i, (label, child)) in self.tree.children().into_iter().enumerate() {
-            flatten(child, 0, &mut vec![i], &label, false, &mut rows);
-        }
-        absent_rows("study", &self.tree, 0, &[], &mut rows);
-        self.rows = rows;
+    /// Rebuild the rows from a new study as `text` writes it (the file it was read from, or
+    /// the text of the edit that made it), keeping the cursor on the same row if it still
+    /// exists, or moving it onto the item the last edit changed or added.
+    pub fn study_changed(&mut self, study: &Study, text: Option<&str>) {
+        let keep = self
+            .rows
+            .get(self.cursor)
+            .map(|r| (r.path.clone(), r.absent.clone()));
+        let target = self.cursor_to.take().map(|path| (path, None));
+        self.tree = StudyTree::new(study, text);
+        self.rows = self.tree.rows();
         self.cursor = self.cursor.min(self.rows.len().saturating_sub(1));
-        for path in [keep, target].into_iter().flatten() {
-            if let Some(i) = self.rows.iter().position(|r| r.path == path) {
+        for (path, absent) in [keep, target].into_iter().flatten() {
+            if let Some(i) = self
+                .rows
+                .iter()
+                .position(|r| r.path == path && r.absent == absent)
+            {
                 self.cursor = i;
             }
         }
@@ -142,35 +132,26 @@ impl StudyScreen {
                 let Some(row) = self.rows.get(self.cursor) else {
                     return Action::None;
                 };
-                let doc = match row.absent {
+                let mut said = None;
+                let (doc, target) = match &row.absent {
                     None if self.inserting => {
-                        let (parent, i) = row.path.split_at(row.path.len() - 1);
-                        let mut tree = self.tree.clone();
-                        if let Some(Node::Seq(items)) = tree.get_mut(parent) {
-                            items.insert(i[0] + 1, Node::Raw(text));
+                        let mut next = row.path.clone();
+                        if let Some(last) = next.last_mut() {
+                            *last += 1;
                         }
-                        tree::to_ron(&tree)
+                        (self.tree.inserted_after(&row.path, &text), next)
                     }
                     Some(field) => {
-                        let mut tree = self.tree.clone();
-                        if let Some(fields) = tree.get_mut(&row.path).and_then(tree::fields_mut) {
-                            fields.push((field, Node::Raw(text)));
-                        }
-                        tree::to_ron(&tree)
+                        let (doc, at, replaced) = self.tree.added(&row.path, field, &text);
+                        said = replaced.map(|other| format!("{field} set in place of {other}"));
+                        (doc, at)
                     }
-                    None => tree::to_ron_with(&self.tree, &row.path, &text),
+                    None => (self.tree.replaced(&row.path, &text), row.path.clone()),
                 };
-                // A new element: the cursor moves onto it once it is in.
-                let new_path = self.inserting.then(|| {
-                    let mut p = row.path.clone();
-                    if let Some(last) = p.last_mut() {
-                        *last += 1;
-                    }
-                    p
-                });
-                let action = self.apply_document(&doc, true);
-                if matches!(action, Action::StudyEdited(..)) {
-                    self.cursor_to = new_path;
+                let mut action = self.apply_document(doc, true);
+                if let Action::StudyEdited { note, .. } = &mut action {
+                    self.cursor_to = Some(target);
+                    *note = said;
                 }
                 action
             }
@@ -180,11 +161,11 @@ impl StudyScreen {
     /// Parse an edited document with the study's own parser, validating it by expanding it
     /// (once: the scenes go to the app with the study). A refused edit says why: under the
     /// editor, or on the status line for edits without one (deletions).
-    fn apply_document(&mut self, doc: &str, from_editor: bool) -> Action {
-        let checked = match Study::parse_ron(doc, "edit") {
+    fn apply_document(&mut self, doc: String, from_editor: bool) -> Action {
+        let checked = match Study::parse_ron(&doc, "edit") {
             Ok(study) => match study.expand() {
                 Ok(points) => Ok((study, points)),
-                Err(e) => Err(e.located(doc, "edit")),
+                Err(e) => Err(e.located(&doc, "edit")),
             },
             Err(e) => Err(e),
         };
@@ -193,7 +174,12 @@ impl StudyScreen {
                 self.edit = None;
                 self.edit_error = None;
                 self.inserting = false;
-                Action::StudyEdited(Box::new(study), points)
+                Action::StudyEdited {
+                    study: Box::new(study),
+                    points,
+                    text: doc,
+                    note: None,
+                }
             }
             Err(e) => {
                 let msg = strip_position(&e.to_string());
@@ -216,8 +202,7 @@ impl StudyScreen {
         if !row.in_list {
             return Action::Complain("a adds a list element; this row is not in a list".into());
         }
-        let text = self.tree.get(&row.path).map_or(String::new(), tree::to_ron);
-        self.edit = Some(LineEdit::new(text));
+        self.edit = Some(LineEdit::new(self.tree.item_text(&row.path)));
         self.edit_error = None;
         self.inserting = true;
         Action::None
@@ -232,20 +217,8 @@ impl StudyScreen {
         if row.absent.is_some() || row.path.is_empty() {
             return Action::None;
         }
-        let (parent, i) = row.path.split_at(row.path.len() - 1);
-        let mut tree = self.tree.clone();
-        if row.in_list {
-            if let Some(Node::Seq(items)) = tree.get_mut(parent) {
-                items.remove(i[0]);
-                return self.apply_document(&tree::to_ron(&tree), false);
-            }
-        } else if let Some(fields) = tree.get_mut(parent).and_then(tree::fields_mut)
-            && i[0] < fields.len()
-        {
-            fields.remove(i[0]);
-            return self.apply_document(&tree::to_ron(&tree), false);
-        }
-        Action::None
+        let doc = self.tree.removed(&row.path);
+        self.apply_document(doc, false)
     }
 
     /// One line about the selected field: what it means, and what a number can be.
@@ -285,12 +258,14 @@ impl Component for StudyScreen {
             KeyCode::End | KeyCode::Char('G') => self.cursor = n.saturating_sub(1),
             KeyCode::Enter | KeyCode::Char('e') => {
                 if let Some(row) = self.rows.get(self.cursor) {
-                    let text = match row.absent {
-                        Some(field) => fields::OPTIONAL_FIELDS
+                    // A field not written starts from its default, or the table's template.
+                    let text = match &row.absent {
+                        Some(field) if row.text == "unset" => fields::OPTIONAL_FIELDS
                             .iter()
                             .find(|f| f.field == field)
                             .map_or(String::new(), |f| f.template.to_string()),
-                        None => self.tree.get(&row.path).map_or(String::new(), tree::to_ron),
+                        Some(_) => row.text.clone(),
+                        None => self.tree.item_text(&row.path),
                     };
                     self.edit = Some(LineEdit::new(text));
                     self.edit_error = None;
@@ -463,77 +438,6 @@ fn summary(shared: &Shared, theme: Theme) -> Vec<Line<'static>> {
         }
     }
     lines
-}
-
-/// Rows for the optional fields that `node` (a struct named `owner`) does not set.
-fn absent_rows(owner: &str, node: &Node, depth: usize, path: &[usize], out: &mut Vec<Row>) {
-    let present: Vec<String> = node.children().into_iter().map(|(l, _)| l).collect();
-    for f in optional_fields(owner) {
-        if !present.iter().any(|p| p == f.field) {
-            out.push(Row {
-                depth,
-                label: f.field.to_string(),
-                path: path.to_vec(),
-                text: "unset".into(),
-                leaf: true,
-                in_list: false,
-                absent: Some(f.field),
-            });
-        }
-    }
-}
-
-/// Rows of the tree in display order. Scalars, short lists of scalars and short structs fit on
-/// one row and are edited as one value; bigger nodes get a header row followed by children.
-fn flatten(
-    node: &Node,
-    depth: usize,
-    path: &mut Vec<usize>,
-    label: &str,
-    in_list: bool,
-    out: &mut Vec<Row>,
-) {
-    let text = tree::to_ron(node);
-    let children = node.children();
-    let scalar_list =
-        matches!(node, Node::Seq(items) if items.iter().all(|n| n.children().is_empty()));
-    let owner = match node {
-        Node::Variant(name, _) => *name,
-        _ => "",
-    };
-    // Structs with optional parameters expand so that the unset ones show; an optional label
-    // alone does not justify a row per field.
-    let has_optional = optional_fields(owner).any(|f| f.field != "label");
-    let inline =
-        children.is_empty() || scalar_list || (text.chars().count() <= 40 && !has_optional);
-    if inline {
-        out.push(Row {
-            depth,
-            label: label.to_string(),
-            path: path.clone(),
-            text,
-            leaf: true,
-            in_list,
-            absent: None,
-        });
-        return;
-    }
-    out.push(Row {
-        depth,
-        label: label.to_string(),
-        path: path.clone(),
-        text: node.tag(),
-        leaf: false,
-        in_list,
-        absent: None,
-    });
-    let list = node.is_seq();
-    for (i, (child_label, child)) in children.into_iter().enumerate() {
-        path.push(i);
-        flatten(child, depth + 1, path, &child_label, list, out);
-        path.pop();
-    }
-    absent_rows(owner, node, depth + 1, path, out);
 }
 
 /// Parse errors of an edit name a position inside the generated one-line document, which
