@@ -8,6 +8,7 @@ mod export;
 mod figure;
 pub mod fragility;
 pub mod ida;
+mod legend;
 pub mod naming;
 mod plot;
 mod plot_design;
