@@ -8,6 +8,7 @@ use super::super::{
 use crate::numfmt::fmt_digits;
 use crate::scene::{ClutchStiffness, Damping};
 use serde::{Deserialize, Serialize};
+use std::collections::HashSet;
 
 /// Studies larger than this are almost certainly a typo in a range.
 pub const MAX_SCENES: usize = 1_000_000;
@@ -279,27 +280,30 @@ const MIN_LABEL_DIGITS: usize = 4;
 /// Per parameter id, the fewest significant digits (at least 4) that keep every distinct
 /// value of that parameter in the study distinct in labels.
 fn label_digits(variants: &[VariantLayout]) -> Vec<(&'static str, usize)> {
-    let mut values: Vec<(&'static str, Vec<f64>)> = Vec::new();
+    // Distinct values per parameter, found with a set of their bits (0.0 and -0.0 are one
+    // value, as `==` has it): a scan per value was quadratic in a long range's length.
+    let mut values: Vec<(&'static str, Vec<f64>, HashSet<u64>)> = Vec::new();
     for p in variants.iter().flat_map(|v| &v.params) {
         if p.names.is_some() {
             continue;
         }
-        let entry = match values.iter_mut().find(|(id, _)| *id == p.id) {
+        let entry = match values.iter_mut().find(|(id, _, _)| *id == p.id) {
             Some(e) => e,
             None => {
-                values.push((p.id, Vec::new()));
+                values.push((p.id, Vec::new(), HashSet::new()));
                 values.last_mut().expect("just pushed")
             }
         };
-        for v in &p.values {
-            if !entry.1.contains(v) {
-                entry.1.push(*v);
+        for &v in &p.values {
+            let bits = if v == 0.0 { 0 } else { v.to_bits() };
+            if entry.2.insert(bits) {
+                entry.1.push(v);
             }
         }
     }
     values
         .into_iter()
-        .map(|(id, vs)| {
+        .map(|(id, vs, _)| {
             let digits = (MIN_LABEL_DIGITS..=17)
                 .find(|&d| {
                     let mut texts: Vec<String> = vs.iter().map(|v| fmt_digits(*v, d)).collect();
