@@ -16,7 +16,7 @@
 //! | AT2 NPTS smaller than its data; an extra value on a line; `VELOCITY` header; two `# dt:`; `# npts: 10` with 3 values | `record_files_that_disagree_with_themselves_are_refused` |
 //! | AT2 of 1e300 with `--scale-pga` "is all zeros" | messages.rs `a_huge_record_scaled_to_a_pga_and_baseline_corrected_runs` |
 //! | index.ron: `landers` twice, `units: "furlongs"`, `"cm/s2"` against `# units: g`, `table1` twice | `a_records_index_that_names_twice_or_mislabels_units_is_refused` |
-//! | `ROCKLAB_RECORDS=/nonexist` ignored | `a_records_variable_that_names_no_directory_is_an_error` |
+//! | `ROCKLAB_RECORDS=/nonexist` ignored (records, simulate, the workbench) | `a_records_variable_that_names_no_directory_is_an_error` |
 //! | a journal line edited on disk is reused | checkpoint.rs `an_edited_journal_line_is_recomputed_not_reused` |
 //! | `run --force` three times overwrites `results.json.previous` | checkpoint.rs `forced_runs_never_overwrite_set_aside_results` |
 //! | `simulate … --duration 1e300 --history` grows to 8.4 GB | `a_history_stops_at_its_row_cap` |
@@ -175,6 +175,9 @@ fn a_records_variable_that_names_no_directory_is_an_error() {
         &[
             "simulate", "--record", "landers", "--alpha", "0.2", "--p", "2",
         ][..],
+        // The workbench refuses it before taking the terminal (no TTY here: without the
+        // check it would fail on the terminal instead, with no word of the variable).
+        &["tui"][..],
     ] {
         let o = rocklab_command(args)
             .env("ROCKLAB_RECORDS", "/nonexistent/records")

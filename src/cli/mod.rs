@@ -97,6 +97,9 @@ fn tui(args: &TuiArgs) -> anyhow::Result<()> {
         Some(path) => crate::tui::open_study(path).map_err(UsageError::new)?,
         None => (crate::study::Study::builtin_default(), None),
     };
+    // A `$ROCKLAB_RECORDS` that names no directory is refused, as by every other command,
+    // before the terminal is asked for: the workbench must not fall back silently.
+    crate::excitation::Library::checked_default_dir()?;
     use std::io::IsTerminal;
     if !std::io::stdout().is_terminal() || !std::io::stdin().is_terminal() {
         return Err(UsageError::new(
