@@ -38,11 +38,11 @@ pub struct Design {
     pub verify: usize,
 }
 
-fn default_resolution() -> f64 {
+pub(crate) fn default_resolution() -> f64 {
     0.01
 }
 
-fn default_verify() -> usize {
+pub(crate) fn default_verify() -> usize {
     4
 }
 

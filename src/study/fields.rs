@@ -90,11 +90,11 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ),
     (
         "clutch_frequency_ratio",
-        "clutch frequency √(k/mr) as a multiple of p (default 25)",
+        "clutch frequency √(k/mr) as a multiple of p",
     ),
     (
         "cbar",
-        "flywheel damping c̄ = c/J (1/s), instead of xi_theta (default 1)",
+        "flywheel damping c̄ = c/J (1/s), instead of xi_theta",
     ),
     ("xi_theta", "flywheel damping ratio ξθ, instead of cbar"),
     ("friction", "dry friction fμ / (mr·g)"),
@@ -149,7 +149,7 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ),
     (
         "damage_states",
-        "levels([0.2, 0.5, 1.0]) (default) or twelve (0.01 … 1): thresholds of the damage measure",
+        "levels([…]) or twelve (0.01 … 1): thresholds of the damage measure",
     ),
     (
         "measure",
@@ -157,12 +157,12 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ),
     (
         "bootstrap",
-        "bootstrap resamples over records for the confidence intervals (default 1000)",
+        "bootstrap resamples over records for the confidence intervals (0: none)",
     ),
     ("seed", "bootstrap seed (reruns agree)"),
     (
         "confidence",
-        "confidence level of the intervals (default 0.9: 5th–95th percentiles)",
+        "two-sided confidence level of the intervals (0.9: 5th–95th percentiles)",
     ),
     (
         "tail",
@@ -182,7 +182,7 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ),
     (
         "impact",
-        "housner(restitution: None or r) or dirac(width: n)",
+        "housner() (Housner's r), housner(restitution: r) or dirac(width: n)",
     ),
     (
         "refine",
@@ -232,7 +232,7 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ("log", "geometric instead of even spacing of a range"),
     (
         "restitution",
-        "coefficient of restitution r (None: Housner's r from the geometry; 1: elastic)",
+        "coefficient of restitution r (left out: Housner's r from the geometry; 1: elastic)",
     ),
     ("width", "width n of the Gaussian impact moment (rad)"),
     (
@@ -263,15 +263,133 @@ static QUANTITIES_HELP: std::sync::LazyLock<String> = std::sync::LazyLock::new(|
     format!("{} ({}: {})", names.join(", "), angular.name, angular.help)
 });
 
-/// Help for a study field, by name (list elements have none).
-pub fn field_help(field: &str) -> Option<&'static str> {
-    if field == "quantities" {
-        return Some(QUANTITIES_HELP.as_str());
-    }
-    FIELD_HELP
+/// A field the study reader fills in when a study leaves it out, and with what, as study
+/// text. The text comes from the reader's own defaults (the functions its `serde(default)`
+/// attributes name, `ClutchStiffness::default()`, …), so the help cannot name another value.
+pub struct FieldDefault {
+    /// The struct or variant that has the field (`study` for the top level).
+    pub owner: &'static str,
+    pub field: &'static str,
+    pub text: fn() -> String,
+}
+
+/// A value as compact study text.
+fn ron_text<T: serde::Serialize>(value: T) -> String {
+    ron::to_string(&value).expect("defaults serialise")
+}
+
+const fn default(owner: &'static str, field: &'static str, text: fn() -> String) -> FieldDefault {
+    FieldDefault { owner, field, text }
+}
+
+pub const FIELD_DEFAULTS: &[FieldDefault] = &[
+    default("study", "quantities", || {
+        ron_text(super::default_quantities())
+    }),
+    default("study", "spectrum", || {
+        ron_text(super::default_spectrum_axis())
+    }),
+    default("study", "impact", || {
+        match crate::scene::Impact::default() {
+            // An option left out reads as None: the study text leaves it out too.
+            crate::scene::Impact::Housner { restitution: None } => "housner()".into(),
+            other => ron_text(other),
+        }
+    }),
+    default("study", "rtol", || ron_text(crate::scene::default_rtol())),
+    default("study", "stop_when_settled", || ron_text(super::yes())),
+    default("study", "exact_contact", || {
+        ron_text(crate::scene::default_closed_form_contact())
+    }),
+    default("study", "method", || {
+        ron_text(crate::scene::Method::default())
+    }),
+    default("rigid", "mass", || ron_text(super::unit_values())),
+    default("rigid", "form", || ron_text(crate::scene::Form::default())),
+    default("flexible", "mass", || ron_text(super::unit_values())),
+    default("inerter", "coupling", || ron_text(super::rigid_coupling())),
+    default("mechanistic", "clutch_frequency_ratio", || {
+        ron_text(super::default_clutch_frequency_ratio())
+    }),
+    default("mechanistic", "cbar", || ron_text(super::default_cbar())),
+    default("mechanistic", "friction", || ron_text(super::zero_values())),
+    default("mechanistic", "eta", || {
+        ron_text(super::default_eta_values())
+    }),
+    default("mechanistic", "play", || ron_text(super::zero_values())),
+    default("mechanistic", "epsilon", || {
+        ron_text(super::default_epsilon_values())
+    }),
+    default("mechanistic", "rho", || {
+        ron_text(super::default_rho_values())
+    }),
+    default("mechanistic", "reset", || {
+        ron_text(crate::scene::ResetRule::default())
+    }),
+    default("record", "scale", || ron_text(super::unit_values())),
+    default("record", "scale_to", || {
+        ron_text(super::RecordScaling::default())
+    }),
+    default("record", "baseline", || ron_text(bool::default())),
+    default("record", "kinks", || {
+        ron_text(crate::excitation::KinkPolicy::default())
+    }),
+    default("design", "resolution", || {
+        ron_text(super::design::default_resolution())
+    }),
+    default("design", "verify", || {
+        ron_text(super::design::default_verify())
+    }),
+    default("fragility", "method", || {
+        ron_text(super::fragility::Method::default())
+    }),
+    default("fragility", "damage_states", || {
+        ron_text(super::fragility::DamageStates::default())
+    }),
+    default("fragility", "measure", || {
+        ron_text(super::fragility::default_measure())
+    }),
+    default("fragility", "bootstrap", || {
+        ron_text(super::fragility::default_bootstrap())
+    }),
+    default("fragility", "seed", || {
+        ron_text(super::fragility::default_seed())
+    }),
+    default("fragility", "confidence", || {
+        ron_text(super::fragility::default_confidence())
+    }),
+];
+
+/// The defaults of a field, by name: `X`, or `X in owner, Y in other` where its owners differ.
+fn default_note(field: &str) -> Option<String> {
+    let found: Vec<(&str, String)> = FIELD_DEFAULTS
         .iter()
-        .find(|(f, _)| *f == field)
-        .map(|(_, h)| *h)
+        .filter(|d| d.field == field)
+        .map(|d| (d.owner, (d.text)()))
+        .collect();
+    let first = &found.first()?.1;
+    if found.iter().all(|(_, text)| text == first) {
+        return Some(first.clone());
+    }
+    let each: Vec<String> = found.iter().map(|(o, t)| format!("{t} in {o}")).collect();
+    Some(each.join(", "))
+}
+
+/// Help for a study field, by name (list elements have none), with the default the reader
+/// applies when the field is left out.
+pub fn field_help(field: &str) -> Option<String> {
+    let help = if field == "quantities" {
+        QUANTITIES_HELP.as_str()
+    } else {
+        FIELD_HELP
+            .iter()
+            .find(|(f, _)| *f == field)
+            .map(|(_, h)| *h)?
+    };
+    Some(match default_note(field) {
+        Some(note) => format!("{help} (default {note})"),
+        None => help.to_string(),
+    })
 }
 
 /// Fields that take a value, a list or a range ([`super::Values`] or an axis of them).
@@ -393,6 +511,113 @@ mod tests {
                 "{f:?} is not saved when set:\n{set}"
             );
         }
+    }
+
+    /// A small study with one occurrence of `owner`, `set` (a `field: value` or nothing)
+    /// inside it; `field` is the field set, which the template does not write itself.
+    fn study_with(owner: &str, field: &str, set: &str) -> String {
+        let mut top = String::new();
+        let mut structure = "rigid(alpha: 0.2, size: 1.0)".to_string();
+        let mut device = "none".to_string();
+        let mut excitation =
+            "pulse(shape: sine, amplitude: alpha_ratio(1.5), frequency: ratio(2.0))".to_string();
+        match owner {
+            "study" => top = set.to_string(),
+            "rigid" => structure = format!("rigid(alpha: 0.2, size: 1.0, {set})"),
+            "flexible" => {
+                structure =
+                    format!("flexible(r0: 1.0, alpha: 0.2, xi: 0.05, omega_ratio: 5.0, {set})")
+            }
+            "inerter" | "mechanistic" => device = format!("{owner}(sigma: 0.5, {set})"),
+            "record" => excitation = format!("record(names: [\"x\"], {set})"),
+            "design" => {
+                top = format!(
+                    "design: (parameter: sigma, bracket: (0.1, 2.0), target: no_overturning, {set})"
+                )
+            }
+            "fragility" => {
+                // A field of its own, so that the section is a struct, not `()`.
+                let own = if field == "seed" {
+                    "bootstrap: 10"
+                } else {
+                    "seed: 7"
+                };
+                top = format!("fragility: ({own}, {set})")
+            }
+            other => panic!("no study template for {other}"),
+        }
+        format!(
+            "(version: 1, name: \"t\", structure: {structure}, devices: [{device}], \
+             excitation: {excitation}, duration: 1.0, {top})"
+        )
+    }
+
+    #[test]
+    fn every_default_in_the_help_is_the_one_the_reader_applies() {
+        let read = |doc: &str| {
+            Study::parse_ron(doc, "test").unwrap_or_else(|e| panic!("does not parse: {e}\n{doc}"))
+        };
+        let scenes = |s: &Study| s.expand().map_err(|e| e.to_string());
+        for d in FIELD_DEFAULTS {
+            let text = (d.text)();
+            let help = field_help(d.field).unwrap_or_else(|| panic!("{} has no help", d.field));
+            assert!(
+                help.contains(&format!("default {text}"))
+                    || help.contains(&format!("{text} in {}", d.owner)),
+                "{}: the help does not name the default {text}: {help}",
+                d.field
+            );
+            // Left out, and written with the default the help names: the same study.
+            let left_out = read(&study_with(d.owner, d.field, ""));
+            let written = read(&study_with(
+                d.owner,
+                d.field,
+                &format!("{}: {text}", d.field),
+            ));
+            assert_eq!(
+                scenes(&left_out),
+                scenes(&written),
+                "{}.{}",
+                d.owner,
+                d.field
+            );
+            let optional = OPTIONAL_FIELDS
+                .iter()
+                .any(|o| o.owner == d.owner && o.field == d.field);
+            if !optional {
+                assert_eq!(left_out, written, "{}.{} = {text}", d.owner, d.field);
+            }
+        }
+        // The check can fail: a clutch ratio other than the reader's is another study.
+        let other = read(&study_with(
+            "mechanistic",
+            "",
+            "clutch_frequency_ratio: 50.0",
+        ));
+        assert_ne!(
+            scenes(&read(&study_with("mechanistic", "", ""))),
+            scenes(&other)
+        );
+    }
+
+    #[test]
+    fn no_help_names_a_default_by_hand_or_speaks_rust() {
+        for (field, help) in FIELD_HELP {
+            assert!(
+                !help.contains("default"),
+                "{field}: a default written by hand: {help}"
+            );
+        }
+        for (field, _) in FIELD_HELP {
+            let help = field_help(field).unwrap();
+            for rust in ["None", "Some(", "\"\""] {
+                assert!(!help.contains(rust), "{field}: {help}");
+            }
+        }
+        assert_eq!(
+            field_help("clutch_frequency_ratio").unwrap(),
+            "clutch frequency √(k/mr) as a multiple of p (default 25.0)"
+        );
     }
 
     /// Whether `field` is used as a key (`field:`) in a RON text.

@@ -117,19 +117,19 @@ impl Default for Fragility {
     }
 }
 
-fn default_measure() -> Quantity {
+pub(crate) fn default_measure() -> Quantity {
     Quantity::PeakRotationRatio
 }
 
-fn default_bootstrap() -> usize {
+pub(crate) fn default_bootstrap() -> usize {
     1000
 }
 
-fn default_seed() -> u64 {
+pub(crate) fn default_seed() -> u64 {
     1
 }
 
-fn default_confidence() -> f64 {
+pub(crate) fn default_confidence() -> f64 {
     0.9
 }
 

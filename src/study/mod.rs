@@ -24,7 +24,7 @@ pub use strict::{ANGLE_FIELDS, parse_angle};
 pub use values::Values;
 
 use crate::excitation::{KinkPolicy, PulseShape};
-use crate::scene::{Coupling, Form, Impact, ResetRule, Scene};
+use crate::scene::{ClutchStiffness, Coupling, Damping, Form, Impact, ResetRule, Scene};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::path::Path;
@@ -82,35 +82,35 @@ pub struct Study {
     pub fragility: Option<fragility::Fragility>,
 }
 
-fn yes() -> bool {
+pub(crate) fn yes() -> bool {
     true
 }
 
-fn default_quantities() -> Vec<Quantity> {
+pub(crate) fn default_quantities() -> Vec<Quantity> {
     vec![Quantity::PeakRotationRatio]
 }
 
-fn default_spectrum_axis() -> Axis {
+pub(crate) fn default_spectrum_axis() -> Axis {
     Axis::Frequency
 }
 
-fn unit_values() -> Values {
+pub(crate) fn unit_values() -> Values {
     Values::One(1.0)
 }
 
-fn zero_values() -> Values {
+pub(crate) fn zero_values() -> Values {
     Values::One(0.0)
 }
 
-fn default_eta_values() -> Values {
+pub(crate) fn default_eta_values() -> Values {
     Values::One(crate::scene::default_eta())
 }
 
-fn default_epsilon_values() -> Values {
+pub(crate) fn default_epsilon_values() -> Values {
     Values::One(crate::scene::default_epsilon())
 }
 
-fn default_rho_values() -> Values {
+pub(crate) fn default_rho_values() -> Values {
     Values::One(crate::scene::default_rho())
 }
 
@@ -197,8 +197,22 @@ pub enum DeviceVariant {
     },
 }
 
-fn rigid_coupling() -> Coupling {
+pub(crate) fn rigid_coupling() -> Coupling {
     Coupling::Rigid
+}
+
+/// The clutch frequency ratio √(k/mr)/p of a device that gives neither it nor `k_theta`.
+pub(crate) fn default_clutch_frequency_ratio() -> Values {
+    Values::One(match ClutchStiffness::default() {
+        ClutchStiffness::FrequencyRatio(r) | ClutchStiffness::KTheta(r) => r,
+    })
+}
+
+/// The flywheel damping c̄ of a device that gives neither it nor `xi_theta`.
+pub(crate) fn default_cbar() -> Values {
+    Values::One(match Damping::default() {
+        Damping::CBar(c) | Damping::XiTheta(c) => c,
+    })
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

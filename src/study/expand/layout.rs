@@ -6,7 +6,6 @@ use super::super::{
     Study, StudyError, Values,
 };
 use crate::numfmt::fmt_digits;
-use crate::scene::{ClutchStiffness, Damping};
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
 
@@ -422,21 +421,13 @@ fn device_params(device: &DeviceVariant, d: usize) -> Result<Vec<Parameter>, Stu
                 (None, None) => out.push(f(
                     "clutch_frequency_ratio",
                     "ωc/p",
-                    &Values::One(match ClutchStiffness::default() {
-                        ClutchStiffness::FrequencyRatio(r) | ClutchStiffness::KTheta(r) => r,
-                    }),
+                    &crate::study::default_clutch_frequency_ratio(),
                 )),
             }
             match (cbar, xi_theta) {
                 (_, Some(x)) => out.push(f("xi_theta", "ξθ", x)),
                 (Some(c), None) => out.push(f("cbar", "c̄", c)),
-                (None, None) => out.push(f(
-                    "cbar",
-                    "c̄",
-                    &Values::One(match Damping::default() {
-                        Damping::CBar(c) | Damping::XiTheta(c) => c,
-                    }),
-                )),
+                (None, None) => out.push(f("cbar", "c̄", &crate::study::default_cbar())),
             }
             out.extend([
                 f("friction", "fμ", friction),
