@@ -28,6 +28,43 @@ pub(crate) fn with(extra: &[&str]) -> Vec<&'static str> {
 }
 
 #[test]
+fn the_text_summary_speaks_words_not_rust() {
+    for device in [
+        &["--device", "none"][..],
+        &["--device", "mechanistic", "--sigma", "0.5"],
+    ] {
+        let out = rocklab(&with(device));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let text = String::from_utf8(out.stdout).unwrap();
+        let json = rocklab(&with(&[device, &["--json"][..]].concat()));
+        let json: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+        // The end reason in the words the JSON uses, the structure and device by name.
+        let first = text.lines().next().unwrap();
+        let expected = format!(
+            "structure rigid, device {}, end: {} at t = ",
+            device[1],
+            json["end_reason"].as_str().unwrap()
+        );
+        assert!(first.starts_with(&expected), "{first}\nnot {expected}");
+        for rust in [
+            "\"",
+            "Some(",
+            "None",
+            "Duration",
+            "Overturned",
+            "Settled",
+            "Rest",
+        ] {
+            assert!(!text.contains(rust), "{rust} in\n{text}");
+        }
+    }
+}
+
+#[test]
 fn json_has_the_contract_keys_and_matches_the_library() {
     let out = rocklab(&with(&[
         "--device",

@@ -81,8 +81,13 @@ pub fn sweep_throughput(
         // As `rocklab run` does it: the scenes compute only the study's quantities.
         let results = crate::sweep::run_study(study, &opts, library, &cancel, &|_| {})?;
         best = best.min(start.elapsed().as_secs_f64());
-        if let Some(failed) = results.outcomes.iter().find(|o| o.result.is_err()) {
-            anyhow::bail!("a scene failed in the bench sweep: {:?}", failed.result);
+        if let Some(Err(e)) = results
+            .outcomes
+            .iter()
+            .map(|o| &o.result)
+            .find(|r| r.is_err())
+        {
+            anyhow::bail!("a scene failed in the bench sweep: {e}");
         }
     }
     Ok((points.len(), best))

@@ -90,7 +90,8 @@ impl StandIn {
                 origin: "index.ron".into(),
                 line: 0,
                 message: format!(
-                    "record '{name}': stand-in needs tp > 0, pgv > 0, γ > 1, finite ν and 0 < dt ≤ tp/10 (got {self:?})"
+                    "record '{name}': stand-in needs tp > 0, pgv > 0, γ > 1, finite ν and 0 < dt ≤ tp/10 (got tp: {}, pgv: {}, gamma: {}, nu: {}, dt: {})",
+                    self.tp, self.pgv, self.gamma, self.nu, self.dt
                 ),
             }))
         }

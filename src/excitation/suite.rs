@@ -224,9 +224,12 @@ pub fn select(
     }
     if chosen.is_empty() {
         return Err(format!(
-            "the filter leaves no record of suite `{}` (pulse filter {:?} on a set that is {})",
+            "the filter leaves no record of suite `{}` ({} on a set that is {})",
             select.name,
-            select.pulse,
+            match select.pulse {
+                Some(pulse) => format!("pulse: {pulse}"),
+                None => "no pulse filter".to_string(),
+            },
             if sets.iter().all(|s| s.pulse().is_none()) {
                 "not classified by pulse"
             } else {

@@ -27,6 +27,18 @@ pub enum EndReason {
     Settled,
 }
 
+impl EndReason {
+    /// The reason in words, as results files name it (`end_reason`).
+    pub fn name(self) -> &'static str {
+        match self {
+            EndReason::Duration => "duration",
+            EndReason::Overturned => "overturned",
+            EndReason::Rest => "rest",
+            EndReason::Settled => "settled",
+        }
+    }
+}
+
 /// What the driver does after the model handled an event.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Action {

@@ -411,7 +411,7 @@ pub fn summary(scene: &Scene, r: &SceneResult) -> String {
         .filter_map(|q| Some(format!("{:<12} {:.6e}\n", q.label(), q.peak(r)?)))
         .collect();
     format!(
-        "structure {:?}, device {}, end: {:?} at t = {:.4} s\n\
+        "structure {}, device {}, end: {} at t = {:.4} s\n\
          {peaks}\
          impacts {}  uplifts {}  engagements {}  resets {}\n\
          energy (J): input {:.6e}  structure {:.6e}  inerter {:.6e}  dissipated {:.6e}  residual {:.2e}\n\
@@ -421,7 +421,7 @@ pub fn summary(scene: &Scene, r: &SceneResult) -> String {
             Structure::Flexible(_) => "flexible",
         },
         scene.device.name(),
-        r.end_reason,
+        r.end_reason.name(),
         r.end_time,
         r.counters.impacts,
         r.counters.uplifts,
