@@ -17,6 +17,7 @@ mod excitation;
 mod figures;
 mod finalise;
 mod flexible;
+mod flywheel_study;
 mod fragility_ida;
 mod fragility_run;
 mod fragility_views;

@@ -45,6 +45,10 @@ pub const OPTIONAL_FIELDS: &[OptionalField] = &[
     optional("mechanistic", "cbar", "1.0"),
     optional("mechanistic", "xi_theta", "0.1"),
     optional("mechanistic", "label", "\"\""),
+    optional("flywheel", "k_theta", "[1000.0, 10000.0]"),
+    optional("flywheel", "clutch_frequency_ratio", "25.0"),
+    optional("flywheel", "cbar", "1.0"),
+    optional("flywheel", "xi_theta", "0.1"),
 ];
 
 /// Pairs of fields of which a study sets one: the editor offers the other in their place.
@@ -83,7 +87,11 @@ const FIELD_HELP: &[(&str, &str)] = &[
         "variants: none, inerter(sigma, coupling), sequential(sigma), mechanistic(sigma, …); a: duplicate",
     ),
     ("sigma", "inerter mass ratio σ = mr/m"),
-    ("coupling", "how the single inerter is attached"),
+    (
+        "coupling",
+        "how the single inerter is attached: rigid, or flywheel(cbar: 1.0, …), a flywheel \
+         behind a spring (k_theta or clutch_frequency_ratio; cbar or xi_theta; rho)",
+    ),
     (
         "k_theta",
         "clutch stiffness kθ (N·m/rad), instead of clutch_frequency_ratio",
@@ -326,6 +334,11 @@ pub const FIELD_DEFAULTS: &[FieldDefault] = &[
     default("mechanistic", "reset", || {
         ron_text(crate::scene::ResetRule::default())
     }),
+    default("flywheel", "clutch_frequency_ratio", || {
+        ron_text(super::default_clutch_frequency_ratio())
+    }),
+    default("flywheel", "cbar", || ron_text(super::default_cbar())),
+    default("flywheel", "rho", || ron_text(super::default_rho_values())),
     default("record", "scale", || ron_text(super::unit_values())),
     default("record", "scale_to", || {
         ron_text(super::RecordScaling::default())
@@ -482,6 +495,11 @@ mod tests {
                     format!("flexible(r0: 1.0, alpha: 0.2, xi: 0.05, {set})"),
                     "none".into(),
                 ),
+                "flywheel" => (
+                    "",
+                    rigid,
+                    format!("inerter(sigma: 1.0, coupling: flywheel({set}))"),
+                ),
                 device => ("", rigid, format!("{device}(sigma: 1.0, {set})")),
             };
             format!(
@@ -529,6 +547,7 @@ mod tests {
                     format!("flexible(r0: 1.0, alpha: 0.2, xi: 0.05, omega_ratio: 5.0, {set})")
             }
             "inerter" | "mechanistic" => device = format!("{owner}(sigma: 0.5, {set})"),
+            "flywheel" => device = format!("inerter(sigma: 0.5, coupling: flywheel({set}))"),
             "record" => excitation = format!("record(names: [\"x\"], {set})"),
             "design" => {
                 top = format!(

@@ -24,7 +24,7 @@ pub use strict::{ANGLE_FIELDS, parse_angle};
 pub use values::Values;
 
 use crate::excitation::{KinkPolicy, PulseShape};
-use crate::scene::{ClutchStiffness, Coupling, Damping, Form, Impact, ResetRule, Scene};
+use crate::scene::{ClutchStiffness, Damping, Form, Impact, ResetRule, Scene};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 use std::path::Path;
@@ -152,11 +152,11 @@ pub enum StructureFamily {
 pub enum DeviceVariant {
     /// The bare structure.
     None,
-    /// A single inerter without clutch.
+    /// A single inerter without clutch, attached rigidly or through a flywheel.
     Inerter {
         sigma: Values,
         #[serde(default = "rigid_coupling")]
-        coupling: Coupling,
+        coupling: CouplingFamily,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         label: Option<String>,
     },
@@ -197,8 +197,31 @@ pub enum DeviceVariant {
     },
 }
 
-pub(crate) fn rigid_coupling() -> Coupling {
-    Coupling::Rigid
+/// How a study's single inerter is attached: rigidly, or through an explicit flywheel behind
+/// a spring, with the clutch's spring and damping named as a mechanistic device names them
+/// (and as `rocklab simulate --coupling flywheel` takes them): stiffness `k_theta` or
+/// `clutch_frequency_ratio` (default the clutch's), damping `cbar` (default the clutch's) or
+/// `xi_theta`, pinion radius `rho`. Each takes a value, a list or a range.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum CouplingFamily {
+    Rigid,
+    Flywheel {
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        k_theta: Option<Values>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        clutch_frequency_ratio: Option<Values>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        cbar: Option<Values>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        xi_theta: Option<Values>,
+        #[serde(default = "default_rho_values")]
+        rho: Values,
+    },
+}
+
+pub(crate) fn rigid_coupling() -> CouplingFamily {
+    CouplingFamily::Rigid
 }
 
 /// The clutch frequency ratio √(k/mr)/p of a device that gives neither it nor `k_theta`.

@@ -8,11 +8,11 @@
 //! they cannot drift from it.
 
 use super::error::StudyError;
-use super::{AmplitudeAxis, Axis, DeviceVariant, ExcitationFamily, FrequencyAxis};
+use super::{AmplitudeAxis, Axis, CouplingFamily, DeviceVariant, ExcitationFamily, FrequencyAxis};
 use super::{RecordScaling, StructureFamily};
 use crate::excitation::{KinkPolicy, PulseShape};
 use crate::ron_syntax::{self as syntax, Kind, SyntaxError, Token};
-use crate::scene::{Coupling, Form, Impact, ResetRule};
+use crate::scene::{Form, Impact, ResetRule};
 use serde::Deserialize;
 use serde::de::{self, Visitor};
 
@@ -61,7 +61,7 @@ pub fn wrapper_names() -> Vec<&'static str> {
         variants::<Axis>(),
         variants::<PulseShape>(),
         variants::<KinkPolicy>(),
-        variants::<Coupling>(),
+        variants::<CouplingFamily>(),
         variants::<Impact>(),
         variants::<ResetRule>(),
         variants::<Form>(),

@@ -2,8 +2,8 @@
 //! device, excitation), the expansion indices it covers, and the labels of its groups.
 
 use super::super::{
-    AmplitudeAxis, Axis, DeviceVariant, ExcitationFamily, FrequencyAxis, MapAxes, StructureFamily,
-    Study, StudyError, Values,
+    AmplitudeAxis, Axis, CouplingFamily, DeviceVariant, ExcitationFamily, FrequencyAxis, MapAxes,
+    StructureFamily, Study, StudyError, Values,
 };
 use crate::numfmt::fmt_digits;
 use serde::{Deserialize, Serialize};
@@ -372,20 +372,39 @@ fn structure_params(s: &StructureFamily) -> Vec<Parameter> {
 }
 
 fn device_params(device: &DeviceVariant, d: usize) -> Result<Vec<Parameter>, StudyError> {
-    let f = |id, label, v: &Values| {
-        Parameter::new(
-            id,
-            Part::Device,
-            format!("devices[{d}].{id}"),
-            label,
-            None,
-            v,
-        )
-    };
+    let prefix = format!("devices[{d}].");
+    let f = |id, label, v: &Values| device_param(&prefix, id, label, v);
     Ok(match device {
         DeviceVariant::None => vec![],
-        DeviceVariant::Inerter { sigma, .. } | DeviceVariant::Sequential { sigma, .. } => {
-            vec![f("sigma", "σ", sigma)]
+        DeviceVariant::Inerter {
+            sigma,
+            coupling: CouplingFamily::Rigid,
+            ..
+        }
+        | DeviceVariant::Sequential { sigma, .. } => vec![f("sigma", "σ", sigma)],
+        DeviceVariant::Inerter {
+            sigma,
+            coupling:
+                CouplingFamily::Flywheel {
+                    k_theta,
+                    clutch_frequency_ratio,
+                    cbar,
+                    xi_theta,
+                    rho,
+                },
+            ..
+        } => {
+            let prefix = format!("devices[{d}].coupling.");
+            let spring = Spring {
+                k_theta,
+                clutch_frequency_ratio,
+                cbar,
+                xi_theta,
+            };
+            let mut out = vec![f("sigma", "σ", sigma)];
+            out.extend(spring.params(&prefix)?);
+            out.push(device_param(&prefix, "rho", "ρ", rho));
+            out
         }
         DeviceVariant::Mechanistic {
             sigma,
@@ -400,35 +419,14 @@ fn device_params(device: &DeviceVariant, d: usize) -> Result<Vec<Parameter>, Stu
             rho,
             ..
         } => {
-            if k_theta.is_some() && clutch_frequency_ratio.is_some() {
-                return Err(StudyError::field(
-                    format!("devices[{d}].k_theta"),
-                    "give at most one of `k_theta` and `clutch_frequency_ratio`",
-                    "kθ in N·m/rad, or the clutch frequency √(k/mr) as a multiple of p",
-                ));
-            }
-            if cbar.is_some() && xi_theta.is_some() {
-                return Err(StudyError::field(
-                    format!("devices[{d}].cbar"),
-                    "give at most one of `cbar` and `xi_theta`",
-                    "c̄ = c/J in 1/s, or the damping ratio ξθ = c/(2√(kθ J))",
-                ));
-            }
+            let spring = Spring {
+                k_theta,
+                clutch_frequency_ratio,
+                cbar,
+                xi_theta,
+            };
             let mut out = vec![f("sigma", "σ", sigma)];
-            match (k_theta, clutch_frequency_ratio) {
-                (Some(k), _) => out.push(f("k_theta", "kθ", k)),
-                (None, Some(r)) => out.push(f("clutch_frequency_ratio", "ωc/p", r)),
-                (None, None) => out.push(f(
-                    "clutch_frequency_ratio",
-                    "ωc/p",
-                    &crate::study::default_clutch_frequency_ratio(),
-                )),
-            }
-            match (cbar, xi_theta) {
-                (_, Some(x)) => out.push(f("xi_theta", "ξθ", x)),
-                (Some(c), None) => out.push(f("cbar", "c̄", c)),
-                (None, None) => out.push(f("cbar", "c̄", &crate::study::default_cbar())),
-            }
+            out.extend(spring.params(&prefix)?);
             out.extend([
                 f("friction", "fμ", friction),
                 f("eta", "η", eta),
@@ -439,6 +437,58 @@ fn device_params(device: &DeviceVariant, d: usize) -> Result<Vec<Parameter>, Stu
             out
         }
     })
+}
+
+/// A device parameter at `prefix` (`devices[1].`, `devices[1].coupling.`) in the study.
+fn device_param(prefix: &str, id: &'static str, label: &str, v: &Values) -> Parameter {
+    Parameter::new(id, Part::Device, format!("{prefix}{id}"), label, None, v)
+}
+
+/// The spring and damping of a clutch or of a flywheel coupling: one of `k_theta` and
+/// `clutch_frequency_ratio` (default the clutch's ratio), one of `cbar` (default the
+/// clutch's) and `xi_theta`.
+struct Spring<'a> {
+    k_theta: &'a Option<Values>,
+    clutch_frequency_ratio: &'a Option<Values>,
+    cbar: &'a Option<Values>,
+    xi_theta: &'a Option<Values>,
+}
+
+impl Spring<'_> {
+    /// The two parameters, at `prefix` (`devices[1].`) in the study.
+    fn params(&self, prefix: &str) -> Result<Vec<Parameter>, StudyError> {
+        let f = |id, label, v: &Values| device_param(prefix, id, label, v);
+        let path = |id| format!("{prefix}{id}");
+        if self.k_theta.is_some() && self.clutch_frequency_ratio.is_some() {
+            return Err(StudyError::field(
+                path("k_theta"),
+                "give at most one of `k_theta` and `clutch_frequency_ratio`",
+                "kθ in N·m/rad, or the clutch frequency √(k/mr) as a multiple of p",
+            ));
+        }
+        if self.cbar.is_some() && self.xi_theta.is_some() {
+            return Err(StudyError::field(
+                path("cbar"),
+                "give at most one of `cbar` and `xi_theta`",
+                "c̄ = c/J in 1/s, or the damping ratio ξθ = c/(2√(kθ J))",
+            ));
+        }
+        let stiffness = match (self.k_theta, self.clutch_frequency_ratio) {
+            (Some(k), _) => f("k_theta", "kθ", k),
+            (None, Some(r)) => f("clutch_frequency_ratio", "ωc/p", r),
+            (None, None) => f(
+                "clutch_frequency_ratio",
+                "ωc/p",
+                &crate::study::default_clutch_frequency_ratio(),
+            ),
+        };
+        let damping = match (self.cbar, self.xi_theta) {
+            (_, Some(x)) => f("xi_theta", "ξθ", x),
+            (Some(c), None) => f("cbar", "c̄", c),
+            (None, None) => f("cbar", "c̄", &crate::study::default_cbar()),
+        };
+        Ok(vec![stiffness, damping])
+    }
 }
 
 fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Parameter>, StudyError> {
@@ -505,7 +555,12 @@ fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Parameter>, StudyError>
 pub fn device_label(device: &DeviceVariant) -> String {
     let (label, default) = match device {
         DeviceVariant::None => (None, "bare"),
-        DeviceVariant::Inerter { label, .. } => (label.as_ref(), "inerter"),
+        DeviceVariant::Inerter {
+            label,
+            coupling: CouplingFamily::Rigid,
+            ..
+        } => (label.as_ref(), "inerter"),
+        DeviceVariant::Inerter { label, .. } => (label.as_ref(), "flywheel inerter"),
         DeviceVariant::Sequential { label, .. } => (label.as_ref(), "sequential"),
         DeviceVariant::Mechanistic { label, .. } => (label.as_ref(), "mechanistic"),
     };

@@ -9,12 +9,12 @@ mod validate;
 pub use layout::{DeviceKind, Layout, MAX_SCENES, Parameter, Part, VariantLayout, device_label};
 
 use super::{
-    AmplitudeAxis, Axis, DeviceVariant, ExcitationFamily, FrequencyAxis, ScenePoint,
-    StructureFamily, Study, StudyError, scene_key,
+    AmplitudeAxis, Axis, CouplingFamily, DeviceVariant, ExcitationFamily, FrequencyAxis,
+    ScenePoint, StructureFamily, Study, StudyError, scene_key,
 };
 use crate::scene::{
-    Amplitude, Clutch, ClutchStiffness, Damping, Device, Excitation, FlexibleStructure, Frequency,
-    RigidBlock, Scene, Structure,
+    Amplitude, Clutch, ClutchStiffness, Coupling, Damping, Device, Excitation, FlexibleStructure,
+    Frequency, RigidBlock, Scene, Structure,
 };
 use validate::{check_axes, check_records, check_top_level, invalid_scene};
 
@@ -118,27 +118,37 @@ fn build_structure(s: &StructureFamily, value: &dyn Fn(&str) -> Option<f64>) -> 
 
 fn build_device(d: &DeviceVariant, value: &dyn Fn(&str) -> Option<f64>) -> Device {
     let get = |id: &str| value(id).unwrap_or(f64::NAN);
+    // A clutch's or flywheel's spring and damping, as layout.rs gives their parameters.
+    let stiffness = || match value("k_theta") {
+        Some(k) => ClutchStiffness::KTheta(k),
+        None => ClutchStiffness::FrequencyRatio(get("clutch_frequency_ratio")),
+    };
+    let damping = || match value("xi_theta") {
+        Some(x) => Damping::XiTheta(x),
+        None => Damping::CBar(get("cbar")),
+    };
     match d {
         DeviceVariant::None => Device::None,
         DeviceVariant::Inerter { coupling, .. } => Device::Inerter {
             sigma: get("sigma"),
-            coupling: coupling.clone(),
+            coupling: match coupling {
+                CouplingFamily::Rigid => Coupling::Rigid,
+                CouplingFamily::Flywheel { .. } => Coupling::Flywheel {
+                    stiffness: stiffness(),
+                    rho: get("rho"),
+                    damping: damping(),
+                },
+            },
         },
         DeviceVariant::Sequential { .. } => Device::Sequential {
             sigma: get("sigma"),
         },
         DeviceVariant::Mechanistic { reset, .. } => Device::Mechanistic(Clutch {
             sigma: get("sigma"),
-            stiffness: match value("k_theta") {
-                Some(k) => ClutchStiffness::KTheta(k),
-                None => ClutchStiffness::FrequencyRatio(get("clutch_frequency_ratio")),
-            },
+            stiffness: stiffness(),
             rho: get("rho"),
             epsilon: get("epsilon"),
-            damping: match value("xi_theta") {
-                Some(x) => Damping::XiTheta(x),
-                None => Damping::CBar(get("cbar")),
-            },
+            damping: damping(),
             friction: get("friction"),
             eta: get("eta"),
             play: get("play"),

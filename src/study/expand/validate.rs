@@ -248,7 +248,11 @@ pub(super) fn invalid_scene(
         {
             format!("structure.{f}")
         }
-        f => format!("devices[{d}].{f}"),
+        // A device parameter where the study writes it (a flywheel's under `coupling`).
+        f => params
+            .iter()
+            .find(|p| p.id == f && p.path.starts_with(&format!("devices[{d}].")))
+            .map_or_else(|| format!("devices[{d}].{f}"), |p| p.path.clone()),
     };
     // A size derived from p: the message speaks of the p the user wrote.
     let what = match path.as_str() {
