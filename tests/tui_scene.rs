@@ -181,3 +181,103 @@ fn a_scene_opened_from_a_map_cell_is_that_cell() {
         _ => panic!("the scene did not finish"),
     }
 }
+
+/// The Scene screen names its scene by the index `rocklab plot --scene N` takes, and each
+/// parameter once: a user's rigid family (R and α varying, not axes) put R and α in the group
+/// and again in the coordinates ("… R=1 α=0.1745 ωg/p=4 R=1 α=0.1745").
+#[test]
+fn scene_header_names_the_index_and_each_parameter_once() {
+    let study = rocklab::study::Study::from_ron_str(
+        "(version: 1, name: \"family\", structure: rigid(size: [1.0, 3.0], alpha: deg([6, 10, 14])),
+          devices: [none],
+          excitation: pulse(shape: sine, amplitude: alpha_ratio(2.5), frequency: ratio([2.0, 4.0])),
+          duration: 4.0)",
+        "family.ron",
+    )
+    .unwrap();
+    let point = study
+        .expand()
+        .unwrap()
+        .into_iter()
+        .find(|p| {
+            p.coord("R") == Some(3.0)
+                && p.coord("ωg/p") == Some(4.0)
+                && p.coord("α")
+                    .is_some_and(|a| (a - 10f64.to_radians()).abs() < 1e-12)
+        })
+        .expect("the family holds R = 3, α = 10°, ωg/p = 4");
+    assert_ne!(point.index, 0);
+    let mut app = app_for(study, scratch_dir());
+    app.scene.open(point.clone());
+    key(&mut app, KeyCode::Char('4'));
+    assert!(app.wait_idle(Duration::from_secs(60)), "the scene reruns");
+    let screen = text(&render(&app, Theme::COLOR, SMALL));
+    let header = screen.lines().nth(1).unwrap();
+    assert!(
+        header.starts_with(&format!("scene {}  bare R=3 α=", point.index)),
+        "{screen}"
+    );
+    for name in ["R=", "α=", "ωg/p"] {
+        assert_eq!(header.matches(name).count(), 1, "{name}: {header}");
+    }
+    assert!(header.ends_with(", ωg/p = 4"), "{header}");
+    let verdict = screen.lines().nth(2).unwrap();
+    // A rigid block overturns at θ = α: its measure reads 1.
+    assert!(verdict.starts_with("OVERTURNED  θmax/α 1  0–"), "{verdict}");
+    assert!(
+        !screen.contains("drift"),
+        "a rigid block's measure is θmax/α"
+    );
+    snap("scene_rigid_family_80x24", screen);
+}
+
+/// A flexible structure overturns when its mass passes over the pivot, which is when the drift
+/// |X|/H reaches B/H = tan α, with θ still below α: the Scene screen says so (it read
+/// "OVERTURNED θmax/α 0.9852", a contradiction for a reader who knows the rigid block's
+/// θ = α). Fig. 16's bare structure at ωg/p = 2.5: the drift at the end is tan 0.2.
+#[test]
+fn a_flexible_overturn_reads_as_the_mass_over_the_pivot() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/studies/fig16_flexible_spectra.ron"
+    );
+    let study = rocklab::study::Study::load(std::path::Path::new(path)).unwrap();
+    let point = study
+        .expand()
+        .unwrap()
+        .into_iter()
+        .find(|p| p.scene.device == rocklab::scene::Device::None && p.coord("ωg/p") == Some(2.5))
+        .expect("Fig. 16 holds the bare structure at ωg/p = 2.5");
+    let mut app = app_for(study, scratch_dir());
+    app.scene.open(point.clone());
+    key(&mut app, KeyCode::Char('4'));
+    assert!(app.wait_idle(Duration::from_secs(60)), "the scene reruns");
+    let Some(SceneState::Done(result, _)) = app.scene.view.as_ref().map(|v| &v.state) else {
+        panic!("the scene finished");
+    };
+    assert!(result.overturned);
+    // The criterion in numbers: drift tan α at the end, θ short of α.
+    assert!(
+        (result.peaks.drift - 0.2f64.tan()).abs() < 1e-9,
+        "{}",
+        result.peaks.drift
+    );
+    assert!(
+        result.peak_rotation_ratio < 0.99,
+        "{}",
+        result.peak_rotation_ratio
+    );
+    let screen = text(&render(&app, Theme::COLOR, SMALL));
+    let header = screen.lines().nth(1).unwrap();
+    assert!(
+        header.starts_with(&format!("scene {}  bare, ωg/p = 2.5", point.index)),
+        "{screen}"
+    );
+    assert!(
+        screen.contains("OVERTURNED  drift |X|max/H 0.2027 (= tan α: mass over the pivot)"),
+        "{screen}"
+    );
+    assert!(screen.contains("θmax/α 0.98"), "{screen}");
+    assert!(screen.lines().all(|l| l.chars().count() <= 80));
+    snap("scene_flexible_overturned_80x24", screen);
+}

@@ -192,7 +192,7 @@ pub fn run(args: &CheckArgs) -> anyhow::Result<()> {
         let change = c.worst_change().map_or(0.0, |p| p.change);
         println!(
             "  {}: {}, κ {}, off by {change:.1e} at rtol {:e}{}",
-            report::scene_title(o.point.index, &o.point.group, &o.point.coords),
+            report::scene_title(&o.point),
             c.verdict.label(),
             crate::numfmt::fmt_condition(condition(c)),
             c.rtol,

@@ -158,7 +158,7 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
                 crate::sim::run_history(&scene, library, &crate::sim::Sampling::Auto)
             })
             .map_err(|e| anyhow::anyhow!("scene {index} failed: {e}"))?;
-            let mut title = report::scene_title(index, &outcome.point.group, &outcome.point.coords);
+            let mut title = report::scene_title(&outcome.point);
             if result.overturned {
                 title.push_str(" (overturned)");
             }

@@ -29,7 +29,7 @@ pub use export::{
 pub use figure::{FigureOptions, FigureSize, ImageFormat, MAX_MEGAPIXELS, MEGAPIXELS_CEILING};
 pub use plot::{
     MAX_SERIES, PlotChoice, plot_history, plot_map_differences, plot_maps, plot_spectra,
-    scene_title,
+    scene_label, scene_title,
 };
 pub use plot_design::plot_design;
 

@@ -107,11 +107,25 @@ pub(super) fn example_of(g: &Group) -> String {
     }
 }
 
-/// A readable label for a scene, for history plots.
-pub fn scene_title(index: usize, group: &str, coords: &[(String, f64)]) -> String {
-    let c: Vec<String> = coords
-        .iter()
-        .map(|(n, v)| format!("{n} = {}", fmt_num(*v)))
-        .collect();
-    format!("scene {index}: {group}, {}", c.join(", "))
+/// A readable label for a scene, for history plots, `check` and the workbench's Scene screen:
+/// its index (what `plot --scene` takes), then [`scene_label`].
+pub fn scene_title(point: &crate::study::ScenePoint) -> String {
+    format!("scene {}: {}", point.index, scene_label(point))
+}
+
+/// A scene's group, then the coordinates the group does not already name (the axes: a varying
+/// parameter that is no axis is in both), each parameter once.
+pub fn scene_label(point: &crate::study::ScenePoint) -> String {
+    let named = |n: &str| {
+        let prefix = format!("{n}=");
+        point
+            .group
+            .split_whitespace()
+            .any(|w| w.starts_with(&prefix))
+    };
+    let mut text = point.group.clone();
+    for (n, v) in point.coords.iter().filter(|(n, _)| !named(n)) {
+        text.push_str(&format!(", {n} = {}", fmt_num(*v)));
+    }
+    text
 }

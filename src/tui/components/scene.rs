@@ -7,7 +7,7 @@ use super::super::app::Screen;
 use super::super::job::{AsyncSingleJob, JobEvent};
 use super::super::theme::Theme;
 use super::super::widgets::chart::draw_chart;
-use super::super::widgets::{Hint, fmt_coords, fmt_num};
+use super::super::widgets::{Hint, fmt_num};
 use super::{Action, Component, Shared};
 use crate::numfmt::fmt_condition;
 use crate::sim::check::{Check, Reproducibility, short_name};
@@ -163,9 +163,10 @@ impl Component for SceneScreen {
             return;
         };
 
+        // The index is what `rocklab plot --scene N` and `rocklab check` name the scene by.
         let mut lines = vec![Line::from(vec![
-            Span::styled(view.point.group.clone(), theme.title()),
-            Span::raw(format!("  {}", fmt_coords(&view.point.coords))),
+            Span::styled(format!("scene {}", view.point.index), theme.title()),
+            Span::raw(format!("  {}", crate::report::scene_label(&view.point))),
         ])];
         match &view.state {
             SceneState::Running => lines.push(Line::styled("simulating…", theme.warn())),
@@ -177,9 +178,8 @@ impl Component for SceneScreen {
                 // block at rest stays so until the end).
                 let span = history.rows.last().map_or(r.end_time, |row| row[0]);
                 let mut text = format!(
-                    "{}  θmax/α {}  0–{} s: impacts {}",
-                    if r.overturned { "OVERTURNED" } else { "safe" },
-                    fmt_num(r.peak_rotation_ratio),
+                    "{}  0–{} s: impacts {}",
+                    verdict(&view.point.scene.structure, r),
                     fmt_num(span),
                     r.counters.impacts,
                 );
@@ -219,6 +219,37 @@ impl Component for SceneScreen {
         if let SceneState::Done(_, history) = &view.state {
             draw_histories(history, theme, frame, body);
         }
+    }
+}
+
+/// Overturned or safe, by the structure's own criterion: a rigid block overturns when
+/// |θ| reaches α, so θmax/α is its measure; a flexible structure when its mass passes over the
+/// pivot (docs/MODEL.md), i.e. when the drift |X|/H reaches B/H = tan α, before θ reaches α
+/// (the column leans the mass outward): its measure is the drift against tan α, with θmax/α
+/// after it.
+fn verdict(structure: &crate::scene::Structure, r: &SceneResult) -> String {
+    use crate::sim::Quantity;
+    let word = if r.overturned { "OVERTURNED" } else { "safe" };
+    let rotation = format!(
+        "{} {}",
+        Quantity::PeakRotationRatio.info().axis,
+        fmt_num(r.peak_rotation_ratio)
+    );
+    match (structure, Quantity::PeakDrift.peak(r)) {
+        (crate::scene::Structure::Flexible(f), Some(drift)) => {
+            let limit = fmt_num(f.alpha.tan());
+            let criterion = if r.overturned {
+                "= tan α: mass over the pivot".to_string()
+            } else {
+                format!("overturns at tan α = {limit}")
+            };
+            format!(
+                "{word}  {} {} ({criterion})  {rotation}",
+                Quantity::PeakDrift.info().axis,
+                fmt_num(drift),
+            )
+        }
+        _ => format!("{word}  {rotation}"),
     }
 }
 

@@ -45,11 +45,7 @@ pub fn draw_chart(
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
             (lo.min(v), hi.max(v))
         });
-    let (lo, hi) = if hi > lo {
-        (lo, hi)
-    } else {
-        (lo - 1.0, hi + 1.0)
-    };
+    let (lo, hi) = axis_bounds(lo, hi);
     let datasets = series
         .iter()
         .enumerate()
@@ -77,6 +73,31 @@ pub fn draw_chart(
             fmt_num(hi),
         ]));
     frame.render_widget(chart, area);
+}
+
+/// The y axis of values from `lo` to `hi`: a bound that is round-off next to the span (an
+/// energy of -1e-12 J on a 0.3 J axis) is 0, and the bounds go out to the span's second
+/// significant digit, so the two labels read as short round numbers (0.0778 and -0.0576 become
+/// 0.08 and -0.06). A flat series gets ±1 around its value. (Two labels and a unit are all the
+/// axis shows: a ticks crate would be more than this needs.)
+pub fn axis_bounds(lo: f64, hi: f64) -> (f64, f64) {
+    if hi <= lo || !lo.is_finite() || !hi.is_finite() {
+        return (lo - 1.0, hi + 1.0);
+    }
+    let span = hi - lo;
+    let zero_tiny = |v: f64| if v.abs() <= 1e-6 * span { 0.0 } else { v };
+    let (lo, hi) = (zero_tiny(lo), zero_tiny(hi));
+    let step = 10f64.powf((hi - lo).log10().floor() - 1.0);
+    // Out to a whole step, unless the bound is on one already (within round-off).
+    let out = |v: f64, round: fn(f64) -> f64| {
+        let k = v / step;
+        if (k - k.round()).abs() < 1e-9 {
+            v
+        } else {
+            round(k) * step
+        }
+    };
+    (out(lo, f64::floor), out(hi, f64::ceil))
 }
 
 /// Monochrome terminals tell series apart by their markers, colour ones by colour.
@@ -160,6 +181,30 @@ pub fn downsample(t: &[f64], v: &[f64], n: usize) -> Vec<(f64, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn axis_bounds_are_round_and_round_off_is_zero() {
+        // The energy axis: -1.285e-12 J under a 0.2731 J top.
+        let labels = |(lo, hi): (f64, f64)| (fmt_num(lo), fmt_num(hi));
+        let owned = |a: &str, b: &str| (a.to_string(), b.to_string());
+        assert_eq!(axis_bounds(-1.285e-12, 0.2731).0, 0.0);
+        assert_eq!(labels(axis_bounds(-1.285e-12, 0.2731)), owned("0", "0.28"));
+        assert_eq!(labels(axis_bounds(-0.0576, 0.0778)), owned("-0.06", "0.08"));
+        // Bounds already round stay; large spans round at their second digit.
+        assert_eq!(axis_bounds(0.0, 8.0), (0.0, 8.0));
+        assert_eq!(labels(axis_bounds(-3.0, 1234.0)), owned("-100", "1300"));
+        // A real small value is kept: only values tiny next to the span are zero.
+        assert_eq!(labels(axis_bounds(-0.004, 0.2)), owned("-0.01", "0.2"));
+        // Every value stays inside; a flat series gets room.
+        for (a, b) in [(0.1234, 0.1299), (-7.77e-5, 3.3e-5), (12.0, 12.5)] {
+            let (lo, hi) = axis_bounds(a, b);
+            assert!(
+                lo <= a && b <= hi && hi - lo < 3.0 * (b - a),
+                "{a} {b}: {lo} {hi}"
+            );
+        }
+        assert_eq!(axis_bounds(2.0, 2.0), (1.0, 3.0));
+    }
 
     #[test]
     fn downsampling_keeps_every_window_extreme_and_ignores_step_placement() {
