@@ -190,6 +190,28 @@ fn help_overlay_and_small_terminals() {
     key(&mut app, Esc);
     assert!(!app.help.visible);
     snap("too_small_30x8", text(&render(&app, Theme::COLOR, (30, 8))));
+    // Between 40×10 and 80×24 (README: "smaller terminals get a notice"): a line above the
+    // key hints gives the size, the remedy and what is cut; none from 80×24.
+    for (size, cut) in [
+        ((60, 20), "(labels cut, fewer rows)"),
+        ((79, 23), "(labels cut, fewer rows)"),
+        ((79, 24), "(long labels cut at the right)"),
+        ((80, 23), "(fewer rows and smaller charts)"),
+    ] {
+        let buf = text(&render(&app, Theme::COLOR, size));
+        let lines: Vec<&str> = buf.lines().collect();
+        let notice = lines[lines.len() - 2];
+        let want = format!("{}×{} < 80×24: enlarge the terminal {cut}", size.0, size.1);
+        assert_eq!(notice.trim_end(), want, "{buf}");
+        assert!(lines[lines.len() - 1].starts_with("? help"), "{buf}");
+        if size == (60, 20) || size == (79, 23) {
+            snap(&format!("study_cut_{}x{}", size.0, size.1), buf);
+        }
+    }
+    for size in [(80, 24), (160, 48)] {
+        let buf = text(&render(&app, Theme::COLOR, size));
+        assert!(!buf.contains("enlarge the terminal"), "{buf}");
+    }
     // Just above the minimum, every screen still draws.
     for s in ['1', '2', '3', '4'] {
         key(&mut app, KeyCode::Char(s));

@@ -1,7 +1,7 @@
 //! Drawing: a pure function of the app state. The frame is the tab bar, the current screen's
 //! component, its dialog if any, the status line (message, prompt or key hints) and the help
-//! overlay. Every screen fits 80×24; smaller terminals get fewer details, and below 40×10 a
-//! notice.
+//! overlay. Every screen fits 80×24; a smaller terminal gets fewer details and a notice line
+//! saying so (what is cut, and to enlarge it), and below 40×10 only a notice.
 
 use super::app::{App, Screen};
 use super::theme::Theme;
@@ -13,6 +13,9 @@ use ratatui::widgets::{Paragraph, Wrap};
 
 pub const MIN_WIDTH: u16 = 40;
 pub const MIN_HEIGHT: u16 = 10;
+/// The size every screen is made for: below it a notice line says what is cut.
+pub const FULL_WIDTH: u16 = 80;
+pub const FULL_HEIGHT: u16 = 24;
 
 pub fn draw(app: &App, theme: Theme, frame: &mut Frame) {
     let area = frame.area();
@@ -28,9 +31,11 @@ pub fn draw(app: &App, theme: Theme, frame: &mut Frame) {
         frame.render_widget(Paragraph::new(text).wrap(Wrap { trim: true }), area);
         return;
     }
-    let [top, body, status] = Layout::vertical([
+    let notice = cut_notice(area.width, area.height);
+    let [top, body, notice_row, status] = Layout::vertical([
         Constraint::Length(1),
         Constraint::Min(1),
+        Constraint::Length(u16::from(notice.is_some())),
         Constraint::Length(1),
     ])
     .areas(area);
@@ -41,8 +46,28 @@ pub fn draw(app: &App, theme: Theme, frame: &mut Frame) {
     if let Some(prompt) = &app.prompt {
         prompt.draw_dialog(theme, frame, body);
     }
+    if let Some(notice) = notice {
+        frame.render_widget(
+            Paragraph::new(Line::styled(notice, theme.warn())),
+            notice_row,
+        );
+    }
     draw_status(app, theme, frame, status);
     app.help.draw(theme, frame, area);
+}
+
+/// Below 80×24 (and from 40×10): the size, the remedy and what the size cuts, most important
+/// first (a narrow terminal cuts the end of this line too).
+fn cut_notice(width: u16, height: u16) -> Option<String> {
+    let cut = match (width < FULL_WIDTH, height < FULL_HEIGHT) {
+        (false, false) => return None,
+        (true, false) => "long labels cut at the right",
+        (false, true) => "fewer rows and smaller charts",
+        (true, true) => "labels cut, fewer rows",
+    };
+    Some(format!(
+        "{width}×{height} < {FULL_WIDTH}×{FULL_HEIGHT}: enlarge the terminal ({cut})"
+    ))
 }
 
 fn draw_tabs(app: &App, theme: Theme, frame: &mut Frame, area: Rect) {
