@@ -114,6 +114,17 @@ fn partial_results_are_honest() {
         "every third of 36 scenes never ran"
     );
     assert_eq!(count(Mark::Failed), 1);
+    // The spectra (and so the comparison made of them) hold the unrun points as not run, not
+    // as failed: one spectrum per scene and quantity.
+    let states = |state: rocklab::report::PointState| {
+        (data.spectra.iter())
+            .filter(|s| s.quantity == data.spectra[0].quantity)
+            .flat_map(|s| &s.states)
+            .filter(|x| **x == state)
+            .count()
+    };
+    assert_eq!(states(rocklab::report::PointState::NotRun), 12);
+    assert_eq!(states(rocklab::report::PointState::Failed), 1);
     snap_text_and_styles(&app, "results_partial_spectra");
     // The cursor on an unrun point reads "not run", never "overturned".
     let unrun_x = data.spectrum_marks[0]

@@ -19,7 +19,7 @@ use super::super::theme::Theme;
 use super::super::widgets::Hint;
 use super::prompt::Prompt;
 use super::{Action, Component, Shared};
-use crate::report::{self, OverturningMap, Quantity, Spectrum};
+use crate::report::{self, OverturningMap, PointState, Quantity, Spectrum};
 use crate::sim::SceneResult;
 use crate::sim::check::{CheckCsvRow, Reproducibility};
 use crate::study::ScenePoint;
@@ -31,10 +31,6 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Wrap};
 
 pub use super::super::widgets::strip::Mark;
-
-/// The reason carried by the placeholder outcomes of points a stopped sweep never ran (they
-/// give the spectra and maps the study's full axes; never saved).
-const NOT_RUN: &str = "\u{0}not run";
 
 /// Results and what is aggregated from them once, when they arrive.
 pub struct Results {
@@ -90,24 +86,36 @@ impl Results {
                 .filter(|p| {
                     !ran.contains(&p.index) && crate::sweep::in_shard(p.index, results.shard)
                 })
+                // A placeholder: its state is NotRun (below), never this text; never saved.
                 .map(|point| crate::sweep::SceneOutcome {
                     point,
-                    result: Err(NOT_RUN.into()),
+                    result: Err("not run".into()),
                 }),
         );
         padded.outcomes.sort_by_key(|o| o.point.index);
-        let spectra = report::spectra(&padded);
+        // What became of each padded outcome: the placeholders are the ones that did not run.
+        let states: Vec<PointState> = (padded.outcomes.iter())
+            .map(|o| match ran.contains(&o.point.index) {
+                true => PointState::of(o),
+                false => PointState::NotRun,
+            })
+            .collect();
+        let mut spectra = report::spectra(&padded);
+        // The spectra (and the comparison made of them) see a placeholder as not run, not
+        // as failed.
+        for s in &mut spectra {
+            for (state, i) in s.states.iter_mut().zip(&s.outcomes) {
+                *state = states[*i];
+            }
+        }
         let maps = report::maps(&padded);
-        let mark = |outcome: Option<usize>, has_value: bool| match outcome
-            .and_then(|i| padded.outcomes.get(i))
-            .map(|o| &o.result)
-        {
-            _ if has_value => Mark::Value,
-            Some(Err(e)) if e == NOT_RUN => Mark::NotRun,
-            Some(Err(_)) => Mark::Failed,
-            Some(Ok(_)) => Mark::Overturned,
-            None => Mark::NotRun,
-        };
+        let mark =
+            |outcome: Option<usize>, has_value: bool| match outcome.and_then(|i| states.get(i)) {
+                _ if has_value => Mark::Value,
+                Some(PointState::NotRun) | None => Mark::NotRun,
+                Some(PointState::Failed) => Mark::Failed,
+                Some(PointState::Survived | PointState::Overturned) => Mark::Overturned,
+            };
         let spectrum_marks = spectra
             .iter()
             .map(|s| {
