@@ -15,6 +15,7 @@ pub mod ron_syntax;
 pub mod scene;
 pub mod sim;
 pub mod solver;
+pub mod stats;
 pub mod study;
 pub mod sweep;
 pub mod tui;

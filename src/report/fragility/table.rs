@@ -100,3 +100,54 @@ pub fn read_fragility_json(path: &Path) -> anyhow::Result<FragilityReport> {
         )
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::{FragilityOptions, FragilityReport, Variant, analyse_ida};
+    use super::fragility_csv;
+    use crate::stats::tests::{capacities, ida_obs, variant};
+
+    #[test]
+    fn csv_has_one_row_per_variant_and_state_with_the_contract_columns() {
+        let bare = capacities(9, 30, 1.5, 0.45);
+        let mut obs = ida_obs(&variant("none"), &bare, 2.0);
+        obs.extend(ida_obs(&variant("inerter"), &bare, 2.0));
+        obs.extend(ida_obs(
+            &Variant {
+                device: "none".into(),
+                params: vec![("alpha".into(), 0.3)],
+            },
+            &[],
+            2.0,
+        ));
+        let opts = FragilityOptions {
+            damage_states: vec![1.0],
+            bootstrap: 50,
+            ..Default::default()
+        };
+        let report = analyse_ida(&obs, &opts);
+        let text = String::from_utf8(fragility_csv(&report).unwrap()).unwrap();
+        let mut lines = text.lines();
+        assert_eq!(
+            lines.next().unwrap(),
+            "device,alpha,damage_state,median,beta,median_lo,median_hi,beta_lo,beta_hi,\
+             n_records,n_stripes,method,status,median_ratio,median_ratio_lo,median_ratio_hi,crosses_bare"
+        );
+        let rows: Vec<&str> = lines.collect();
+        assert_eq!(rows.len(), 2);
+        assert!(rows[0].starts_with("none,0.2,1,"), "{}", rows[0]);
+        assert!(rows[0].ends_with(",30,0,ida,fitted,,,,"), "{}", rows[0]);
+        // Identical capacities: the ratio is 1 in every resample, and equal curves do not cross.
+        assert!(
+            rows[1].ends_with(",30,0,ida,fitted,1,1,1,false"),
+            "{}",
+            rows[1]
+        );
+        // The JSON round-trips.
+        let json = serde_json::to_string(&report).unwrap();
+        assert_eq!(
+            serde_json::from_str::<FragilityReport>(&json).unwrap(),
+            report
+        );
+    }
+}

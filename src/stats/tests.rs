@@ -2,7 +2,7 @@
 
 use super::*;
 
-fn variant(device: &str) -> Variant {
+pub(crate) fn variant(device: &str) -> Variant {
     Variant {
         device: device.to_string(),
         params: vec![("alpha".to_string(), 0.2)],
@@ -15,7 +15,7 @@ fn normal(rng: &mut fastrand::Rng) -> f64 {
     (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
 }
 
-fn capacities(seed: u64, n: usize, median: f64, beta: f64) -> Vec<f64> {
+pub(crate) fn capacities(seed: u64, n: usize, median: f64, beta: f64) -> Vec<f64> {
     let mut rng = fastrand::Rng::with_seed(seed);
     (0..n)
         .map(|_| median * (beta * normal(&mut rng)).exp())
@@ -213,7 +213,7 @@ fn degenerate_ida_sets_are_statuses() {
     );
 }
 
-fn ida_obs(v: &Variant, caps: &[f64], top: f64) -> Vec<IdaObservation> {
+pub(crate) fn ida_obs(v: &Variant, caps: &[f64], top: f64) -> Vec<IdaObservation> {
     caps.iter()
         .enumerate()
         .map(|(r, &c)| IdaObservation {
@@ -344,50 +344,6 @@ fn bootstrap_intervals_cover_the_true_median_about_as_often_as_stated() {
         })
         .count();
     assert!((47..=60).contains(&covered), "{covered} of 60");
-}
-
-#[test]
-fn csv_has_one_row_per_variant_and_state_with_the_contract_columns() {
-    let bare = capacities(9, 30, 1.5, 0.45);
-    let mut obs = ida_obs(&variant("none"), &bare, 2.0);
-    obs.extend(ida_obs(&variant("inerter"), &bare, 2.0));
-    obs.extend(ida_obs(
-        &Variant {
-            device: "none".into(),
-            params: vec![("alpha".into(), 0.3)],
-        },
-        &[],
-        2.0,
-    ));
-    let opts = FragilityOptions {
-        damage_states: vec![1.0],
-        bootstrap: 50,
-        ..Default::default()
-    };
-    let report = analyse_ida(&obs, &opts);
-    let text = String::from_utf8(fragility_csv(&report).unwrap()).unwrap();
-    let mut lines = text.lines();
-    assert_eq!(
-        lines.next().unwrap(),
-        "device,alpha,damage_state,median,beta,median_lo,median_hi,beta_lo,beta_hi,\
-         n_records,n_stripes,method,status,median_ratio,median_ratio_lo,median_ratio_hi,crosses_bare"
-    );
-    let rows: Vec<&str> = lines.collect();
-    assert_eq!(rows.len(), 2);
-    assert!(rows[0].starts_with("none,0.2,1,"), "{}", rows[0]);
-    assert!(rows[0].ends_with(",30,0,ida,fitted,,,,"), "{}", rows[0]);
-    // Identical capacities: the ratio is 1 in every resample, and equal curves do not cross.
-    assert!(
-        rows[1].ends_with(",30,0,ida,fitted,1,1,1,false"),
-        "{}",
-        rows[1]
-    );
-    // The JSON round-trips.
-    let json = serde_json::to_string(&report).unwrap();
-    assert_eq!(
-        serde_json::from_str::<FragilityReport>(&json).unwrap(),
-        report
-    );
 }
 
 #[test]
