@@ -10,6 +10,7 @@ mod cli_simulate;
 mod compare;
 mod conditioning;
 mod design;
+mod design_fragility;
 mod design_status;
 mod design_view;
 mod exact_contact;

@@ -32,11 +32,13 @@ pub const DESIGN_COLUMNS: [(&str, &str); 11] = [
     ("scenes", "scenes those probes ran"),
     (
         "governing",
-        "excitation point of the worst response at the answer (at the top if not achievable)",
+        "excitation point of the worst response at the answer (at the top if not achievable); \
+         a fragility target: the fitted curve (median [interval] β, records × stripes)",
     ),
     (
         "achieved",
-        "that response (overturned or failed when there is none)",
+        "that response (overturned or failed when there is none); a fragility target: the \
+         fitted median or probability (the fit's status when there is none)",
     ),
     (
         "status",

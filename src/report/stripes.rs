@@ -234,12 +234,7 @@ pub fn analyse(f: &Fragility, study: &Study, rows: &[StripeRow]) -> FragilityRep
 
 /// The options of a fragility section's fits.
 pub(super) fn options(f: &Fragility) -> FragilityOptions {
-    FragilityOptions {
-        damage_states: f.damage_states.levels(),
-        bootstrap: f.bootstrap,
-        seed: f.seed,
-        confidence: f.confidence,
-    }
+    f.fit_options()
 }
 
 /// Name a report's intensity measure and damage measure for its figure and readouts.

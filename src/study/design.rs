@@ -11,7 +11,19 @@
 //!     target: limit(quantity: peak_rotation_ratio, max: 0.5),
 //! ),
 //! ```
+//!
+//! A fragility study (record suite, `scale` stripes, a `fragility` section) may instead size
+//! the device for its fragility curve of one damage state, named by its threshold as
+//! `fragility.damage_states` and fragility.csv name it, in the study's intensity measure
+//! (`scale_to`): each probe runs every record at every stripe and fits the curve as the
+//! fragility report does (`crate::stats`).
+//!
+//! ```ron
+//! target: fragility(state: 1.0, median_at_least: 4.0),
+//! target: fragility(state: 0.5, at: 3.0, exceedance_at_most: 0.1),
+//! ```
 
+use super::fragility::Method;
 use super::{DeviceVariant, ExcitationFamily, Layout, Quantity, Study, StudyError};
 use serde::{Deserialize, Serialize};
 
@@ -124,21 +136,93 @@ pub enum DesignTarget {
     Limit { quantity: Quantity, max: f64 },
     /// The structure does not overturn.
     NoOverturning,
+    /// A fragility study's curve of damage state `state` (a threshold of its
+    /// `damage_states`), fitted over every record and stripe: either its median intensity is
+    /// at least `median_at_least`, or its probability of reaching the state at intensity `at`
+    /// is at most `exceedance_at_most` (one form or the other: [`validate`]).
+    Fragility {
+        state: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        median_at_least: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        at: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        exceedance_at_most: Option<f64>,
+    },
+}
+
+/// A fragility target's requirement on the fitted curve (the target after validation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FragilityGoal {
+    /// Median intensity ≥ this.
+    MedianAtLeast(f64),
+    /// P(reach the state | IM = at) ≤ most.
+    ExceedanceAtMost { at: f64, most: f64 },
+}
+
+impl FragilityGoal {
+    /// The intensity the goal is read at (a median of at least x: P(x) ≤ 1/2).
+    pub fn im(self) -> f64 {
+        match self {
+            FragilityGoal::MedianAtLeast(x) => x,
+            FragilityGoal::ExceedanceAtMost { at, .. } => at,
+        }
+    }
+
+    /// The most probability of reaching the state at [`FragilityGoal::im`] (a median of at
+    /// least x: 1/2).
+    pub fn most(self) -> f64 {
+        match self {
+            FragilityGoal::MedianAtLeast(_) => 0.5,
+            FragilityGoal::ExceedanceAtMost { most, .. } => most,
+        }
+    }
 }
 
 impl DesignTarget {
-    /// The quantity the target limits (no overturning: the rotation ratio, 1 at overturning).
-    pub fn quantity(self) -> Quantity {
+    /// The response quantity a limit target limits (no overturning: the rotation ratio, 1 at
+    /// overturning); None for a fragility target (its damage measure is the study's).
+    pub fn quantity(self) -> Option<Quantity> {
         match self {
-            DesignTarget::Limit { quantity, .. } => quantity,
-            DesignTarget::NoOverturning => Quantity::PeakRotationRatio,
+            DesignTarget::Limit { quantity, .. } => Some(quantity),
+            DesignTarget::NoOverturning => Some(Quantity::PeakRotationRatio),
+            DesignTarget::Fragility { .. } => None,
         }
+    }
+
+    /// A fragility target's damage state and goal (None: another target, or the fields do
+    /// not make one goal: [`validate`] refuses those).
+    pub fn fragility(self) -> Option<(f64, FragilityGoal)> {
+        let DesignTarget::Fragility {
+            state,
+            median_at_least,
+            at,
+            exceedance_at_most,
+        } = self
+        else {
+            return None;
+        };
+        let goal = match (median_at_least, at, exceedance_at_most) {
+            (Some(x), None, None) => FragilityGoal::MedianAtLeast(x),
+            (None, Some(at), Some(most)) => FragilityGoal::ExceedanceAtMost { at, most },
+            _ => return None,
+        };
+        Some((state, goal))
     }
 
     pub fn describe(self) -> String {
         match self {
             DesignTarget::Limit { quantity, max } => format!("{} <= {max}", quantity.name()),
             DesignTarget::NoOverturning => "no overturning".into(),
+            DesignTarget::Fragility { state, .. } => match self.fragility() {
+                Some((_, FragilityGoal::MedianAtLeast(x))) => {
+                    format!("median IM of damage state {state} >= {x}")
+                }
+                Some((_, FragilityGoal::ExceedanceAtMost { at, most })) => {
+                    format!("P(damage state {state} | IM = {at}) <= {most}")
+                }
+                None => format!("fragility of damage state {state}"),
+            },
         }
     }
 }
@@ -166,13 +250,17 @@ impl ExcitationAxis {
 }
 
 impl Design {
-    /// The excitation axes of `study` the target holds over (`over`, or its default).
+    /// The excitation axes of `study` the target holds over (`over`, or its default; a
+    /// fragility target's curve is fitted over every record and stripe).
     pub fn over_ids(&self, study: &Study) -> Vec<&'static str> {
         if !self.over.is_empty() {
             return self.over.iter().map(|a| a.id()).collect();
         }
         match study.excitation {
             ExcitationFamily::Pulse { .. } => vec!["frequency"],
+            ExcitationFamily::Record { .. } if self.target.fragility().is_some() => {
+                vec!["record", "scale"]
+            }
             ExcitationFamily::Record { .. } => vec!["record"],
         }
     }
@@ -226,6 +314,20 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
             ));
         }
     }
+    if let DesignTarget::Fragility { .. } = design.target {
+        validate_fragility_target(study, design)?;
+    } else if study
+        .fragility
+        .as_ref()
+        .is_some_and(|f| f.method.ida_resolution().is_some())
+    {
+        return Err(StudyError::field(
+            "fragility.method",
+            "a design search cannot run an incremental dynamic analysis",
+            "a design study's scenes are its probes: size the device on stripes (remove \
+             `method: ida(…)`) with target: fragility(state: 1.0, median_at_least: 4.0)",
+        ));
+    }
     if !study.devices.iter().any(|d| param.sizes(d)) {
         return Err(StudyError::field(
             "design.parameter",
@@ -267,6 +369,116 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
             "design",
             "a design study has no overturning map",
             "remove `map`: the design chart is drawn over the study's other axes",
+        ));
+    }
+    Ok(())
+}
+
+/// A fragility target against the study: a fragility study on stripes, a damage state of its
+/// section, one goal with its values in range, and the default excitation axes.
+fn validate_fragility_target(study: &Study, design: &Design) -> Result<(), StudyError> {
+    const FORMS: &str = "fragility(state: 1.0, median_at_least: 4.0) or \
+                         fragility(state: 1.0, at: 3.0, exceedance_at_most: 0.1)";
+    let DesignTarget::Fragility {
+        state,
+        median_at_least,
+        at,
+        exceedance_at_most,
+    } = design.target
+    else {
+        return Ok(());
+    };
+    let Some(f) = &study.fragility else {
+        return Err(StudyError::field(
+            "design.target",
+            "a fragility target needs a fragility study",
+            "add fragility: (damage_states: levels([0.2, 0.5, 1.0])) over a record suite with \
+             scale_to: pga_star and stripes in `scale`, or use limit(quantity: q, max: v)",
+        ));
+    };
+    if f.method != Method::Stripes {
+        return Err(StudyError::field(
+            "fragility.method",
+            "a fragility target is fitted over stripes, not an incremental dynamic analysis",
+            "remove `method: ida(…)`: each probe runs every record at every `scale` stripe",
+        ));
+    }
+    let levels = f.damage_states.levels();
+    if !levels.contains(&state) {
+        let list: Vec<String> = levels.iter().map(|l| format!("{l:?}")).collect();
+        return Err(StudyError::field(
+            "design.target.state",
+            format!("{state} is not one of the study's damage states"),
+            &format!(
+                "a threshold of fragility.damage_states: one of {} (1.0 = overturning for θmax/α)",
+                list.join(", ")
+            ),
+        ));
+    }
+    match (median_at_least, at, exceedance_at_most) {
+        (Some(_), Some(_), _) => {
+            return Err(StudyError::field(
+                "design.target.at",
+                "`at` belongs to an exceedance target, not to median_at_least",
+                FORMS,
+            ));
+        }
+        (Some(_), None, Some(_)) => {
+            return Err(StudyError::field(
+                "design.target.exceedance_at_most",
+                "a target is either a median or an exceedance probability, not both",
+                FORMS,
+            ));
+        }
+        (None, None, None) => {
+            return Err(StudyError::field(
+                "design.target",
+                "a fragility target needs median_at_least, or at and exceedance_at_most",
+                FORMS,
+            ));
+        }
+        (None, None, Some(_)) => {
+            return Err(StudyError::field(
+                "design.target.at",
+                "missing: the intensity the exceedance probability is read at",
+                FORMS,
+            ));
+        }
+        (None, Some(_), None) => {
+            return Err(StudyError::field(
+                "design.target.exceedance_at_most",
+                "missing: the most probability of reaching the state at `at`",
+                FORMS,
+            ));
+        }
+        (Some(_), None, None) | (None, Some(_), Some(_)) => {}
+    }
+    let im = |name: &str, v: Option<f64>| match v {
+        Some(v) if !(v.is_finite() && v > 0.0) => Err(StudyError::field(
+            format!("design.target.{name}"),
+            format!("{v} is not an intensity"),
+            "a finite intensity > 0 in the study's measure (scale_to), e.g. 4.0 for PGA* = 4",
+        )),
+        _ => Ok(()),
+    };
+    im("median_at_least", median_at_least)?;
+    im("at", at)?;
+    if let Some(p) = exceedance_at_most
+        && !(p > 0.0 && p < 1.0)
+    {
+        return Err(StudyError::field(
+            "design.target.exceedance_at_most",
+            format!("{p} is not a probability strictly between 0 and 1"),
+            "e.g. exceedance_at_most: 0.1 (at most a 10 % chance of reaching the state at `at`)",
+        ));
+    }
+    let mut over = design.over_ids(study);
+    over.sort_unstable();
+    if over != ["record", "scale"] {
+        return Err(StudyError::field(
+            "design.over",
+            "a fragility target's curve is fitted over every record and stripe",
+            "leave `over` out (it is [record, scale] for a fragility target)",
         ));
     }
     Ok(())

@@ -220,10 +220,28 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ),
     (
         "target",
-        "limit(quantity: q, max: v) (and no overturning) or no_overturning, at every excitation point",
+        "limit(quantity: q, max: v) (and no overturning) or no_overturning, at every excitation \
+         point; in a fragility study fragility(state: d, median_at_least: x) or \
+         fragility(state: d, at: x, exceedance_at_most: p), fitted over every record and stripe",
     ),
     ("quantity", "the response quantity the target limits"),
     ("max", "the response limit of the target"),
+    (
+        "state",
+        "fragility target: the damage state, by its threshold in fragility.damage_states",
+    ),
+    (
+        "median_at_least",
+        "fragility target: the fitted median intensity (scale_to's measure) must be at least this",
+    ),
+    (
+        "at",
+        "fragility target: the intensity the exceedance probability is read at",
+    ),
+    (
+        "exceedance_at_most",
+        "fragility target: most probability of reaching the state at `at` (0 < p < 1)",
+    ),
     (
         "over",
         "excitation axes the target holds over: frequency, amplitude, record, scale",

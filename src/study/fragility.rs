@@ -95,6 +95,18 @@ pub const DEFAULT_LEVELS: [f64; 3] = [0.2, 0.5, 1.0];
 /// are rocklab's choice within that range.
 pub const TWELVE_LEVELS: [f64; 12] = [0.01, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0];
 
+impl Fragility {
+    /// The options of this section's fits (the fragility report's and a design target's).
+    pub fn fit_options(&self) -> crate::stats::FragilityOptions {
+        crate::stats::FragilityOptions {
+            damage_states: self.damage_states.levels(),
+            bootstrap: self.bootstrap,
+            seed: self.seed,
+            confidence: self.confidence,
+        }
+    }
+}
+
 impl DamageStates {
     pub fn levels(&self) -> Vec<f64> {
         match self {

@@ -25,6 +25,8 @@
 // StudyError is large by design (file, position, field, hint; built once): see study/mod.rs.
 #![allow(clippy::result_large_err)]
 
+mod fit;
+
 use super::rounds::{self, Rounds};
 use super::{Checkpoint, Progress, SceneOutcome, SweepOptions, SweepResults, build_id};
 use crate::excitation::Library;
@@ -32,6 +34,7 @@ use crate::scene::{ClutchStiffness, Damping, Device, Scene};
 use crate::sim::SceneResult;
 use crate::study::design::{Design, DesignParameter, DesignTarget};
 use crate::study::{Layout, ScenePoint, Study, StudyError, scene_key};
+use fit::{FitSummary, FragilityFit};
 use std::collections::HashMap;
 use std::sync::atomic::AtomicBool;
 
@@ -155,12 +158,14 @@ impl SceneVerdict {
     }
 }
 
-/// A probe's evaluation: whether every scene meets the target and the worst scene.
+/// A probe's evaluation: whether every scene meets the target and the worst scene (a
+/// fragility target: the fitted curve, unless a scene failed).
 #[derive(Clone, Copy, Debug)]
 struct Evaluation {
     pass: bool,
     worst: usize,
     verdict: SceneVerdict,
+    fit: Option<FitSummary>,
 }
 
 struct Probe {
@@ -195,6 +200,8 @@ pub struct Search {
     states: Vec<State>,
     next_index: usize,
     finished: Finished,
+    /// A fragility target's fit (None: a response target).
+    fragility: Option<FragilityFit>,
 }
 
 /// The design section of a design study, or an error naming the field.
@@ -216,6 +223,7 @@ impl Search {
             states: Vec::new(),
             next_index: Layout::of(study)?.len(),
             finished: Finished::new(),
+            fragility: FragilityFit::of(study),
             design,
             points,
         };
@@ -299,7 +307,11 @@ impl Search {
             if probe.eval.is_some() {
                 continue;
             }
-            match evaluate(target, &probe.scenes, &self.finished) {
+            let eval = match &self.fragility {
+                Some(fit) => evaluate_fit(fit, &probe.scenes, &self.finished),
+                None => evaluate(target, &probe.scenes, &self.finished),
+            };
+            match eval {
                 Some(e) => probe.eval = Some(e),
                 None => all = false,
             }
@@ -481,15 +493,22 @@ impl Search {
             hi: state.hi,
             probes: evaluated.len(),
             scenes: evaluated.iter().map(|p| p.scenes.len()).sum(),
-            governing: shown.map_or(String::new(), |e| point.excitation[e.worst].clone()),
-            achieved: shown.and_then(|e| match e.verdict {
-                SceneVerdict::Response(v) => Some(v),
+            governing: shown.map_or(String::new(), |e| match (&self.fragility, &e.fit) {
+                (Some(fit), Some(s)) => fit.governing(s),
+                _ => point.excitation[e.worst].clone(),
+            }),
+            achieved: shown.and_then(|e| match (&self.fragility, &e.fit, e.verdict) {
+                (Some(fit), Some(s), _) => fit.achieved(s),
+                (_, _, SceneVerdict::Response(v)) => Some(v),
                 _ => None,
             }),
-            achieved_note: shown.and_then(|e| match e.verdict {
-                SceneVerdict::Response(_) => None,
-                SceneVerdict::Overturned => Some("overturned"),
-                SceneVerdict::Failed => Some("failed"),
+            achieved_note: shown.and_then(|e| match (e.fit, e.verdict) {
+                (Some(s), _) if self.fragility.as_ref()?.achieved(&s).is_none() => {
+                    Some(s.status.name())
+                }
+                (Some(_), _) | (None, SceneVerdict::Response(_)) => None,
+                (None, SceneVerdict::Overturned) => Some("overturned"),
+                (None, SceneVerdict::Failed) => Some("failed"),
             }),
             status,
             fails_above,
@@ -547,7 +566,7 @@ fn verify_values(design: &Design, answer: f64) -> Vec<f64> {
 /// A probe's evaluation, once all its scenes have finished. A failed scene fails the target
 /// (no verdict is no proof).
 fn evaluate(target: DesignTarget, scenes: &[ScenePoint], done: &Finished) -> Option<Evaluation> {
-    let quantity = target.quantity();
+    let quantity = target.quantity()?;
     let mut worst: Option<(usize, SceneVerdict)> = None;
     let mut pass = true;
     for (i, sc) in scenes.iter().enumerate() {
@@ -577,6 +596,26 @@ fn evaluate(target: DesignTarget, scenes: &[ScenePoint], done: &Finished) -> Opt
         pass,
         worst,
         verdict,
+        fit: None,
+    })
+}
+
+/// A fragility probe's evaluation (`fit.rs`): the fitted curve's verdict, or the first scene
+/// that failed.
+fn evaluate_fit(fit: &FragilityFit, scenes: &[ScenePoint], done: &Finished) -> Option<Evaluation> {
+    Some(match fit.evaluate(scenes, done)? {
+        Ok(s) => Evaluation {
+            pass: s.pass,
+            worst: 0,
+            verdict: SceneVerdict::Failed,
+            fit: Some(s),
+        },
+        Err(worst) => Evaluation {
+            pass: false,
+            worst,
+            verdict: SceneVerdict::Failed,
+            fit: None,
+        },
     })
 }
 
