@@ -4,8 +4,8 @@
 //! ratatui's TestBackend (helpers from tests/tui.rs).
 
 use crate::tui::{
-    SMALL, ctrl, fixed_results, key, new_app_in, render, scratch_dir, set_field, small_map_study,
-    snap, text, typed,
+    SMALL, app_for, ctrl, fixed_results, key, new_app_in, render, scratch_dir, set_field,
+    small_map_study, snap, text, typed,
 };
 use crossterm::event::KeyCode::{self, Enter, Esc};
 use rocklab::study::Study;
@@ -52,12 +52,20 @@ fn discard_quits_without_the_unsaved_question_and_keeps_the_journal() {
     assert_eq!(on_disk.outcomes.len(), done, "finished scenes stay on disk");
 }
 
+/// The built-in default with 100 times the frequencies (3600 scenes): a sweep that is still
+/// running when a test answers the stop question (the 36 scenes of the default can all finish
+/// between two ticks of a loaded machine, and then there is nothing left to stop).
+fn long_default(root: PathBuf) -> App {
+    let text = include_str!("../studies/default.ron").replace("steps: 12", "steps: 1200");
+    app_for(Study::from_ron_str(&text, "long.ron").unwrap(), root)
+}
+
 /// `d` in the cancel question stops the sweep and shows none of its results; `n`/`Esc`
 /// keep it running; its finished scenes stay in the journal.
 #[test]
 fn discard_cancels_without_showing_the_partial_results() {
     let root = scratch_dir();
-    let mut app = new_app_in(root.clone());
+    let mut app = long_default(root.clone());
     key(&mut app, KeyCode::Char('r'));
     key(&mut app, Esc);
     assert!(matches!(app.prompt, Some(Prompt::StopSweep(_))));
@@ -80,6 +88,62 @@ fn discard_cancels_without_showing_the_partial_results() {
     let done = app.runs.state.as_ref().unwrap().done;
     let (on_disk, _) = load_results_at(&root.join("default")).unwrap();
     assert_eq!(on_disk.outcomes.len(), done);
+}
+
+/// The stop question counts the scenes as they finish (it froze at the count it opened
+/// with), and goes away once the sweep has returned: a `d` pressed after that discards
+/// nothing, neither this sweep's results nor, later, another one's (a discard that stayed
+/// armed once hid the next run's results, leaving an older run's on the Results screen).
+#[test]
+fn the_stop_question_counts_live_and_ends_with_the_sweep() {
+    let root = scratch_dir();
+    let mut app = new_app_in(root.clone());
+    key(&mut app, KeyCode::Char('r'));
+    key(&mut app, Esc);
+    let mut seen = Vec::new();
+    let until = Instant::now() + Duration::from_secs(60);
+    while let Some(Prompt::StopSweep(stop)) = &app.prompt {
+        assert!(Instant::now() < until, "the sweep did not return");
+        let run = app.runs.state.as_ref().unwrap();
+        assert_eq!(
+            (stop.done, stop.total),
+            (run.done, run.total),
+            "the count is live"
+        );
+        let shown = frame(&app);
+        assert!(
+            shown.contains(&format!("{}/{} scenes done", run.done, run.total)),
+            "{shown}"
+        );
+        seen.push(run.done);
+        app.tick();
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    assert!(!app.is_running(), "the question stays while the sweep runs");
+    assert_eq!(app.runs.state.as_ref().unwrap().done, 36);
+    let said = app.message.clone().unwrap().0;
+    assert!(said.contains("finished before an answer"), "{said}");
+    // The sweep's own results are shown, and a late `d` is no discard.
+    assert_eq!(
+        app.shared.results.as_ref().unwrap().results.outcomes.len(),
+        36
+    );
+    key(&mut app, KeyCode::Char('d'));
+    key(&mut app, Esc);
+    assert!(!app.runs.state.as_ref().unwrap().discard);
+    app.shared.results = None;
+    key(&mut app, KeyCode::Char('1'));
+    key(&mut app, KeyCode::Char('r'));
+    assert!(app.wait_idle(Duration::from_secs(60)));
+    assert_eq!(
+        app.shared
+            .results
+            .as_ref()
+            .map(|r| r.results.outcomes.len()),
+        Some(36),
+        "the next run's results are shown: {:?} (seen {seen:?})",
+        app.message
+    );
 }
 
 /// Type `path` into the `w` prompt.

@@ -34,6 +34,8 @@ pub use super::components::scene::{SceneState, SceneView};
 pub use super::components::study::Row;
 pub use super::components::{Check, Shared};
 
+mod background;
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Screen {
     Study,
@@ -99,8 +101,6 @@ pub struct App {
     calibration: AsyncSingleJob<(), Option<f64>>,
     /// Set by a first Ctrl-C with unsaved changes: a second one quits anyway.
     ctrl_c_armed: bool,
-    /// The sweep being stopped was discarded: its partial results are not shown.
-    discard_run: bool,
 }
 
 /// The built-in default study's file, comments included.
@@ -152,7 +152,6 @@ impl App {
             message: None,
             calibration: AsyncSingleJob::default(),
             ctrl_c_armed: false,
-            discard_run: false,
         };
         app.start_calibration();
         app
@@ -517,15 +516,16 @@ impl App {
                     }
                 }
                 KeyCode::Char('d') => {
-                    self.runs.cancel();
+                    let discarding = self.runs.discard();
                     if stop.quit {
                         return self.perform(Pending::Quit);
                     }
-                    self.discard_run = true;
-                    self.say(format!(
-                        "discarding the sweep: its finished scenes stay in {}/",
-                        stop.out_dir.display()
-                    ));
+                    if discarding {
+                        self.say(format!(
+                            "discarding the sweep: its finished scenes stay in {}/",
+                            stop.out_dir.display()
+                        ));
+                    }
                 }
                 KeyCode::Char('n') | KeyCode::Esc => {}
                 _ => self.prompt = Some(Prompt::StopSweep(stop)),
@@ -685,94 +685,6 @@ impl App {
                 self.complain(format!("cannot save {}: {e:#}", path.display()));
                 false
             }
-        }
-    }
-
-    pub fn start_run(&mut self) {
-        if self.is_running() {
-            self.complain("a sweep is already running (c cancels it)");
-            return;
-        }
-        let points = match &self.shared.check {
-            Check::Ok(points) => points.clone(),
-            Check::Invalid(msg) => {
-                let msg = format!("cannot run: {msg}");
-                self.complain(msg);
-                return;
-            }
-        };
-        self.calibration.abandon();
-        self.runs.start(
-            &self.shared.study,
-            points,
-            self.shared.options.jobs,
-            self.shared.output_dir(),
-        );
-        self.screen = Screen::Run;
-    }
-
-    // ----- background work -----
-
-    /// Poll background work. Returns true if anything visible changed.
-    pub fn tick(&mut self) -> bool {
-        let mut changed = false;
-        for event in self.calibration.poll() {
-            if let JobEvent::Done(Some(per)) = event {
-                self.shared.seconds_per_scene = Some(per);
-                changed = true;
-            }
-        }
-        let news = self.runs.poll();
-        changed |= news.changed;
-        if news.lost {
-            self.complain("the sweep stopped unexpectedly");
-        }
-        if let Some(error) = news.error {
-            self.complain(error);
-        }
-        if let Some((results, cancelled)) = news.finished {
-            let walls: Vec<f64> = results
-                .outcomes
-                .iter()
-                .filter_map(|o| o.result.as_ref().ok().map(|r| r.wall_seconds))
-                .collect();
-            if !walls.is_empty() {
-                self.shared.seconds_per_scene =
-                    Some(walls.iter().sum::<f64>() / walls.len() as f64);
-            }
-            let done = results.outcomes.len();
-            if std::mem::take(&mut self.discard_run) {
-                self.say(format!(
-                    "sweep discarded: its {done} finished scenes stay in {}/, not shown",
-                    self.shared.output_dir().display()
-                ));
-            } else if cancelled {
-                self.show_results(*results, cancelled);
-                self.say(format!("sweep cancelled: {done} finished scenes kept"));
-            } else {
-                self.show_results(*results, cancelled);
-                if self.screen == Screen::Run {
-                    self.screen = Screen::Results;
-                }
-            }
-        }
-        changed |= self.scene.poll();
-        changed
-    }
-
-    /// Tick until background work settles or `deadline` passes (tests and scripts).
-    /// True if everything finished in time.
-    pub fn wait_idle(&mut self, deadline: Duration) -> bool {
-        let until = Instant::now() + deadline;
-        loop {
-            self.tick();
-            if !self.is_running() && !self.scene.is_running() {
-                return true;
-            }
-            if Instant::now() >= until {
-                return false;
-            }
-            std::thread::sleep(Duration::from_millis(5));
         }
     }
 

@@ -50,6 +50,8 @@ pub struct RunState {
     /// None while running; Some(cancelled) once finished.
     pub finished: Option<bool>,
     pub cancel_requested: bool,
+    /// The sweep was stopped with "discard": its results are not shown when it returns.
+    pub discard: bool,
     /// The sweep returned an error (shown on the status line) instead of results.
     pub failed_to_finish: bool,
 }
@@ -76,6 +78,8 @@ pub struct RunNews {
     pub changed: bool,
     /// The sweep returned: its results, and whether it was cancelled.
     pub finished: Option<(Box<SweepResults>, bool)>,
+    /// The sweep that returned was discarded (its results are not to be shown).
+    pub discarded: bool,
     /// The sweep ended without results.
     pub lost: bool,
     /// What went wrong with the output directory (finished scenes are journalled).
@@ -214,6 +218,7 @@ impl RunScreen {
             elapsed: Duration::ZERO,
             finished: None,
             cancel_requested: false,
+            discard: false,
             failed_to_finish: false,
         });
     }
@@ -243,6 +248,27 @@ impl RunScreen {
             }
             _ => Action::None,
         }
+    }
+
+    /// Stop the running sweep and have its results not shown when it returns. False (and
+    /// nothing done) if no sweep runs any more: a discard asked while it was finishing must
+    /// not apply to a later run.
+    pub fn discard(&mut self) -> bool {
+        match &mut self.state {
+            Some(run) if run.running() => {
+                self.sweep.cancel();
+                run.cancel_requested = true;
+                run.discard = true;
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// The running sweep's finished and total scene counts (None once it has returned).
+    pub fn live_counts(&self) -> Option<(usize, usize)> {
+        let run = self.state.as_ref().filter(|r| r.running())?;
+        Some((run.done, run.total))
     }
 
     /// Stop background work before the process exits.
@@ -294,6 +320,7 @@ impl RunScreen {
                         .filter_map(|o| o.result.as_ref().err().map(|e| (o.point.index, e.clone())))
                         .collect();
                     news.finished = Some((Box::new(results), cancelled));
+                    news.discarded = run.discard;
                     news.changed = true;
                 }
                 JobEvent::Lost => {
