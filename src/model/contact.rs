@@ -22,9 +22,9 @@ pub struct ClosedFormContact {
     /// The closed form's basis at the nodes of the last few interval lengths.
     nodes: [Option<IntervalNodes>; 4],
     nodes_next: usize,
-    /// State indices of the input-work and column-damping integrals.
-    input: usize,
-    damping: usize,
+    /// State indices of the input-work and column-damping integrals (None without the
+    /// energy ledger).
+    ledger: Option<(usize, usize)>,
 }
 
 /// The closed form's basis (e^{−στ}, cos ωd τ, sin ωd τ) at the interior quarter points, the
@@ -83,8 +83,9 @@ impl ClosedFormContact {
             max_interval: 0.5 / osc.omega_d(),
             nodes: [None; 4],
             nodes_next: 0,
-            input: layout.accumulator(Accumulator::Input),
-            damping: layout.accumulator(Accumulator::Own),
+            ledger: layout
+                .accumulator(Accumulator::Input)
+                .zip(layout.accumulator(Accumulator::Own)),
         })
     }
 
@@ -137,11 +138,12 @@ impl ClosedFormContact {
             }
         };
         observe_segment(column, peaks, &seg, &samples, &ground);
-        let (input, damping) = (self.input, self.damping);
-        for (basis, w) in gauss {
-            let (_, v) = seg.state_at(&basis);
-            y[input] -= w * column.m * ground(basis.tau) * v;
-            y[damping] += w * column.c * v * v;
+        if let Some((input, damping)) = self.ledger {
+            for (basis, w) in gauss {
+                let (_, v) = seg.state_at(&basis);
+                y[input] -= w * column.m * ground(basis.tau) * v;
+                y[damping] += w * column.c * v * v;
+            }
         }
         (y[U], y[U_DOT]) = (samples[4].u, samples[4].v);
         let t_end = if tau_end == h { t1 } else { t + tau_end };

@@ -212,12 +212,7 @@ impl DeviceModel {
     #[inline(always)]
     pub fn rates(&self, x: f64, states: &[f64], rates: &mut [f64]) -> DeviceRates {
         if states.is_empty() {
-            // What the general case gives without springs: Fd = −(0 + 0) = −0.
-            return DeviceRates {
-                force: -(0.0 + 0.0),
-                damping: 0.0,
-                friction: 0.0,
-            };
+            return DeviceRates::STATELESS;
         }
         let (fa, fb) = self.spring_forces(x, states);
         let (mut damping, mut friction) = (0.0, 0.0);
@@ -354,6 +349,16 @@ pub struct DeviceRates {
     /// Viscous damping of the flywheels.
     pub damping: f64,
     pub friction: f64,
+}
+
+impl DeviceRates {
+    /// A device without states: what the general case gives without springs, Fd = −(0 + 0)
+    /// = −0, nothing dissipated.
+    pub const STATELESS: DeviceRates = DeviceRates {
+        force: -(0.0 + 0.0),
+        damping: 0.0,
+        friction: 0.0,
+    };
 }
 
 /// Energy the device can still give back to the structure once the ground has stopped

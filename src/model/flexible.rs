@@ -45,8 +45,8 @@ pub struct Column {
 
 pub struct FlexibleBody {
     col: Column,
-    /// Error-control scales: of (u, u̇, θ, θ̇), of one flywheel, of the energies.
-    scales: ([f64; 4], [f64; 2], f64),
+    /// Error-control scales: of (u, u̇, θ, θ̇) and of one flywheel.
+    scales: ([f64; 4], [f64; 2]),
     /// The full-contact phase as a linear oscillator, when it is advanced in closed form.
     contact: Option<ClosedFormContact>,
 }
@@ -107,9 +107,8 @@ impl<'m> FlexibleModel<'m> {
 /// the faster of ωn and the ground's characteristic frequency |a_g|max/|v_g|max (a fast pulse
 /// barely moves a soft column); rotations ~α; flywheels like the column (they follow X, which
 /// is u until the base lifts, and the relative part of the tolerance takes over once X
-/// grows); and of the energies, ½ m (ω u)², the energy the column takes on at that
-/// deformation.
-fn scales(structure: &FlexibleStructure, motion: &Motion, p: f64) -> ([f64; 4], [f64; 2], f64) {
+/// grows).
+fn scales(structure: &FlexibleStructure, motion: &Motion, p: f64) -> ([f64; 4], [f64; 2]) {
     let wn = structure.omega_n;
     let peak = motion.peak_abs(0.0, motion.end());
     let (reach, w) = if peak > 0.0 {
@@ -120,8 +119,7 @@ fn scales(structure: &FlexibleStructure, motion: &Motion, p: f64) -> ([f64; 4], 
     };
     let u = reach / (w * w);
     let a = structure.alpha;
-    let energy = 0.5 * structure.mass * (w * u).powi(2);
-    ([u, w * u, a, p * a], [u, w * u], energy)
+    ([u, w * u, a, p * a], [u, w * u])
 }
 
 /// |v_g|max over the motion, by the trapezoidal rule on 4000 intervals (a scale, not a result).
@@ -402,9 +400,9 @@ impl Body for FlexibleBody {
         }
     }
 
-    fn tolerance_scales(&self, _m: &Mode) -> (Vec<f64>, [f64; 2], f64) {
-        let (state, flywheel, energy) = self.scales;
-        (state.to_vec(), flywheel, energy)
+    fn tolerance_scales(&self, _m: &Mode) -> (Vec<f64>, [f64; 2]) {
+        let (state, flywheel) = self.scales;
+        (state.to_vec(), flywheel)
     }
 
     fn advance_closed_form(

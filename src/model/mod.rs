@@ -231,9 +231,9 @@ pub trait SimModel<const N: usize>: OdeSystem<N> {
     ) -> Option<(f64, ClosedFormEnd)> {
         None
     }
-    /// Characteristic magnitudes for the error control: of the leading state components (all
-    /// but the four trailing accumulators), and of the energies in the accumulators.
-    fn tolerance_scales(&self) -> (Vec<f64>, f64);
+    /// Characteristic magnitudes for the error control, of the physical state components
+    /// (the leading ones; energy accumulators after them are not error controlled).
+    fn tolerance_scales(&self) -> Vec<f64>;
     /// Whether [`SimModel::observe_step`] must read the interior of the step from (t0, y0) to
     /// (t1, y1), with derivatives f0 and f1 there: false only where no value inside the step
     /// can raise a peak, so the step's dense output need not be built.

@@ -150,9 +150,9 @@ pub trait Body {
     ) -> (Option<f64>, Option<f64>) {
         (None, None)
     }
-    /// Characteristic magnitudes for the error control: of the body's components, of one
-    /// device degree of freedom's (y, ẏ), and of the energies.
-    fn tolerance_scales(&self, m: &Mode) -> (Vec<f64>, [f64; 2], f64);
+    /// Characteristic magnitudes for the error control: of the body's components and of one
+    /// device degree of freedom's (y, ẏ).
+    fn tolerance_scales(&self, m: &Mode) -> (Vec<f64>, [f64; 2]);
 
     /// Flat on the ground at t with the device at rest: skip to this time (see
     /// [`Action::Idle`]).

@@ -12,13 +12,17 @@ pub enum Phase {
 
 /// Where each part of the state lives:
 /// `[structure coordinates and rates | device states (y, ẏ per degree of freedom) | accumulators]`.
-/// The four accumulators are named by [`Accumulator`].
+/// The four accumulators are named by [`Accumulator`]; they are integrated only for a run that
+/// keeps the energy ledger (`ledger`), and are never error controlled (quadratures of the
+/// dissipated power: the steps are those of the physical state alone, with or without them).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Layout {
     /// Number of structure coordinates and rates (the leading components).
     pub coordinates: usize,
     /// The device's degrees of freedom ([`DeviceModel::dofs`]: its flywheels).
     pub device_dofs: usize,
+    /// Whether the energy accumulators are part of the state.
+    pub ledger: bool,
 }
 
 /// The time integrals at the end of the state.
@@ -37,12 +41,19 @@ impl Layout {
         Layout {
             coordinates,
             device_dofs: device.dofs(),
+            ledger: true,
         }
     }
 
     /// Number of state components.
     pub fn state_len(&self) -> usize {
-        self.coordinates + 2 * self.device_dofs + 4
+        self.physical_len() + if self.ledger { 4 } else { 0 }
+    }
+
+    /// Number of physical state components (structure and device: what the error norm
+    /// controls and the events read); the accumulators, if any, follow them.
+    pub fn physical_len(&self) -> usize {
+        self.device_dof(self.device_dofs)
     }
 
     /// Index of the device's degree of freedom i's position (its velocity follows it).
@@ -59,8 +70,9 @@ impl Layout {
         &mut y[self.coordinates..self.device_dof(self.device_dofs)]
     }
 
-    pub fn accumulator(&self, which: Accumulator) -> usize {
-        self.device_dof(self.device_dofs) + which as usize
+    /// Index of an accumulator; None without the ledger.
+    pub fn accumulator(&self, which: Accumulator) -> Option<usize> {
+        self.ledger.then(|| self.physical_len() + which as usize)
     }
 
     /// Velocity of the device's degree of freedom i, 0 if it has no such one (for histories).

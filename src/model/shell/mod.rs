@@ -120,6 +120,16 @@ impl<'m, B: Body> Rocking<'m, B> {
         }
     }
 
+    /// Integrate the energy accumulators (the default) or not: a run that neither reports the
+    /// energy nor records a history leaves them out. They are no part of the error norm, so
+    /// the steps, and every other result, are the same either way. Call before the run (and
+    /// before anything that reads the layout, as the flexible structure's closed-form
+    /// contact).
+    pub fn with_ledger(mut self, ledger: bool) -> Self {
+        self.mode.layout.ledger = ledger;
+        self
+    }
+
     /// Number of state components this model needs.
     pub fn state_len(&self) -> usize {
         self.mode.layout.state_len()
@@ -148,10 +158,14 @@ impl<'m, B: Body> Rocking<'m, B> {
         let own = self
             .body
             .derivatives(m, k, ag, y, device.force, m.coupled_mass(), dy);
-        dy[layout.accumulator(Accumulator::Input)] = -self.body.mass() * ag * xdot;
-        dy[layout.accumulator(Accumulator::DeviceDamping)] = device.damping;
-        dy[layout.accumulator(Accumulator::Friction)] = device.friction;
-        dy[layout.accumulator(Accumulator::Own)] = own;
+        if layout.ledger {
+            let a = layout.physical_len();
+            let acc = &mut dy[a..a + 4];
+            acc[Accumulator::Input as usize] = -self.body.mass() * ag * xdot;
+            acc[Accumulator::DeviceDamping as usize] = device.damping;
+            acc[Accumulator::Friction as usize] = device.friction;
+            acc[Accumulator::Own as usize] = own;
+        }
     }
 
     /// Event `ev`'s value at (t, y); `kx` = (kin(y), (X, Ẋ)) when the caller has them.
@@ -377,18 +391,21 @@ impl<'m, B: Body> Rocking<'m, B> {
         let m = &self.mode;
         let layout = m.layout;
         let (x, xdot) = self.x_xdot(y);
-        let own = y[layout.accumulator(Accumulator::Own)];
+        // Without the ledger only the stored energies are known (what a run that does not
+        // report the energy reads: the initial stored energy).
+        let acc = |which| layout.accumulator(which).map_or(0.0, |i| y[i]);
+        let own = acc(Accumulator::Own);
         let (column_damping, impact) = match B::OWN_LOSS {
             OwnLoss::Impact => (0.0, self.ledger.impact + own),
             OwnLoss::ColumnDamping => (own, self.ledger.impact),
         };
         Energy {
-            input: y[layout.accumulator(Accumulator::Input)],
+            input: acc(Accumulator::Input),
             structure: self.body.energy(m, y),
             inerter: m.coupled_kinetic(xdot) + m.dev.stored_energy(x, layout.device_states(y)),
             column_damping,
-            device_damping: y[layout.accumulator(Accumulator::DeviceDamping)],
-            friction: y[layout.accumulator(Accumulator::Friction)],
+            device_damping: acc(Accumulator::DeviceDamping),
+            friction: acc(Accumulator::Friction),
             impact,
             disengagement: self.ledger.disengagement,
             reset: self.ledger.reset,

@@ -1,8 +1,9 @@
 //! The rocking model as the solver's [`OdeSystem`] and the simulation driver's [`SimModel`].
 
-use super::{Accumulator, Body, Ev, Phase, Rocking};
+use super::{Body, Ev, Phase, Rocking};
 use crate::excitation::G;
 use crate::model::column::HistoryColumn;
+use crate::model::device::DeviceRates;
 use crate::model::rigid::below_peak;
 use crate::model::{
     Action, ClosedFormEnd, Counters, EndReason, Energy, Peaks, SimModel, StepEnd, refine_sampled,
@@ -10,9 +11,23 @@ use crate::model::{
 use crate::solver::{Dense, Direction, OdeSystem};
 
 impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
+    /// Without device states and accumulators (a bare block, a rigidly coupled or sequential
+    /// inerter, in a run that keeps no energy ledger) the right-hand side is the body's
+    /// equations alone: no device call, no accumulator, the state zeroed at its constant
+    /// length. The same numbers as the general path ([`Rocking::rhs_kin`]).
     #[inline]
     fn rhs(&self, t: f64, y: &[f64; N], dydt: &mut [f64; N]) {
-        self.rhs_slice(t, y, dydt)
+        let m = &self.mode;
+        let k = self.body.kin(m, y);
+        if m.layout.device_dofs == 0 && !m.layout.ledger {
+            *dydt = [0.0; N];
+            let ag = m.motion.accel(t);
+            let fd = DeviceRates::STATELESS.force;
+            self.body
+                .derivatives(m, &k, ag, y, fd, m.coupled_mass(), dydt);
+        } else {
+            self.rhs_kin(t, y, &k, dydt)
+        }
     }
 
     fn event_count(&self) -> usize {
@@ -21,7 +36,7 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
 
     /// Body and flywheel states; the energy accumulators after them are no event's input.
     fn event_inputs(&self) -> usize {
-        self.mode.layout.accumulator(Accumulator::Input)
+        self.mode.layout.physical_len()
     }
 
     fn event_direction(&self, index: usize) -> Direction {
@@ -100,7 +115,7 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
         match self.events[index] {
             _ if !self.mode.rocking() => 0,
             Ev::Impact => B::THETA + 1,
-            Ev::Device(_) => self.mode.layout.accumulator(Accumulator::Input),
+            Ev::Device(_) => self.mode.layout.physical_len(),
             _ => 0,
         }
     }
@@ -378,12 +393,12 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
         self.counters
     }
 
-    fn tolerance_scales(&self) -> (Vec<f64>, f64) {
-        let (mut state, device, energy) = self.body.tolerance_scales(&self.mode);
+    fn tolerance_scales(&self) -> Vec<f64> {
+        let (mut state, device) = self.body.tolerance_scales(&self.mode);
         for _ in 0..self.mode.layout.device_dofs {
             state.extend(device);
         }
-        (state, energy)
+        state
     }
 
     fn event_name(&self, index: usize) -> &'static str {
