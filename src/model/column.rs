@@ -3,33 +3,59 @@
 //! history CSV, the workbench's Scene screen, the history figure and the paper's rows read
 //! them through [`HistoryColumn`], never by a string of their own.
 
-/// One column of a scene's history.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum HistoryColumn {
-    T,
+/// Declares [`HistoryColumn`], its [`HistoryColumn::ALL`] list and [`HistoryColumn::info`] from
+/// one table, so a column is added in one line and the list cannot miss it.
+macro_rules! history_columns {
+    ($($(#[$doc:meta])* $column:ident => ($name:literal, $label:literal, $unit:literal, $energy:expr),)*) => {
+        /// One column of a scene's history.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum HistoryColumn {
+            $($(#[$doc])* $column,)*
+        }
+
+        impl HistoryColumn {
+            /// Every column, in the table's order.
+            pub const ALL: [HistoryColumn; [$($name),*].len()] = [$(HistoryColumn::$column),*];
+
+            pub fn info(self) -> ColumnInfo {
+                match self {
+                    $(HistoryColumn::$column => ColumnInfo {
+                        name: $name,
+                        label: $label,
+                        unit: $unit,
+                        energy: $energy,
+                    },)*
+                }
+            }
+        }
+    };
+}
+
+history_columns! {
+    T => ("t", "time", "s", None),
     /// Flexible column deformation u and its rate.
-    U,
-    UDot,
-    Theta,
-    ThetaDot,
-    GroundAccel,
+    U => ("u", "u", "m", None),
+    UDot => ("u_dot", "u̇", "m/s", None),
+    Theta => ("theta", "θ", "rad", None),
+    ThetaDot => ("theta_dot", "θ̇", "rad/s", None),
+    GroundAccel => ("ground_accel", "ag", "m/s²", None),
     /// The horizontal coordinate X the device acts on, and Ẋ.
-    X,
-    XDot,
-    FlywheelAVel,
-    FlywheelBVel,
-    ClutchForceA,
-    ClutchForceB,
-    DeviceForce,
-    EInput,
-    EStructure,
-    EInerter,
-    EColumnDamping,
-    EDeviceDamping,
-    EFriction,
-    EImpact,
-    EDisengagement,
-    EReset,
+    X => ("x", "X", "m", None),
+    XDot => ("x_dot", "Ẋ", "m/s", None),
+    FlywheelAVel => ("flywheel_a_vel", "flywheel a", "m/s", None),
+    FlywheelBVel => ("flywheel_b_vel", "flywheel b", "m/s", None),
+    ClutchForceA => ("clutch_force_a", "clutch a", "N", None),
+    ClutchForceB => ("clutch_force_b", "clutch b", "N", None),
+    DeviceForce => ("device_force", "Fd", "N", None),
+    EInput => ("e_input", "input work", "J", Some(EnergyRole::Input)),
+    EStructure => ("e_structure", "structure (kinetic + potential)", "J", Some(EnergyRole::Stored)),
+    EInerter => ("e_inerter", "flywheels + clutch spring", "J", Some(EnergyRole::Stored)),
+    EColumnDamping => ("e_column_damping", "column damping", "J", Some(EnergyRole::Dissipated)),
+    EDeviceDamping => ("e_device_damping", "device damping", "J", Some(EnergyRole::Dissipated)),
+    EFriction => ("e_friction", "friction", "J", Some(EnergyRole::Dissipated)),
+    EImpact => ("e_impact", "impacts", "J", Some(EnergyRole::Dissipated)),
+    EDisengagement => ("e_disengagement", "disengagement", "J", Some(EnergyRole::Dissipated)),
+    EReset => ("e_reset", "clutch resets", "J", Some(EnergyRole::Dissipated)),
 }
 
 /// Where an energy column goes in a balance.
@@ -53,34 +79,6 @@ pub struct ColumnInfo {
 }
 
 impl HistoryColumn {
-    pub const ALL: [HistoryColumn; 22] = {
-        use HistoryColumn::*;
-        [
-            T,
-            U,
-            UDot,
-            Theta,
-            ThetaDot,
-            GroundAccel,
-            X,
-            XDot,
-            FlywheelAVel,
-            FlywheelBVel,
-            ClutchForceA,
-            ClutchForceB,
-            DeviceForce,
-            EInput,
-            EStructure,
-            EInerter,
-            EColumnDamping,
-            EDeviceDamping,
-            EFriction,
-            EImpact,
-            EDisengagement,
-            EReset,
-        ]
-    };
-
     /// The device columns every rocking model records after its coordinates.
     pub const DEVICE: [HistoryColumn; 8] = {
         use HistoryColumn::*;
@@ -111,46 +109,6 @@ impl HistoryColumn {
             EReset,
         ]
     };
-
-    pub fn info(self) -> ColumnInfo {
-        use EnergyRole::*;
-        use HistoryColumn::*;
-        let (name, label, unit, energy) = match self {
-            T => ("t", "time", "s", None),
-            U => ("u", "u", "m", None),
-            UDot => ("u_dot", "u̇", "m/s", None),
-            Theta => ("theta", "θ", "rad", None),
-            ThetaDot => ("theta_dot", "θ̇", "rad/s", None),
-            GroundAccel => ("ground_accel", "ag", "m/s²", None),
-            X => ("x", "X", "m", None),
-            XDot => ("x_dot", "Ẋ", "m/s", None),
-            FlywheelAVel => ("flywheel_a_vel", "flywheel a", "m/s", None),
-            FlywheelBVel => ("flywheel_b_vel", "flywheel b", "m/s", None),
-            ClutchForceA => ("clutch_force_a", "clutch a", "N", None),
-            ClutchForceB => ("clutch_force_b", "clutch b", "N", None),
-            DeviceForce => ("device_force", "Fd", "N", None),
-            EInput => ("e_input", "input work", "J", Some(Input)),
-            EStructure => (
-                "e_structure",
-                "structure (kinetic + potential)",
-                "J",
-                Some(Stored),
-            ),
-            EInerter => ("e_inerter", "flywheels + clutch spring", "J", Some(Stored)),
-            EColumnDamping => ("e_column_damping", "column damping", "J", Some(Dissipated)),
-            EDeviceDamping => ("e_device_damping", "device damping", "J", Some(Dissipated)),
-            EFriction => ("e_friction", "friction", "J", Some(Dissipated)),
-            EImpact => ("e_impact", "impacts", "J", Some(Dissipated)),
-            EDisengagement => ("e_disengagement", "disengagement", "J", Some(Dissipated)),
-            EReset => ("e_reset", "clutch resets", "J", Some(Dissipated)),
-        };
-        ColumnInfo {
-            name,
-            label,
-            unit,
-            energy,
-        }
-    }
 
     pub fn name(self) -> &'static str {
         self.info().name

@@ -63,13 +63,17 @@ fn clutches() -> [Device; 2] {
     [sequential(), mechanistic()]
 }
 
+/// The single inerter against the bare structure in the Fig. 14 scene.
+fn inerter_against_bare(relation: Relation, m: Measure) -> anyhow::Result<Judgement> {
+    Ok(fair::compare(
+        relation,
+        &fig14(Device::None, m)?,
+        &fig14(presets::inerter(), m)?,
+    ))
+}
+
 fn fig14_inerter_uplift() -> anyhow::Result<Row> {
-    let j = fair::compare(
-        Relation::MuchLower,
-        &fig14(Device::None, Measure::Rotation)?,
-        &fig14(presets::inerter(), Measure::Rotation)?,
-    )
-    .on(&format!(
+    let j = inerter_against_bare(Relation::MuchLower, Measure::Rotation)?.on(&format!(
         "θmax/α, single inerter (no dissipation) against bare; {FIG14}"
     ));
     Ok(judged("fig14-inerter-uplift", j, ""))
@@ -85,12 +89,7 @@ fn fig14_inerter_deformation() -> anyhow::Result<Row> {
 }
 
 fn fig14_inerter_acceleration() -> anyhow::Result<Row> {
-    let j = fair::compare(
-        Relation::Lower,
-        &fig14(Device::None, Measure::Acceleration)?,
-        &fig14(presets::inerter(), Measure::Acceleration)?,
-    )
-    .on(&format!(
+    let j = inerter_against_bare(Relation::Lower, Measure::Acceleration)?.on(&format!(
         "|ẍ + a_g|max/g, single inerter against bare; {FIG14}"
     ));
     Ok(judged("fig14-inerter-acceleration", j, ""))

@@ -10,11 +10,11 @@ use super::fragility::{
     FRAGILITY_CSV, FRAGILITY_JSON, FragilityReport, IdaObservation, Variant, analyse_ida,
     write_fragility_csv, write_fragility_json,
 };
-use super::stripes::{component_of, name_axes, options, variant_of};
+use super::stripes::{component_of, csv_axes, name_axes, options, variant_of};
 use crate::excitation::library;
 use crate::scene::Excitation;
-use crate::study::fragility::{Fragility, im_name};
-use crate::study::{ExcitationFamily, ScenePoint, Study};
+use crate::study::fragility::Fragility;
+use crate::study::{ScenePoint, Study};
 use crate::sweep::SweepResults;
 use crate::sweep::hunt::StateResult;
 use crate::sweep::ida::replay;
@@ -114,18 +114,7 @@ pub fn analyse(f: &Fragility, study: &Study, rows: &[IdaRow]) -> FragilityReport
 /// capacity (empty if censored), the final bracket, probes, resurrections (count and the
 /// intensities that held, `;`-separated), censored, status.
 pub fn ida_csv(study: &Study, rows: &[IdaRow]) -> anyhow::Result<Vec<u8>> {
-    let mut params: Vec<String> = Vec::new();
-    for r in rows {
-        for (k, _) in &r.variant.params {
-            if !params.contains(k) {
-                params.push(k.clone());
-            }
-        }
-    }
-    let im = match &study.excitation {
-        ExcitationFamily::Record { scale_to, .. } => im_name(*scale_to).unwrap_or("im"),
-        _ => "im",
-    };
+    let (params, im) = csv_axes(study, rows.iter().map(|r| &r.variant));
     let mut w = csv::Writer::from_writer(Vec::new());
     let mut header = vec!["device".to_string()];
     header.extend(params.iter().cloned());

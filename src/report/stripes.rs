@@ -149,12 +149,15 @@ pub fn rows(study: &Study, results: &SweepResults) -> anyhow::Result<Vec<StripeR
         .collect())
 }
 
-/// stripes.csv: device, the varying parameters, record, component, the IM (named by its
-/// measure, e.g. `pga_star`), scale, the study's quantities, overturned, status.
-pub fn stripes_csv(study: &Study, rows: &[StripeRow]) -> anyhow::Result<Vec<u8>> {
+/// The varying parameters' names over these variants, in order of first appearance, and the
+/// name of the study's intensity measure: the leading columns of stripes.csv and ida.csv.
+pub(super) fn csv_axes<'a>(
+    study: &Study,
+    variants: impl Iterator<Item = &'a Variant>,
+) -> (Vec<String>, &'static str) {
     let mut params: Vec<String> = Vec::new();
-    for r in rows {
-        for (k, _) in &r.variant.params {
+    for v in variants {
+        for (k, _) in &v.params {
             if !params.contains(k) {
                 params.push(k.clone());
             }
@@ -164,6 +167,13 @@ pub fn stripes_csv(study: &Study, rows: &[StripeRow]) -> anyhow::Result<Vec<u8>>
         ExcitationFamily::Record { scale_to, .. } => im_name(*scale_to).unwrap_or("im"),
         _ => "im",
     };
+    (params, im)
+}
+
+/// stripes.csv: device, the varying parameters, record, component, the IM (named by its
+/// measure, e.g. `pga_star`), scale, the study's quantities, overturned, status.
+pub fn stripes_csv(study: &Study, rows: &[StripeRow]) -> anyhow::Result<Vec<u8>> {
+    let (params, im) = csv_axes(study, rows.iter().map(|r| &r.variant));
     let mut w = csv::Writer::from_writer(Vec::new());
     let mut header = vec!["device".to_string()];
     header.extend(params.iter().cloned());
