@@ -295,6 +295,9 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
             .measures
             .abs_acceleration
             .then_some(self.peaks.abs_acceleration_g);
+        if angular_floor.is_none() && abs_floor.is_none() {
+            return;
+        }
         // refine_sampled leaves the peak unchanged when every sample is below this.
         let unreachable = |bound: Option<f64>, floor: f64| {
             bound.is_some_and(|b| below_peak(b, floor * (1.0 - 1e-9)))
