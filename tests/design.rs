@@ -35,7 +35,7 @@ fn small() -> Study {
     Study::from_ron_str(SMALL, "design_small.ron").unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn run_with(study: &Study, opts: &SweepOptions, computed: &AtomicUsize) -> SweepResults {
+pub(crate) fn run_with(study: &Study, opts: &SweepOptions, computed: &AtomicUsize) -> SweepResults {
     sweep::run_study(
         study,
         opts,
@@ -50,7 +50,7 @@ fn run_with(study: &Study, opts: &SweepOptions, computed: &AtomicUsize) -> Sweep
     .unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn run(study: &Study) -> SweepResults {
+pub(crate) fn run(study: &Study) -> SweepResults {
     run_with(study, &SweepOptions::default(), &AtomicUsize::new(0))
 }
 

@@ -4,15 +4,16 @@
 //! such, a stopped search resumed from its finished scenes, and bad targets refused with the
 //! field and a hint.
 
+use crate::design::{run, run_with};
 use rocklab::report::fragility::{Curve, FitStatus, StripeObservation, Variant, analyse_stripes};
 use rocklab::scene::Excitation;
 use rocklab::sim::{self, Bounds};
 use rocklab::study::design::{DesignParameter, DesignTarget, FragilityGoal};
 use rocklab::study::{Quantity, Study};
 use rocklab::sweep::design::{DesignRow, DesignStatus, replay, with_parameter};
-use rocklab::sweep::{self, Progress, SweepOptions, SweepResults};
+use rocklab::sweep::{self, SweepOptions, SweepResults};
 use std::collections::HashSet;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Five far-field records (component a) at six PGA* stripes, 12 s each, a rigid block bare and
 /// with a sequential clutch; the clutch's σ is sized so that the overturning curve's median
@@ -52,25 +53,6 @@ fn exceedance_text() -> String {
 
 fn study(text: &str) -> Study {
     Study::from_ron_str(text, "design_fragility_small.ron").unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn run_with(study: &Study, opts: &SweepOptions, computed: &AtomicUsize) -> SweepResults {
-    sweep::run_study(
-        study,
-        opts,
-        rocklab::excitation::library::global().unwrap(),
-        &AtomicBool::new(false),
-        &|p| {
-            if let Progress::SceneDone { reused: false, .. } = p {
-                computed.fetch_add(1, Ordering::Relaxed);
-            }
-        },
-    )
-    .unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn run(study: &Study) -> SweepResults {
-    run_with(study, &SweepOptions::default(), &AtomicUsize::new(0))
 }
 
 /// The fitted curve of `state` over every record and stripe of variant `variant` with σ set to

@@ -27,19 +27,15 @@
 
 mod fit;
 
-use super::rounds::{self, Rounds};
+use super::rounds::{self, Finished, Rounds};
 use super::{Checkpoint, Progress, SceneOutcome, SweepOptions, SweepResults, build_id};
 use crate::excitation::Library;
 use crate::scene::{ClutchStiffness, Damping, Device, Scene};
-use crate::sim::SceneResult;
 use crate::study::design::{Design, DesignParameter, DesignTarget};
 use crate::study::{Layout, ScenePoint, Study, StudyError, scene_key};
 use fit::{FitSummary, FragilityFit};
 use std::collections::HashMap;
 use std::sync::atomic::AtomicBool;
-
-/// A finished scene's result, by scene key.
-type Finished = HashMap<String, Result<SceneResult, String>>;
 
 /// Where a design point stands at the end (or the current state of an unfinished search).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -426,19 +422,8 @@ impl Search {
 
     /// Every scene the search has asked for that has finished, as outcomes (in index order).
     pub fn outcomes(&self) -> Vec<SceneOutcome> {
-        let mut out: Vec<SceneOutcome> = self
-            .states
-            .iter()
-            .flat_map(|s| s.probes.iter().flat_map(|p| &p.scenes))
-            .filter_map(|sc| {
-                Some(SceneOutcome {
-                    point: sc.clone(),
-                    result: self.finished.get(&sc.key)?.clone(),
-                })
-            })
-            .collect();
-        out.sort_by_key(|o| o.point.index);
-        out
+        let scenes = (self.states.iter()).flat_map(|s| s.probes.iter().flat_map(|p| &p.scenes));
+        rounds::finished_outcomes(scenes, &self.finished)
     }
 
     /// The answer at every design point (Incomplete where the search has not finished).
@@ -705,11 +690,7 @@ fn design_points(study: &Study, design: &Design) -> Result<Vec<Point>, StudyErro
 /// The design answer recomputed from finished scenes (a results file or journal): the
 /// search replayed on them. Rows are Incomplete where a scene it needs is missing.
 pub fn replay(study: &Study, outcomes: &[SceneOutcome]) -> Result<Vec<DesignRow>, StudyError> {
-    let by_key: Finished = outcomes
-        .iter()
-        .map(|o| (o.point.key.clone(), o.result.clone()))
-        .collect();
-    Ok(progress(study, &by_key)?.rows)
+    Ok(progress(study, &rounds::by_key(outcomes))?.rows)
 }
 
 /// How far a design search got on finished scenes (by key: a journal's or a results file's).

@@ -11,7 +11,7 @@
 #![allow(clippy::result_large_err)]
 
 use super::hunt::{Hunt, Response, StateResult};
-use super::rounds::{self, RoundEnd, Rounds};
+use super::rounds::{self, Finished, RoundEnd, Rounds};
 use super::{Checkpoint, Progress, SceneOutcome, SweepOptions, SweepResults, build_id};
 use crate::excitation::Library;
 use crate::scene::{Excitation, RecordScale, Scene};
@@ -20,8 +20,6 @@ use crate::study::fragility::MAX_BISECTIONS;
 use crate::study::{Layout, ScenePoint, Study, StudyError, scene_key};
 use std::collections::{HashMap, HashSet};
 use std::sync::atomic::AtomicBool;
-
-type Finished = HashMap<String, Result<SceneResult, String>>;
 
 /// One record × variant of the analysis.
 struct Subject {
@@ -161,19 +159,7 @@ impl IdaSearch {
 
     /// Every finished probe scene, by index.
     pub fn outcomes(&self) -> Vec<SceneOutcome> {
-        let mut out: Vec<SceneOutcome> = self
-            .subjects
-            .iter()
-            .flat_map(|s| &s.probes)
-            .filter_map(|p| {
-                Some(SceneOutcome {
-                    point: p.clone(),
-                    result: self.finished.get(&p.key)?.clone(),
-                })
-            })
-            .collect();
-        out.sort_by_key(|o| o.point.index);
-        out
+        rounds::finished_outcomes(self.subjects.iter().flat_map(|s| &s.probes), &self.finished)
     }
 
     /// Every hunt as it stands.
@@ -270,10 +256,7 @@ fn at_intensity(scene: &Scene, im: f64) -> Scene {
 /// The IDA recomputed from finished scenes (a results file): the hunts replayed on them,
 /// unfinished where a scene they need is missing.
 pub fn replay(study: &Study, outcomes: &[SceneOutcome]) -> Result<IdaSearch, StudyError> {
-    let by_key: Finished = outcomes
-        .iter()
-        .map(|o| (o.point.key.clone(), o.result.clone()))
-        .collect();
+    let by_key = rounds::by_key(outcomes);
     let mut search = IdaSearch::new(study)?;
     rounds::drive(&mut search, |round| {
         let outcomes: Vec<SceneOutcome> = round

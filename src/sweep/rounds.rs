@@ -18,6 +18,36 @@ use crate::study::ScenePoint;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
+/// Finished scenes by scene key: a search's record of what ran, or a journal's or a results
+/// file's scenes to replay it on.
+pub type Finished = HashMap<String, Result<SceneResult, String>>;
+
+/// Outcomes by scene key (the last one of a key wins; a key's result is the same in each).
+pub fn by_key(outcomes: &[SceneOutcome]) -> Finished {
+    outcomes
+        .iter()
+        .map(|o| (o.point.key.clone(), o.result.clone()))
+        .collect()
+}
+
+/// The scenes of `points` that have finished, as outcomes in index order: what a search's
+/// results hold (every probe scene it asked for, once per probe that asked).
+pub fn finished_outcomes<'a>(
+    points: impl Iterator<Item = &'a ScenePoint>,
+    finished: &Finished,
+) -> Vec<SceneOutcome> {
+    let mut out: Vec<SceneOutcome> = points
+        .filter_map(|p| {
+            Some(SceneOutcome {
+                point: p.clone(),
+                result: finished.get(&p.key)?.clone(),
+            })
+        })
+        .collect();
+    out.sort_by_key(|o| o.point.index);
+    out
+}
+
 /// A search that runs in rounds of scenes.
 pub trait Rounds {
     /// The scenes to run next, decided from everything recorded so far; empty when the
@@ -39,10 +69,7 @@ pub struct RoundEnd {
 /// Replay a search on finished scenes (by scene key: a journal's or a results file's): rounds
 /// are finished from `finished` until one asks for a scene it lacks, which stops the replay
 /// after recording what that round found. The outcomes are every scene found.
-pub fn replay(
-    rounds: &mut impl Rounds,
-    finished: &HashMap<String, Result<SceneResult, String>>,
-) -> RoundsRun {
+pub fn replay(rounds: &mut impl Rounds, finished: &Finished) -> RoundsRun {
     drive(rounds, |round| {
         let asked = round.len();
         let outcomes: Vec<SceneOutcome> = round
