@@ -541,5 +541,7 @@ impl Component for ResultsScreen {
 /// Width of the row names left of the bars: the longest name, within limits.
 fn label_width(names: &[String], area: Rect) -> usize {
     let longest = names.iter().map(|s| s.chars().count()).max().unwrap_or(0);
-    longest.clamp(8, (area.width as usize / 3).max(8))
+    // Up to half the width: rows a cut name would make look alike (a clutch grid at 80
+    // columns) matter more than how many points the strip shows at once; it scrolls.
+    longest.clamp(8, (area.width as usize / 2).max(8))
 }

@@ -158,7 +158,7 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
     }
     let n = axis_len(&rows);
     let label_width = label_width(&names, area);
-    let width = (area.width as usize).saturating_sub(label_width + 11);
+    let width = (area.width as usize).saturating_sub(label_width + 12);
     let st = Strip::fit(n, width, view.x);
     let sel = rows[view.row.min(rows.len() - 1)];
     let at = sel.xs.get(view.x).copied();
