@@ -47,6 +47,7 @@ mod suites;
 mod sweep;
 mod tui;
 mod tui_compare;
+mod tui_hangup;
 mod tui_results;
 mod tui_run;
 mod tui_saving;

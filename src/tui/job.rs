@@ -98,6 +98,11 @@ impl<P: Send + 'static, O: Send + 'static> AsyncSingleJob<P, O> {
         self.running.is_some() || self.queued.is_some()
     }
 
+    /// The running job's stop flag (for a stop requested from outside the UI thread).
+    pub fn cancel_flag(&self) -> Option<Arc<AtomicBool>> {
+        self.running.as_ref().map(|r| r.cancel.clone())
+    }
+
     /// Ask the running job to stop early; what it returns is still delivered.
     pub fn cancel(&self) {
         if let Some(running) = &self.running {

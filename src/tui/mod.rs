@@ -9,6 +9,7 @@ pub mod components;
 pub mod draw;
 pub mod edit;
 mod files;
+mod hangup;
 pub mod job;
 pub mod theme;
 pub mod tree;
@@ -91,7 +92,7 @@ fn run_app(mut app: App, mono: bool) -> anyhow::Result<()> {
         let _ = signal_hook::flag::register(signal, interrupted.clone());
     }
     let shutting_down = Arc::new(AtomicBool::new(false));
-    watch_for_a_stuck_hangup(interrupted.clone(), shutting_down.clone());
+    hangup::watch(interrupted.clone(), shutting_down.clone());
     let mut terminal = setup()?;
     let outcome = event_loop(&mut terminal, &mut app, theme, &interrupted, &shutting_down);
     restore();
@@ -99,27 +100,6 @@ fn run_app(mut app: App, mono: bool) -> anyhow::Result<()> {
 }
 
 type Term = Terminal<CrosstermBackend<Stdout>>;
-
-/// How long the event loop has to notice a SIGHUP/SIGTERM before the process ends without it.
-const HANGUP_GRACE: std::time::Duration = std::time::Duration::from_secs(2);
-
-/// crossterm 0.29 spins for ever inside `event::poll` once its terminal is gone: its tty read
-/// loop retries on EOF and EIO, so after a lost SSH session the event loop never runs again and
-/// the orphaned workbench burns a core (seen on a killed tmux server). Finished scenes are in
-/// the sweep journal already (one write per scene), so when the loop has not taken up a
-/// hangup within a grace period, end the process from this thread; the next run or
-/// `rocklab tui` resumes from the journal.
-fn watch_for_a_stuck_hangup(interrupted: Arc<AtomicBool>, shutting_down: Arc<AtomicBool>) {
-    std::thread::spawn(move || {
-        while !interrupted.load(Ordering::Relaxed) {
-            std::thread::sleep(std::time::Duration::from_millis(100));
-        }
-        std::thread::sleep(HANGUP_GRACE);
-        if !shutting_down.load(Ordering::Relaxed) {
-            std::process::exit(129);
-        }
-    });
-}
 
 fn setup() -> anyhow::Result<Term> {
     // Restore the terminal before the panic message is printed, or it would be lost in the

@@ -21,6 +21,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Wrap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 pub struct GroupProgress {
@@ -191,9 +192,11 @@ impl RunScreen {
         let thread_points = points.clone();
         let study = study.clone();
         let dir = out_dir.clone();
+        let returned = Arc::new(AtomicBool::new(false));
+        let has_returned = returned.clone();
         self.sweep.spawn(move |reporter, cancel| {
             let progress = |p| reporter.report(p);
-            sweep_into(
+            let outcome = sweep_into(
                 &study,
                 &thread_points,
                 &dir,
@@ -201,8 +204,14 @@ impl RunScreen {
                 library,
                 cancel,
                 &progress,
-            )
+            );
+            has_returned.store(true, Ordering::Relaxed);
+            outcome
         });
+        // A signal stops the sweep even when the event loop cannot run (tui/hangup.rs).
+        if let Some(cancel) = self.sweep.cancel_flag() {
+            crate::tui::hangup::sweep_started(cancel, returned);
+        }
         self.state = Some(RunState {
             total: points.len(),
             points,
