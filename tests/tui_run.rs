@@ -172,7 +172,13 @@ fn every_screen_draws_at_any_size() {
 fn quitting_mid_sweep_asks_and_a_restart_reuses_the_finished_scenes() {
     let root = scratch_dir();
     let mut app = new_app_in(root.clone());
-    small_map_study(&mut app);
+    // Enough scenes that the sweep cannot finish before the questions below are answered
+    // (the stop question closes itself once the sweep has returned).
+    let bigger = |app: &mut rocklab::tui::app::App| {
+        small_map_study(app);
+        set_field(app, "frequency", "ratio((from: 2.0, to: 8.0, steps: 60))");
+    };
+    bigger(&mut app);
     let total = scene_count(&app);
     key(&mut app, KeyCode::Char('r'));
     assert_eq!(key(&mut app, KeyCode::Char('q')), Effect::None, "q asks");
@@ -223,7 +229,7 @@ fn quitting_mid_sweep_asks_and_a_restart_reuses_the_finished_scenes() {
     drop(app);
 
     let mut again = new_app_in(root.clone());
-    small_map_study(&mut again);
+    bigger(&mut again);
     run_to_completion(&mut again);
     let run = again.runs.state.as_ref().unwrap();
     assert_eq!(run.finished, Some(false), "{:?}", again.message);
