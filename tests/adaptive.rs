@@ -2,12 +2,13 @@
 //! the shipped map study, what the refinement finds and misses on a known island shape, and
 //! a stopped adaptive run resumed from its journal.
 
+use crate::util::sweep_in;
 use rocklab::report::maps;
 use rocklab::study::{Refine, Study};
 use rocklab::sweep::adaptive::{CellVerdict, MapGrid, refine};
-use rocklab::sweep::{self, OpenOptions, Progress, SweepOptions};
+use rocklab::sweep::{self, SweepOptions};
 use std::collections::HashSet;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::AtomicBool;
 
 fn shipped_map() -> Study {
     let path = concat!(
@@ -201,45 +202,9 @@ fn a_stopped_adaptive_map_resumes_from_its_journal() {
 
     let dir = tempfile::tempdir().unwrap();
     let points = study.expand().unwrap();
-    let library = rocklab::excitation::library::global().unwrap();
-    let open = || {
-        sweep::DirRun::open(
-            dir.path(),
-            None,
-            &study,
-            points.len(),
-            OpenOptions::default(),
-        )
-        .unwrap()
-    };
-    let run = |output: sweep::DirRun, cancel: &AtomicBool, progress: &(dyn Fn(Progress) + Sync)| {
-        output
-            .run(
-                &study,
-                &points,
-                Some(1),
-                library,
-                None,
-                cancel,
-                progress,
-                rocklab::report::WRITERS,
-            )
-            .unwrap()
-            .results
-    };
     // First run: stopped after 20 scenes (in the coarse round: there is more to do).
-    let cancel = AtomicBool::new(false);
-    let done = AtomicUsize::new(0);
-    let output = open();
-    let journal = output.journal_path().to_path_buf();
-    let results_file = output.results_path().to_path_buf();
-    let stopped = run(output, &cancel, &|p| {
-        if let Progress::SceneDone { .. } = p
-            && done.fetch_add(1, Ordering::Relaxed) + 1 >= 20
-        {
-            cancel.store(true, Ordering::Relaxed);
-        }
-    });
+    let first = sweep_in(dir.path(), &study, &points, Some(20));
+    let (stopped, results_file, journal) = (first.results, first.results_file, first.journal);
     assert!(stopped.cancelled);
     assert!(
         stopped.inferred.is_empty(),
@@ -258,19 +223,11 @@ fn a_stopped_adaptive_map_resumes_from_its_journal() {
     );
 
     // Resumed: the first run's scenes come from the journal.
-    let cancel = AtomicBool::new(false);
-    let (reused, computed) = (AtomicUsize::new(0), AtomicUsize::new(0));
-    let resumed = run(open(), &cancel, &|p| {
-        if let Progress::SceneDone { reused: r, .. } = p {
-            if r { &reused } else { &computed }.fetch_add(1, Ordering::Relaxed);
-        }
-    });
+    let again = sweep_in(dir.path(), &study, &points, None);
+    let resumed = again.results;
     assert!(!resumed.cancelled);
-    assert_eq!(reused.load(Ordering::Relaxed), first);
-    assert_eq!(
-        computed.load(Ordering::Relaxed),
-        uninterrupted.outcomes.len() - first
-    );
+    assert_eq!(again.reused, first);
+    assert_eq!(again.computed, uninterrupted.outcomes.len() - first);
     assert_eq!(resumed.inferred, uninterrupted.inferred);
     assert_eq!(maps(&resumed), maps(&uninterrupted));
     // The finished journal alone replays to the same inferred cells (`rocklab merge JOURNAL`).

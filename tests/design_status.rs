@@ -3,11 +3,11 @@
 //! on what is left (never the nominal grid's size); its journal alone gives its probe scenes
 //! back; the resumed search is complete with nothing missing.
 
-use crate::util::rocklab;
+use crate::util::{rocklab, sweep_in};
 use rocklab::study::Study;
-use rocklab::sweep::{self, OpenOptions, Progress, SweepOptions};
+use rocklab::sweep::{self, SweepOptions};
 use std::collections::HashSet;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::AtomicBool;
 
 /// Two blocks, the bare block and a mechanistic clutch, three pulses: 4 design points.
 const STUDY: &str = r#"(
@@ -50,44 +50,9 @@ fn status_of_a_stopped_design_search_bounds_what_is_left() {
     assert_eq!(points.len(), 2 * 2 * 3);
 
     let dir = tempfile::tempdir().unwrap();
-    let open = || {
-        sweep::DirRun::open(
-            dir.path(),
-            None,
-            &study,
-            points.len(),
-            OpenOptions::default(),
-        )
-        .unwrap()
-    };
-    let run = |output: sweep::DirRun, cancel: &AtomicBool, progress: &(dyn Fn(Progress) + Sync)| {
-        output
-            .run(
-                &study,
-                &points,
-                Some(1),
-                library,
-                None,
-                cancel,
-                progress,
-                rocklab::report::WRITERS,
-            )
-            .unwrap()
-            .results
-    };
     // Stopped after 15 scenes: the bracket ends and a few bisections.
-    let cancel = AtomicBool::new(false);
-    let done = AtomicUsize::new(0);
-    let output = open();
-    let results_file = output.results_path().to_path_buf();
-    let journal = output.journal_path().to_path_buf();
-    let stopped = run(output, &cancel, &|p| {
-        if let Progress::SceneDone { .. } = p
-            && done.fetch_add(1, Ordering::Relaxed) + 1 >= 15
-        {
-            cancel.store(true, Ordering::Relaxed);
-        }
-    });
+    let first = sweep_in(dir.path(), &study, &points, Some(15));
+    let (stopped, results_file, journal) = (first.results, first.results_file, first.journal);
     assert!(stopped.cancelled);
     let status = sweep::set_status(&results_file, None);
     let ran = status.ok + status.failed;
@@ -122,7 +87,7 @@ fn status_of_a_stopped_design_search_bounds_what_is_left() {
     assert_eq!(keys.len(), ran);
 
     // Resumed to the end: complete, nothing missing, every point answered.
-    let resumed = run(open(), &AtomicBool::new(false), &|_| {});
+    let resumed = sweep_in(dir.path(), &study, &points, None).results;
     assert!(!resumed.cancelled);
     let status = sweep::set_status(&results_file, None);
     assert_eq!(status.ok + status.failed, distinct);

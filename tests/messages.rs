@@ -1,7 +1,7 @@
 //! Issue 29's "Messages": every error names the input the user gave, in numbers as they
 //! read (never 1e308 as 309 digits), and output cut short by a closed pipe ends quietly.
 
-use crate::util::{rocklab, rocklab_command};
+use crate::util::{default_run_with_scene_time_limit, rocklab, rocklab_command};
 use std::io::BufRead;
 use std::process::Stdio;
 
@@ -150,23 +150,9 @@ fn a_huge_record_scaled_to_a_pga_and_baseline_corrected_runs() {
 
 #[test]
 fn a_tiny_scene_time_limit_is_reported_as_given() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out");
-    let o = rocklab(&[
-        "run",
-        "default",
-        "--out",
-        out.to_str().unwrap(),
-        "--quiet",
-        "--scene-time-limit",
-        "0.0001",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let results = rocklab::report::load_results(&out.join("results.json")).unwrap();
-    let reasons: Vec<&String> = results
-        .outcomes
-        .iter()
-        .filter_map(|o| o.result.as_ref().err())
+    let reasons: Vec<String> = default_run_with_scene_time_limit("0.0001")
+        .into_iter()
+        .flatten()
         .collect();
     // Every default scene takes milliseconds: the limit stops some of them.
     assert!(!reasons.is_empty());

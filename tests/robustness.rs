@@ -2,7 +2,7 @@
 //! panicked or aborted, silently different studies, unsafe writes. Every case ends in a clear
 //! error (exit 2 for bad input) or a bounded failure, never a panic or a hang.
 
-use crate::util::{rocklab, rocklab_command};
+use crate::util::{default_run_with_scene_time_limit, rocklab, rocklab_command};
 use std::path::Path;
 use std::process::Stdio;
 
@@ -345,23 +345,11 @@ fn writes_never_replace_a_device_or_a_directory() {
 
 #[test]
 fn a_scene_over_its_wall_clock_limit_fails_with_the_reason_and_the_sweep_goes_on() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out");
     // A limit no scene can meet: every scene fails, with the reason, and the run completes.
-    let o = rocklab(&[
-        "run",
-        "default",
-        "--out",
-        out.to_str().unwrap(),
-        "--quiet",
-        "--scene-time-limit",
-        "1e-9",
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let results = rocklab::report::load_results(&out.join("results.json")).unwrap();
-    assert_eq!(results.outcomes.len(), 36);
-    for o in &results.outcomes {
-        let reason = o.result.as_ref().unwrap_err();
+    let reasons = default_run_with_scene_time_limit("1e-9");
+    assert_eq!(reasons.len(), 36);
+    for reason in reasons {
+        let reason = reason.expect("every scene fails");
         assert!(reason.contains("wall-clock limit"), "{reason}");
     }
 }

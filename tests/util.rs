@@ -78,3 +78,83 @@ pub fn fig12_study_and_fig8_point() -> (rocklab::study::Study, rocklab::study::S
         .expect("the Fig. 12 study holds the Fig. 8 scene");
     (study, point)
 }
+
+/// One run of a study into `dir` through the sweep's façade (as `rocklab run --out dir`
+/// does: it resumes what the directory holds), one thread, stopped after `stop_after`
+/// scenes if given.
+pub(crate) struct DirSweep {
+    pub results: rocklab::sweep::SweepResults,
+    pub results_file: std::path::PathBuf,
+    pub journal: std::path::PathBuf,
+    /// Scenes taken from the journal and scenes computed, as the progress reported them.
+    pub reused: usize,
+    pub computed: usize,
+}
+
+pub(crate) fn sweep_in(
+    dir: &std::path::Path,
+    study: &rocklab::study::Study,
+    points: &[rocklab::study::ScenePoint],
+    stop_after: Option<usize>,
+) -> DirSweep {
+    use rocklab::sweep::{DirRun, OpenOptions, Progress};
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+    let output = DirRun::open(dir, None, study, points.len(), OpenOptions::default()).unwrap();
+    let results_file = output.results_path().to_path_buf();
+    let journal = output.journal_path().to_path_buf();
+    let cancel = AtomicBool::new(false);
+    let (reused, computed) = (AtomicUsize::new(0), AtomicUsize::new(0));
+    let progress = |p: Progress| {
+        if let Progress::SceneDone { reused: r, .. } = p {
+            if r { &reused } else { &computed }.fetch_add(1, Ordering::Relaxed);
+            let done = reused.load(Ordering::Relaxed) + computed.load(Ordering::Relaxed);
+            if stop_after.is_some_and(|n| done >= n) {
+                cancel.store(true, Ordering::Relaxed);
+            }
+        }
+    };
+    let library = rocklab::excitation::library::global().unwrap();
+    let results = output
+        .run(
+            study,
+            points,
+            Some(1),
+            library,
+            None,
+            &cancel,
+            &progress,
+            rocklab::report::WRITERS,
+        )
+        .unwrap()
+        .results;
+    DirSweep {
+        results,
+        results_file,
+        journal,
+        reused: reused.into_inner(),
+        computed: computed.into_inner(),
+    }
+}
+
+/// `rocklab run default --scene-time-limit LIMIT` into a fresh directory: the outcomes' failure
+/// reasons, one per scene (`None` for a scene that finished).
+pub(crate) fn default_run_with_scene_time_limit(limit: &str) -> Vec<Option<String>> {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = rocklab(&[
+        "run",
+        "default",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+        "--scene-time-limit",
+        limit,
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let results = rocklab::report::load_results(&out.join("results.json")).unwrap();
+    results
+        .outcomes
+        .into_iter()
+        .map(|o| o.result.err())
+        .collect()
+}

@@ -352,14 +352,12 @@ pub fn run_refined(
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> anyhow::Result<SweepResults> {
-    if let Some((i, n)) = opts.shard {
-        anyhow::bail!(
-            "study {}: an adaptive map (map: (…, refine: …)) cannot run as shard {i}/{n}: each \
-             refinement round needs every verdict of the round before; run it unsharded (it runs \
-             only the boundary), or remove `refine` to shard the full grid",
-            study.name
-        );
-    }
+    rounds::refuse_shards(
+        study,
+        opts,
+        "an adaptive map (map: (…, refine: …))",
+        "each refinement round needs every verdict of the round before; run it unsharded (it runs only the boundary), or remove `refine` to shard the full grid",
+    )?;
     let Some(levels) = study.map.and_then(|m| m.refine_levels()) else {
         anyhow::bail!("study {}: its map is not adaptive", study.name);
     };

@@ -750,13 +750,12 @@ pub fn run_design(
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> anyhow::Result<SweepResults> {
-    if let Some((i, n)) = opts.shard {
-        anyhow::bail!(
-            "study {}: a design study cannot run as shard {i}/{n}: each probe of its search \
-             needs the verdict of the one before; run it unsharded",
-            study.name
-        );
-    }
+    rounds::refuse_shards(
+        study,
+        opts,
+        "a design study",
+        "each probe of its search needs the verdict of the one before; run it unsharded",
+    )?;
     let mut search = Search::new(study).map_err(|e| anyhow::anyhow!("{e}"))?;
     let run = rounds::run_journalled(&mut search, opts, library, checkpoint, cancel, progress);
     Ok(SweepResults {

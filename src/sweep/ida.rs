@@ -283,13 +283,12 @@ pub fn run_ida(
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
 ) -> anyhow::Result<SweepResults> {
-    if let Some((i, n)) = opts.shard {
-        anyhow::bail!(
-            "study {}: an incremental dynamic analysis cannot run as shard {i}/{n}: each probe \
-             of a record's hunt needs the verdict of the one before; run it unsharded",
-            study.name
-        );
-    }
+    rounds::refuse_shards(
+        study,
+        opts,
+        "an incremental dynamic analysis",
+        "each probe of a record's hunt needs the verdict of the one before; run it unsharded",
+    )?;
     let mut search = IdaSearch::new(study).map_err(|e| anyhow::anyhow!("{e}"))?;
     let run = rounds::run_journalled(&mut search, opts, library, checkpoint, cancel, progress);
     Ok(SweepResults {

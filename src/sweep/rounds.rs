@@ -120,6 +120,23 @@ pub fn drive(
     }
 }
 
+/// Refuses a sharded run of a round search: a round needs every verdict of the one before,
+/// so shards cannot run apart. `what` names the study's kind, `why` says what to do instead.
+pub fn refuse_shards(
+    study: &crate::study::Study,
+    opts: &SweepOptions,
+    what: &str,
+    why: &str,
+) -> anyhow::Result<()> {
+    match opts.shard {
+        Some((i, n)) => anyhow::bail!(
+            "study {}: {what} cannot run as shard {i}/{n}: {why}",
+            study.name
+        ),
+        None => Ok(()),
+    }
+}
+
 /// Drive `rounds` to its end, each round a [`run_checkpointed`] over its scenes: journalled
 /// as they finish (`checkpoint.journal`), taken from `checkpoint.reuse` when present (each
 /// reused result is handed to the first round that asks for its key). Progress reports a
