@@ -8,7 +8,7 @@ use crate::model::rigid::below_peak;
 use crate::model::{
     Action, ClosedFormEnd, Counters, EndReason, Energy, Peaks, SimModel, StepEnd, refine_sampled,
 };
-use crate::solver::{Dense, Direction, OdeSystem};
+use crate::solver::{Dense, Direction, OdeSystem, store_pairs};
 
 impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
     /// Without device states and accumulators (a bare block, a rigidly coupled or sequential
@@ -20,11 +20,13 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
         let m = &self.mode;
         let k = self.body.kin(m, y);
         if m.layout.device_dofs == 0 && !m.layout.ledger {
-            *dydt = [0.0; N];
             let ag = m.motion.accel(t);
             let fd = DeviceRates::STATELESS.force;
+            // In registers, then stored whole (see `store_pairs`).
+            let mut d = [0.0; N];
             self.body
-                .derivatives(m, &k, ag, y, fd, m.coupled_mass(), dydt);
+                .derivatives(m, &k, ag, y, fd, m.coupled_mass(), &mut d);
+            store_pairs(dydt, d);
         } else {
             self.rhs_kin(t, y, &k, dydt)
         }
