@@ -18,9 +18,11 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
     #[inline]
     fn rhs(&self, t: f64, y: &[f64; N], dydt: &mut [f64; N]) {
         let m = &self.mode;
-        let k = self.body.kin(m, y);
         if m.layout.device_dofs == 0 && !m.layout.ledger {
+            // a_g first: it depends on t alone, and its sine then runs beside the
+            // kinematics' instead of after it on the stage's critical path.
             let ag = m.motion.accel(t);
+            let k = self.body.kin(m, y);
             let fd = DeviceRates::STATELESS.force;
             // In registers, then stored whole (see `store_pairs`).
             let mut d = [0.0; N];
@@ -28,7 +30,7 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
                 .derivatives(m, &k, ag, y, fd, m.coupled_mass(), &mut d);
             store_pairs(dydt, d);
         } else {
-            self.rhs_kin(t, y, &k, dydt)
+            self.rhs_kin(t, y, &self.body.kin(m, y), dydt)
         }
     }
 
