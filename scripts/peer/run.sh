@@ -15,6 +15,13 @@
 # RHS calls, time, ns per RHS call all-in and the ratio peer time / rocklab time (> 1: rocklab
 # faster), then the geometric mean of the ratios per scene, and the right-hand side alone (ns
 # per call) of the peer.
+#
+# ROCKLAB_FLAGS adds flags to rocklab's timed runs only (not to its reference), e.g.
+# ROCKLAB_FLAGS=--stop-when-settled: rocklab then ends a scene once no peak can change (the
+# default of every study), while the peer always integrates the whole 10 s.
+#
+# Both sides' timed runs are pinned to CPU $CPU (default 0; CPU= to not pin): unpinned, a
+# process here ran either ~21 or ~29 µs for the same peer scene, whole runs at a time.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
@@ -29,7 +36,10 @@ if [[ -z "${ROCKLAB:-}" ]]; then
     cargo build --release --quiet --bin rocklab
     ROCKLAB=target/release/rocklab
 fi
-echo "rocklab: $ROCKLAB ($(git rev-parse --short HEAD)$(git diff --quiet || echo '+dirty')); peer: gcc -O2 $(gcc -dumpfullversion); load: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
+read -r -a FLAGS <<<"${ROCKLAB_FLAGS:-}"
+PIN=()
+[[ -n "${CPU-0}" ]] && command -v taskset >/dev/null && PIN=(taskset -c "${CPU-0}")
+echo "rocklab: $ROCKLAB ($(git rev-parse --short HEAD)$(git diff --quiet || echo '+dirty')) ${ROCKLAB_FLAGS:-}; peer: gcc -O2 $(gcc -dumpfullversion); load: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
 
 BASE=(simulate --p 2 --alpha 10deg --amplitude-alpha 1.5 --frequency-ratio 4 --duration 10 --json)
 MECH=(--device mechanistic --sigma 0.5 --clutch-frequency-ratio 25 --cbar 1)
@@ -40,12 +50,12 @@ for scene in bare mechanistic; do
     "$WORK/peer" "$scene" 1 1e-12 | tail -1 >"$WORK/peerref.$scene"
     for round in $(seq "$ROUNDS"); do
         for rtol in $RTOLS; do
-            "$WORK/peer" "$scene" "$REPEATS" "$rtol" | tail -1 >>"$WORK/peer.$scene"
-            "$ROCKLAB" "${BASE[@]}" "${extra[@]}" --rtol "$rtol" --quantities peak_rotation_ratio \
-                --repeat "$REPEATS" >>"$WORK/rocklab.$scene"
+            "${PIN[@]}" "$WORK/peer" "$scene" "$REPEATS" "$rtol" | tail -1 >>"$WORK/peer.$scene"
+            "${PIN[@]}" "$ROCKLAB" "${BASE[@]}" "${extra[@]}" "${FLAGS[@]}" --rtol "$rtol" \
+                --quantities peak_rotation_ratio --repeat "$REPEATS" >>"$WORK/rocklab.$scene"
         done
     done
-    "$WORK/peer" rhs "$scene" >"$WORK/rhs.$scene"
+    "${PIN[@]}" "$WORK/peer" rhs "$scene" >"$WORK/rhs.$scene"
 done
 echo "load after: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
 

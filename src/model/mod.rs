@@ -236,8 +236,7 @@ pub trait SimModel<const N: usize>: OdeSystem<N> {
     fn tolerance_scales(&self) -> Vec<f64>;
     /// Whether [`SimModel::observe_step`] must read the interior of the step from (t0, y0) to
     /// (t1, y1), with derivatives f0 and f1 there: false only where no value inside the step
-    /// can raise a peak, so the step's dense output need not be built (the driver then
-    /// observes the step's end with [`SimModel::observe_point`]).
+    /// can raise a peak, so the step's dense output need not be built.
     fn step_reads_interior(&self, _start: StepEnd<'_, N>, _end: StepEnd<'_, N>) -> bool {
         true
     }

@@ -437,17 +437,19 @@ impl Body for RigidBody {
     }
 
     /// Flat, nothing is observed. Rocking, where θ̇ keeps its sign over the step, |θ| is
-    /// monotone and its largest value on the step is at an end, which the driver observes
-    /// without the dense output. θ̇ is taken to keep its sign where the event screen's test
-    /// ([`no_root_inside`]) clears it from θ̇ and θ̈ at the ends: the assumption (the solution
-    /// resolved on the step's scale) under which the integrator already skips the event
-    /// sub-samples of such a step. Where θ̇ may cross zero (a turning point inside) but θ̈ has
-    /// one sign at both ends, θ̇ is taken to be monotone under the same assumption: the turning
-    /// point then lies within |θ̇0|·τ of θ0 and |θ̇1|·(h − τ) of θ1 for its time τ, so |θ| stays
-    /// below the larger end plus h·|θ̇0||θ̇1|/(|θ̇0| + |θ̇1|); a step whose bound lies below the
-    /// running peak by more than [`REACH_MARGIN`]·α (far above a step's error) is skipped. On
-    /// the Fig. 8 bare block only the steps of the first excursion's turn and the located
-    /// impacts build the dense output.
+    /// monotone and its largest value on the step is at an end: if that lies below the running
+    /// peak by more than [`REACH_MARGIN`]·α (far above the interpolant's distance from the
+    /// solution, a step's error), [`Body::observe_step`] would skip the step, having built the
+    /// dense output only to read its bound. θ̇ is taken to keep its sign where the event
+    /// screen's test ([`no_root_inside`]) clears it from θ̇ and θ̈ at the ends: the assumption
+    /// (the solution resolved on the step's scale) under which the integrator already skips
+    /// the event sub-samples of such a step. Where θ̇ may cross zero (a turning point inside)
+    /// but θ̈ has one sign at both ends, θ̇ is taken to be monotone under the same assumption:
+    /// the turning point then lies within |θ̇0|·τ of θ0 and |θ̇1|·(h − τ) of θ1 for its time
+    /// τ, so |θ| stays below the larger end plus h·|θ̇0||θ̇1|/(|θ̇0| + |θ̇1|), and the step is
+    /// skipped where that lies below the peak by the same margin (the observation would find
+    /// nothing there: a run that reads every step's interior reports the same peaks). On the
+    /// Fig. 8 bare block the later, smaller rocking cycles no longer build the dense output.
     fn step_may_raise_peaks(
         &self,
         m: &Mode,
@@ -461,15 +463,17 @@ impl Body for RigidBody {
         let h = t1 - t0;
         let (w0, w1) = (y0[THETA_DOT], y1[THETA_DOT]);
         let (a0, a1) = (f0[THETA_DOT], f1[THETA_DOT]);
-        if no_root_inside((w0, w0), h * a0, w1, h * a1) {
-            return false;
-        }
-        if a0 * a1 <= 0.0 || w0 == w1 {
-            return true;
-        }
-        let (v0, v1) = (w0.abs(), w1.abs());
         let ends = y0[THETA].abs().max(y1[THETA].abs());
-        ends + h.abs() * v0 * v1 / (v0 + v1) + REACH_MARGIN * self.alpha >= peaks.rotation
+        let reach = if no_root_inside((w0, w0), h * a0, w1, h * a1) {
+            ends
+        } else if a0 * a1 > 0.0 && w0 != w1 {
+            // (False for a NaN θ̈: such a step is searched.)
+            let (v0, v1) = (w0.abs(), w1.abs());
+            ends + h.abs() * v0 * v1 / (v0 + v1)
+        } else {
+            return true;
+        };
+        reach + REACH_MARGIN * self.alpha >= peaks.rotation
     }
 
     fn observe_point(&self, _m: &Mode, _measures: Measures, y: &[f64], peaks: &mut Peaks) {
@@ -553,8 +557,8 @@ impl Body for RigidBody {
     }
 }
 
-/// Margin, as a fraction of α, between the bound of |θ| on a turning step and the running
-/// peak rotation below which the step is not searched
+/// Margin, as a fraction of α, between the bound of |θ| on a step and the running peak
+/// rotation below which the step is not searched
 /// ([`RigidBody::step_may_raise_peaks`]): the interpolant's distance from the solution (a
 /// step's error, ~rtol·α) is far below it.
 const REACH_MARGIN: f64 = 0.01;

@@ -521,8 +521,6 @@ fn drive<const N: usize, M: SimModel<N>>(
                 }
                 dense
             } else {
-                // Nothing inside the step can raise a peak: its end still can.
-                model.observe_point(integ.t(), integ.y());
                 None
             };
             watch.check(
