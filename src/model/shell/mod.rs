@@ -169,6 +169,7 @@ impl<'m, B: Body> Rocking<'m, B> {
     }
 
     /// Event `ev`'s value at (t, y); `kx` = (kin(y), (X, Ẋ)) when the caller has them.
+    #[inline(always)]
     fn event_value(&self, ev: Ev, t: f64, y: &[f64], kx: Option<&(B::Kin, (f64, f64))>) -> f64 {
         let m = &self.mode;
         let rocking = m.rocking();

@@ -81,12 +81,13 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
         rates: &mut [f64],
     ) -> bool {
         let m = &self.mode;
+        let events = &self.events[..self.n_events];
         let closed_form = |ev: &Ev| match ev {
             Ev::Impact | Ev::Uplift(_) | Ev::Device(_) => true,
             Ev::Overturn => self.body.overturn_margin_rate(m, y, dydt).is_some(),
             Ev::Switch | Ev::Own(_) => false,
         };
-        if !m.rocking() || !self.events[..self.n_events].iter().all(closed_form) {
+        if !m.rocking() || !events.iter().all(closed_form) {
             return false;
         }
         // The kinematics only where a function reads X (a bare block's read θ alone).
@@ -97,9 +98,11 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
         });
         let kin_x = kx.map(|(k, v, _)| (k, v));
         let (states, states_dot) = (m.layout.device_states(y), m.layout.device_states(dydt));
-        for (i, ev) in self.events[..self.n_events].iter().enumerate() {
-            g[i] = self.event_value(*ev, t, y, kin_x.as_ref());
-            rates[i] = match (ev, &kx) {
+        // Zipped, not indexed: one pass without bounds checks (this runs twice per step of a
+        // record scene, which stops at every sample).
+        for ((ev, gi), rate) in events.iter().zip(g.iter_mut()).zip(rates.iter_mut()) {
+            *gi = self.event_value(*ev, t, y, kin_x.as_ref());
+            *rate = match (ev, &kx) {
                 (Ev::Impact, _) => m.pivot * dydt[B::THETA],
                 (Ev::Overturn, _) => self.body.overturn_margin_rate(m, y, dydt).unwrap_or(0.0),
                 (Ev::Device(e), Some((_, (x, xdot), xddot))) => {
