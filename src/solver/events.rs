@@ -157,8 +157,12 @@ impl<const N: usize> Integrator<N> {
         if found.is_none() {
             self.g_val = g1;
             self.g_rate = rates1;
-            // At a forcing breakpoint the rates change side.
-            self.rates_valid = !ends_at_stop;
+            // At a forcing breakpoint differenced rates change side; closed-form ones are
+            // functions of y and dy/dt, both continuous at a kink (a jump of the forcing
+            // refreshes the derivative and invalidates them), so they serve the next step as
+            // they are: one call of the event functions per stop saved, which a record scene
+            // makes at every sample.
+            self.rates_valid = !ends_at_stop || closed_form;
         }
         found
     }

@@ -153,7 +153,9 @@ pub trait OdeSystem<const N: usize> {
     /// Event values `g` and their time derivatives `rates` along the solution at (t, y), where
     /// dy/dt = `dydt`, computed together (they share trigonometry and kinematics). Return
     /// false if not provided: the integrator then differences [`OdeSystem::events`] along the
-    /// tangent, one more call of `events`.
+    /// tangent, one more call of `events`. Where provided, the values and rates must depend on
+    /// t only through y and dy/dt: the integrator keeps a step's end values and rates for the
+    /// next step across a stop at a forcing kink (where dy/dt is continuous).
     fn events_with_rates(
         &self,
         _t: f64,
