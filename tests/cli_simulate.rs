@@ -27,6 +27,15 @@ pub(crate) fn with(extra: &[&str]) -> Vec<&'static str> {
     v
 }
 
+/// [`BASE`] with `flag`'s value replaced by `value` (clap refuses a flag given twice), then
+/// `extra`.
+pub(crate) fn with_value(flag: &str, value: &str, extra: &[&str]) -> Vec<&'static str> {
+    let mut v = with(extra);
+    let i = v.iter().position(|a| *a == flag).expect("a flag of BASE") + 1;
+    v[i] = Box::leak(value.to_string().into_boxed_str());
+    v
+}
+
 #[test]
 fn the_text_summary_speaks_words_not_rust() {
     for device in [

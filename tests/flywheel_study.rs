@@ -2,6 +2,7 @@
 //! c̄ = 1"): it reads strictly, labels its groups, and runs exactly the scene `rocklab
 //! simulate --device inerter --coupling flywheel` runs.
 
+use crate::cli_simulate::with_value;
 use crate::util::{rocklab_json, run_into};
 use rocklab::study::Study;
 
@@ -46,29 +47,22 @@ fn a_flywheel_inerter_study_runs_the_scenes_simulate_runs() {
             rocklab::presets::inerter_with_dissipation()
         );
         let ratio = o.point.coord("ωg/p").unwrap().to_string();
-        let sim = rocklab_json(&[
-            "simulate",
-            "--alpha",
-            "0.17453292519943295",
-            "--p",
-            "2",
-            "--amplitude-alpha",
-            "1.5",
+        let sim = rocklab_json(&with_value(
             "--frequency-ratio",
             &ratio,
-            "--duration",
-            "10",
-            "--device",
-            "inerter",
-            "--coupling",
-            "flywheel",
-            "--sigma",
-            "0.5",
-            "--cbar",
-            "1",
-            "--stop-when-settled",
-            "--json",
-        ]);
+            &[
+                "--device",
+                "inerter",
+                "--coupling",
+                "flywheel",
+                "--sigma",
+                "0.5",
+                "--cbar",
+                "1",
+                "--stop-when-settled",
+                "--json",
+            ],
+        ));
         let r = o.result.as_ref().unwrap();
         // To the last bit: the same scene, integrated the same way.
         assert_eq!(
