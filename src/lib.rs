@@ -18,6 +18,7 @@ pub mod solver;
 pub mod stats;
 pub mod study;
 pub mod sweep;
+pub mod trig;
 pub mod tui;
 
 #[cfg(test)]

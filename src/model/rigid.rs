@@ -11,6 +11,7 @@ use super::{Ledger, Measures, Peaks, extremum_on_step};
 use crate::excitation::{G, Motion};
 use crate::scene::{Form, Impact, RigidBlock};
 use crate::solver::{Dense, Direction, no_root_inside};
+use crate::trig;
 use std::f64::consts::PI;
 
 /// Housner's coefficient of restitution (Eq. 3): r = (1 − 1.5 sin²α)².
@@ -113,11 +114,11 @@ impl RigidBody {
             form,
             p2,
             i0: 4.0 / 3.0 * block.mass * r * r,
-            // From the same library as `sc`, so that X = 0 at θ = 0 exactly: glibc's and
+            // From the same function as `sc`, so that X = 0 at θ = 0 exactly: glibc's and
             // libm's differ by an ulp for ~2 % of α, and an X of 1e-16 at uplift gave a
             // clutch function a spurious sign at its restart (an extra event).
-            sin_a: libm::sin(block.alpha),
-            cos_a: libm::cos(block.alpha),
+            sin_a: trig::sin(block.alpha),
+            cos_a: trig::cos(block.alpha),
             uplift_ratio: match form {
                 Equations::Trigonometric => block.alpha.tan(),
                 Equations::Slender => block.alpha,
@@ -131,15 +132,16 @@ impl RigidBody {
     }
 
     /// S = sin(sα − θ), C = cos(sα − θ) (slender: S = sα − θ, C = 1). The body's sines and
-    /// cosines come from the `libm` crate (musl's algorithms, < 1 ulp like glibc's): glibc's
-    /// sincos saves and restores the SSE rounding mode on every call, which perf put at 14 % of
-    /// a mechanistic scene's time; with libm the scene ran 10 % faster (the bare block 7 %).
-    /// (glibc's sin stays on the pulses' phases, up to 2π, where libm's was slower.)
+    /// cosines are fdlibm's (musl's algorithms, < 1 ulp like glibc's), inline for |sα − θ| ≤
+    /// π/4 ([`trig`]) and the `libm` crate's beyond: glibc's sincos saves and restores the SSE
+    /// rounding mode on every call, which perf put at 14 % of a mechanistic scene's time; with
+    /// libm the scene ran 10 % faster (the bare block 7 %). (glibc's sin stays on the pulses'
+    /// phases, up to 2π, where libm's was slower.)
     #[inline]
     fn sc(&self, pivot: f64, theta: f64) -> (f64, f64) {
         let a = pivot * self.alpha - theta;
         match self.form {
-            Equations::Trigonometric => libm::sincos(a),
+            Equations::Trigonometric => trig::sincos(a),
             Equations::Slender => (a, 1.0),
         }
     }
@@ -178,7 +180,7 @@ impl RigidBody {
 
     fn drift_of(&self, theta: f64) -> f64 {
         let x = match self.form {
-            Equations::Trigonometric => self.r * (self.sin_a - libm::sin(self.alpha - theta.abs())),
+            Equations::Trigonometric => self.r * (self.sin_a - trig::sin(self.alpha - theta.abs())),
             Equations::Slender => self.r * theta.abs(),
         };
         x / (self.r * self.cos_a)
@@ -251,7 +253,7 @@ impl Body for RigidBody {
         let (s, c) = *k;
         let moment = self.dirac_moment(m, theta, thetadot);
         let sigma = mc / self.m;
-        let mut num = -self.p2 * (s + ag / G * c);
+        let mut num = -self.p2 * (s + ag * (1.0 / G) * c);
         // Without a device force, a Dirac moment or a coupled mass the two divisions add
         // nothing but ~25 cycles of latency to every stage (the bare block: θ̈ waits on them).
         if fd != 0.0 || moment != 0.0 {
@@ -274,8 +276,8 @@ impl Body for RigidBody {
     fn bare_xddot(&self, m: &Mode, k: &(f64, f64), t: f64, y: &[f64]) -> f64 {
         let (s, c) = *k;
         let ag = m.motion.accel(t);
-        let thdd =
-            -self.p2 * (s + ag / G * c) + self.dirac_moment(m, y[THETA], y[THETA_DOT]) / self.i0;
+        let thdd = -self.p2 * (s + ag * (1.0 / G) * c)
+            + self.dirac_moment(m, y[THETA], y[THETA_DOT]) / self.i0;
         self.xddot_of(k, y, thdd)
     }
 
