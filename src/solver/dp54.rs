@@ -54,23 +54,25 @@ impl<const N: usize> Integrator<N> {
         let mut k5 = [0.0; N];
         let mut k6 = [0.0; N];
         let mut k7 = [0.0; N];
+        // Each stage sum adds its newest stage last, to the older ones' sum (ready earlier):
+        // the stage then waits one multiply and one add on the newest right-hand side.
         let s: [f64; N] = std::array::from_fn(|i| y[i] + h * A21 * k1[i]);
         sys.rhs(t + C2 * h, &s, &mut k2);
-        let s: [f64; N] = std::array::from_fn(|i| y[i] + h * (A31 * k1[i] + A32 * k2[i]));
+        let s: [f64; N] = std::array::from_fn(|i| (y[i] + h * (A31 * k1[i])) + h * A32 * k2[i]);
         sys.rhs(t + C3 * h, &s, &mut k3);
         let s: [f64; N] =
-            std::array::from_fn(|i| y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i]));
+            std::array::from_fn(|i| (y[i] + h * (A41 * k1[i] + A42 * k2[i])) + h * A43 * k3[i]);
         sys.rhs(t + C4 * h, &s, &mut k4);
         let s: [f64; N] = std::array::from_fn(|i| {
-            y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
+            (y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i])) + h * A54 * k4[i]
         });
         sys.rhs(t + C5 * h, &s, &mut k5);
         let s: [f64; N] = std::array::from_fn(|i| {
-            y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i])
+            (y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i])) + h * A65 * k5[i]
         });
         sys.rhs(t + h, &s, &mut k6);
         let y1: [f64; N] = std::array::from_fn(|i| {
-            y[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i])
+            (y[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i])) + h * B6 * k6[i]
         });
         sys.rhs(t + h, &y1, &mut k7);
         self.stats.rhs_evals += 6;
