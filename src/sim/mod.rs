@@ -515,8 +515,9 @@ fn drive<const N: usize, M: SimModel<N>>(
                     (integ.t(), integ.y(), integ.derivative()),
                 )
             {
-                let dense = integ.dense_now(model);
-                if let Some(dense) = &dense {
+                integ.ensure_dense(model);
+                let dense = integ.dense();
+                if let Some(dense) = dense {
                     model.observe_step(dense, integ.t());
                 }
                 dense
@@ -531,7 +532,7 @@ fn drive<const N: usize, M: SimModel<N>>(
             y = *integ.y();
             if let Some(h) = history.as_deref_mut() {
                 let at_event = matches!(outcome, StepOutcome::Event(_));
-                h.step(model, dense.as_ref(), t, &y, at_event);
+                h.step(model, dense, t, &y, at_event);
                 h.within_cap(t)?;
             }
             if ledger {

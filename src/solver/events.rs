@@ -277,13 +277,14 @@ pub fn no_root_inside((a, tracked): (f64, f64), da: f64, b: f64, db: f64) -> boo
         return false;
     }
     let v = (b - a).abs() + da.abs() + db.abs();
-    // Cubic Bernstein coefficients of H, then elevated to degree 4.
-    let (b0, b1, b2, b3) = (s * a, s * (a + da / 3.0), s * (b - db / 3.0), s * b);
-    let c1 = (b0 + 3.0 * b1) / 4.0;
-    let c2 = (b1 + b2) / 2.0;
-    let c3 = (3.0 * b2 + b3) / 4.0;
-    // τ²(1−τ)² = B₂,₄(τ)/6.
-    c1 > 0.0 && c2 - v / 12.0 > 0.0 && c3 > 0.0
+    // Cubic Bernstein coefficients of H, s·(a, a + da/3, b − db/3, b), elevated to degree 4:
+    // c₁ = (b₀ + 3b₁)/4, c₂ = (b₁ + b₂)/2, c₃ = (3b₂ + b₃)/4, and τ²(1−τ)² = B₂,₄(τ)/6. Only
+    // their signs matter, so they are tested times 4, 12 and 4: no division waits on the
+    // step's end values.
+    let c1 = s * (4.0 * a + da);
+    let c2 = 2.0 * s * (3.0 * (a + b) + da - db) - v;
+    let c3 = s * (4.0 * b - db);
+    c1 > 0.0 && c2 > 0.0 && c3 > 0.0
 }
 
 /// A root of event function `index` on the dense interpolant, from the bracket's start

@@ -270,6 +270,9 @@ pub enum StepOutcome {
     Event(usize),
 }
 
+/// log2 of the smallest error the PI controller remembers (1e-4, as in DOPRI5).
+const ERR_OLD_FLOOR_LOG2: f32 = -13.287_712;
+
 /// Integrator state. Create with [`Integrator::new`], then `restart`, then `step` repeatedly.
 pub struct Integrator<const N: usize> {
     pub opts: Options<N>,
@@ -278,7 +281,9 @@ pub struct Integrator<const N: usize> {
     y: [f64; N],
     f: [f64; N],
     h: f64,
-    err_old: f64,
+    /// log2 of the last accepted step's error, at least [`ERR_OLD_FLOOR_LOG2`] (the PI
+    /// controller's memory).
+    err_old_log2: f32,
     /// Tracked event signs (a zero value is an undetermined sign, see `reset_event_signs`).
     g: [f64; MAX_EVENTS],
     /// Which of `g` stand in (±1) for an exact zero at a restart: a sign without a scale.
@@ -330,7 +335,7 @@ impl<const N: usize> Integrator<N> {
             y: [0.0; N],
             f: [0.0; N],
             h: 0.0,
-            err_old: 1e-4,
+            err_old_log2: ERR_OLD_FLOOR_LOG2,
             g: [0.0; MAX_EVENTS],
             sign_only: [false; MAX_EVENTS],
             g_val: [0.0; MAX_EVENTS],
@@ -374,6 +379,13 @@ impl<const N: usize> Integrator<N> {
     /// Dense output of the last step, built now if it is not yet (DOP853's three extra stages:
     /// 3 of its 15 RHS calls per step, which a step nobody reads inside does not pay).
     pub fn dense_now<S: OdeSystem<N>>(&mut self, sys: &S) -> Option<Dense<N>> {
+        self.ensure_dense(sys);
+        self.dense
+    }
+
+    /// Build the dense output of the last step if it is not yet, for [`Self::dense`] to lend
+    /// (no copy of its coefficients, as [`Self::dense_now`] makes).
+    pub fn ensure_dense<S: OdeSystem<N>>(&mut self, sys: &S) {
         if let Some(step) = self.pending.take() {
             let clock = self.opts.time_stages.then(std::time::Instant::now);
             self.dense = Some(self.dense_dop853(sys, &step));
@@ -381,7 +393,6 @@ impl<const N: usize> Integrator<N> {
                 self.stats.stage_nanos += clock.elapsed().as_nanos() as u64;
             }
         }
-        self.dense
     }
 
     /// (Re)start at (t, y): after an event's jump, or when the right-hand side changes form.
@@ -395,7 +406,7 @@ impl<const N: usize> Integrator<N> {
         if self.h == 0.0 {
             self.h = self.initial_step(sys);
         }
-        self.err_old = 1e-4;
+        self.err_old_log2 = ERR_OLD_FLOOR_LOG2;
         self.dense = None;
         self.pending = None;
         self.needs_restart = false;
@@ -435,7 +446,12 @@ impl<const N: usize> Integrator<N> {
                     n += 1;
                 }
             }
-            if n == 0 { 0.0 } else { (sum / n as f64).sqrt() }
+            // 1/n is ready long before the sum: a multiply, not a division, waits on it.
+            if n == 0 {
+                0.0
+            } else {
+                (sum * (1.0 / n as f64)).sqrt()
+            }
         };
         let [a, b] = self.groups();
         rms(a).max(rms(b))
@@ -514,20 +530,25 @@ impl<const N: usize> Integrator<N> {
                 }
                 continue;
             }
-            // The step factors' powers in single precision: a factor needs no 16 digits, and
-            // f32 powf cost the bare Fig. 8 scene 5 % less time than f64's (glibc).
+            // The step factors' powers in single precision, as 2^(e·log2 x): a factor needs
+            // no 16 digits (f32 powf cost the bare Fig. 8 scene 5 % less time than f64's), and
+            // the PI controller's two powers are then one log2 of this step's error (kept for
+            // the next step) and one exp2. The next step's size waits on this one's error, so
+            // the factors are written as the growth h_new/h: no division follows the powers.
             let expo = 1.0 / self.opts.method.order() as f32;
-            let pow = |x: f64, e: f32| f64::from((x as f32).powf(e));
+            let log2_err = (err as f32).log2();
+            let exp2 = |e: f32| f64::from(e.exp2());
             if err <= 1.0 {
-                let fac = match self.opts.method {
-                    // PI controller (β = 0.04), as in DOPRI5.
-                    Method::Dp54 => (pow(err, expo - 0.75 * 0.04) * pow(self.err_old, -0.04) / 0.9)
-                        .clamp(0.1, 5.0),
+                let growth = match self.opts.method {
+                    // PI controller (β = 0.04), as in DOPRI5: h_new/h within [1/5, 10].
+                    Method::Dp54 => (0.9
+                        * exp2((0.75 * 0.04 - expo) * log2_err + 0.04 * self.err_old_log2))
+                    .clamp(0.2, 10.0),
                     // As in DOP853 (β = 0, step ratio within [1/3, 6]).
-                    Method::Dop853 => (pow(err, expo) / 0.9).clamp(1.0 / 6.0, 3.0),
+                    Method::Dop853 => (0.9 * exp2(-expo * log2_err)).clamp(1.0 / 3.0, 6.0),
                 };
-                self.err_old = err.max(1e-4);
-                let h_new = h / fac;
+                self.err_old_log2 = log2_err.max(ERR_OLD_FLOOR_LOG2);
+                let h_new = h * growth;
                 self.stats.steps += 1;
                 let step = Step {
                     t0: self.t,
@@ -547,8 +568,9 @@ impl<const N: usize> Integrator<N> {
                 if let Some((index, t_event)) = event {
                     self.stats.events += 1;
                     self.t = t_event;
+                    self.ensure_dense(sys);
                     let dense = self
-                        .dense_now(sys)
+                        .dense()
                         .expect("a located event built the dense output");
                     self.y = dense.state(t_event);
                     self.needs_restart = true;
@@ -567,11 +589,11 @@ impl<const N: usize> Integrator<N> {
                 self.stats.stage_nanos += clock.elapsed().as_nanos() as u64;
             }
             self.stats.rejected += 1;
-            let shrink = match self.opts.method {
-                Method::Dp54 => 10.0,
-                Method::Dop853 => 3.0,
+            let least = match self.opts.method {
+                Method::Dp54 => 0.1,
+                Method::Dop853 => 1.0 / 3.0,
             };
-            self.h = h / (pow(err, expo) / 0.9).min(shrink);
+            self.h = h * (0.9 * exp2(-expo * log2_err)).max(least);
         }
     }
 }
