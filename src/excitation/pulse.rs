@@ -40,6 +40,9 @@ pub struct Pulse {
     norm: f64,
     /// An upper bound of |d(unit shape)/d(phase)| before normalisation ([`Pulse::accel_bound`]).
     slope: f64,
+    /// amplitude / norm: a_g is one product, not a product and a division, on every
+    /// right-hand side.
+    gain: f64,
 }
 
 impl Pulse {
@@ -72,6 +75,7 @@ impl Pulse {
             omega,
             norm,
             slope,
+            gain: amplitude / norm,
         }
     }
 
@@ -143,7 +147,7 @@ impl Pulse {
             }
             PulseShape::MavroeidisPapageorgiou { gamma, nu } => mp_accel_shape(centred, gamma, nu),
         };
-        self.amplitude * unit / self.norm
+        self.gain * unit
     }
 
     /// For the sine and cosine pulses, the first time ≥ t0 at which |a_g| exceeds `level`,
