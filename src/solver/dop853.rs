@@ -287,7 +287,7 @@ impl<const N: usize> Integrator<N> {
 
     /// One DOP853 step of size h; stages in `self.k[..13]` (k[12] = f(t + h, y1)). The error
     /// is Hairer's: the 5th-order estimate, damped where the 3rd-order one is much smaller,
-    /// err = |h|·‖e5‖² / √(‖e5‖² + 0.01‖e3‖²), per norm group.
+    /// err = |h|·‖e5‖² / √(‖e5‖² + 0.01‖e3‖²), per norm group (returned squared).
     pub(super) fn trial_dop853<S: OdeSystem<N>>(&mut self, sys: &S, h: f64) -> Trial<N> {
         self.k[0] = self.f;
         let y = self.y;
@@ -299,24 +299,26 @@ impl<const N: usize> Integrator<N> {
         self.stats.rhs_evals += 12;
         let e5 = combine(&E5[..STAGES], &self.k);
         let e3 = combine(&E3[..STAGES], &self.k);
-        let mut err: f64 = 0.0;
+        // Squared, err² = h²·‖e5‖⁴ / (‖e5‖² + 0.01‖e3‖²): no square root before the step
+        // control (see `norm_squared`).
+        let mut err2: f64 = 0.0;
         for range in self.groups() {
             let (mut e5sum, mut e3sum, mut n) = (0.0, 0.0, 0);
             for i in range {
                 if !self.opts.atol[i].is_finite() {
                     continue;
                 }
-                let sc = self.error_scale(i, y[i], y1[i]);
-                e5sum += (e5[i] / sc) * (e5[i] / sc);
-                e3sum += (e3[i] / sc) * (e3[i] / sc);
+                let inv_sc = 1.0 / self.error_scale(i, y[i], y1[i]);
+                e5sum += (e5[i] * inv_sc) * (e5[i] * inv_sc);
+                e3sum += (e3[i] * inv_sc) * (e3[i] * inv_sc);
                 n += 1;
             }
             if n > 0 && (e5sum > 0.0 || e3sum > 0.0) {
                 let denominator = (e5sum + 0.01 * e3sum) * n as f64;
-                err = err.max(h.abs() * e5sum / denominator.sqrt());
+                err2 = err2.max(h * h * e5sum * (e5sum / denominator));
             }
         }
-        Trial { y1, f1, err }
+        Trial { y1, f1, err2 }
     }
 
     /// DOP853's 7th-order dense output of the step `step` (its start and size, and its end
