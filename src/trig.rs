@@ -30,8 +30,8 @@ mod coefficients {
 }
 use coefficients::*;
 
-/// Below this |x| fdlibm returns (x, 1) (2⁻²⁷√2); the polynomials would too, but `libm`
-/// is kept there so that the two agree bit for bit where the answer is exact.
+/// Below this |x| (2⁻²⁷√2: fdlibm returns (x, 1) from just under it) `libm` itself is called,
+/// so that the two agree bit for bit where the answer is exact.
 const TINY: f64 = 1.053_671_212_772_350_9e-8;
 
 /// (sin x, cos x).

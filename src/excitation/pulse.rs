@@ -34,7 +34,8 @@ const RICKER_HALF_WIDTH: f64 = 8.0;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pulse {
     pub shape: PulseShape,
-    pub amplitude: f64,
+    /// Private: `gain` is derived from it.
+    amplitude: f64,
     pub omega: f64,
     /// max |unit shape| before normalisation (1 for sine, cosine and the symmetric Ricker).
     norm: f64,

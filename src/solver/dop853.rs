@@ -315,7 +315,14 @@ impl<const N: usize> Integrator<N> {
             }
             if n > 0 && (e5sum > 0.0 || e3sum > 0.0) {
                 let denominator = (e5sum + 0.01 * e3sum) * n as f64;
-                err2 = err2.max(h * h * e5sum * (e5sum / denominator));
+                // Squared, a finite error beyond ~1e154 would overflow where the norm did not:
+                // capped, it is rejected as a large error, not taken for a non-finite one.
+                let squared = h * h * e5sum * (e5sum / denominator);
+                err2 = err2.max(if e5sum.is_finite() {
+                    squared.min(f64::MAX)
+                } else {
+                    squared
+                });
             }
         }
         Trial { y1, f1, err2 }

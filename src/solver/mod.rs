@@ -303,7 +303,8 @@ pub struct Integrator<const N: usize> {
     k: [[f64; N]; 16],
     dense: Option<Dense<N>>,
     /// The last accepted DOP853 step while its dense output is not built yet: the three extra
-    /// stages are computed only when something reads the step's interior ([`Self::dense_now`]).
+    /// stages are computed only when something reads the step's interior ([`Self::ensure_dense`],
+    /// [`Self::dense_now`]).
     pending: Option<Step<N>>,
     needs_restart: bool,
     /// The system's [`OdeSystem::max_step`] at the last restart.
@@ -367,7 +368,7 @@ impl<const N: usize> Integrator<N> {
     }
 
     /// Dense output of the last step if it is built (None right after a restart, and after a
-    /// DOP853 step until [`Self::dense_now`] builds it).
+    /// DOP853 step until [`Self::ensure_dense`] or [`Self::dense_now`] builds it).
     pub fn dense(&self) -> Option<&Dense<N>> {
         self.dense.as_ref()
     }
