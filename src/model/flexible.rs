@@ -20,7 +20,7 @@ use super::contact::ClosedFormContact;
 use super::device::{DeviceModel, Returnable};
 use super::rigid::below_peak;
 use super::shell::{Body, Landing, Mode, OwnLoss, Rocking};
-use super::{Ledger, Measures, Peaks, extremum_on_step};
+use super::{Ledger, Measures, Peaks, extremum_of_component, extremum_on_step};
 use crate::excitation::{G, Motion};
 use crate::scene::FlexibleStructure;
 use crate::solver::Dense;
@@ -372,11 +372,11 @@ impl Body for FlexibleBody {
         peaks: &mut Peaks,
     ) {
         if measures.deformation && !below_peak(dense.bound(U), peaks.deformation) {
-            let deformation = extremum_on_step(dense, t_end, |y| y[U], |y| y[U_DOT]);
+            let deformation = extremum_of_component(dense, t_end, U, U_DOT);
             peaks.deformation = peaks.deformation.max(deformation);
         }
         if m.rocking() && !below_peak(dense.bound(THETA), peaks.rotation) {
-            let rot = extremum_on_step(dense, t_end, |y| y[THETA], |y| y[THETA_DOT]);
+            let rot = extremum_of_component(dense, t_end, THETA, THETA_DOT);
             peaks.rotation = peaks.rotation.max(rot);
         }
         if measures.drift {

@@ -10,7 +10,7 @@ pub mod rigid;
 pub mod sdof;
 pub mod shell;
 
-use crate::solver::search::{brent_max, illinois_root};
+use crate::solver::search::{brent_max, illinois_root, newton_root};
 use crate::solver::{Dense, OdeSystem};
 use column::HistoryColumn;
 use serde::{Deserialize, Serialize};
@@ -265,6 +265,50 @@ pub fn extremum_on_step<const N: usize>(
     value: impl Fn(&[f64; N]) -> f64,
     rate: impl Fn(&[f64; N]) -> f64,
 ) -> f64 {
+    let zero = |(a, ra), (b, rb)| illinois_root(|s| rate(&dense.state(s)), a, ra, b, rb);
+    sampled_extremum(dense, t_end, &value, &rate, zero)
+}
+
+/// [`extremum_on_step`] of a state component whose time derivative is another (θ and θ̇):
+/// the rate's zero is refined by bracketed Newton on the interpolant, which gives the rate's
+/// own slope ([`Dense::component_with_rate`]), to the same bracket. Newton takes ~4
+/// evaluations where Illinois took ~10, each waiting on the last (perf: the Illinois search
+/// was 9 % of the bare block's time at rtol 3e-7); the peak, flat in the root's time, is the
+/// same to the last digit.
+pub fn extremum_of_component<const N: usize>(
+    dense: &Dense<N>,
+    t_end: f64,
+    value: usize,
+    rate: usize,
+) -> f64 {
+    let zero = |(a, ra): (f64, f64), (b, rb): (f64, f64)| {
+        let tol = (1e-12 * (b - a)).max(4.0 * f64::EPSILON * a.abs().max(b.abs()));
+        newton_root(
+            |s| dense.component_with_rate(s, rate),
+            (a, ra),
+            (b, rb),
+            tol,
+        )
+        .0
+    };
+    sampled_extremum(
+        dense,
+        t_end,
+        &|y: &[f64; N]| y[value],
+        &|y: &[f64; N]| y[rate],
+        zero,
+    )
+}
+
+/// The endpoints and [`SAMPLES`](extremum_on_step) interior samples of the step, with each
+/// sign change of the rate between samples refined by `zero`.
+fn sampled_extremum<const N: usize>(
+    dense: &Dense<N>,
+    t_end: f64,
+    value: &impl Fn(&[f64; N]) -> f64,
+    rate: &impl Fn(&[f64; N]) -> f64,
+    zero: impl Fn((f64, f64), (f64, f64)) -> f64,
+) -> f64 {
     const SAMPLES: usize = 4;
     let t0 = dense.t0;
     let mut best = 0.0f64;
@@ -278,7 +322,7 @@ pub fn extremum_on_step<const N: usize>(
         let r = rate(&y);
         best = best.max(value(&y).abs());
         if r_prev * r < 0.0 {
-            let root = illinois_root(|s| rate(&dense.state(s)), t_prev, r_prev, t, r);
+            let root = zero((t_prev, r_prev), (t, r));
             best = best.max(value(&dense.state(root)).abs());
         }
         t_prev = t;

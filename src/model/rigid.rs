@@ -7,7 +7,7 @@
 use super::column::HistoryColumn;
 use super::device::{DeviceModel, Returnable};
 use super::shell::{Body, Landing, Mode, OwnLoss, Rocking};
-use super::{Ledger, Measures, Peaks, extremum_on_step};
+use super::{Ledger, Measures, Peaks, extremum_of_component};
 use crate::excitation::{G, Motion};
 use crate::scene::{Form, Impact, RigidBlock};
 use crate::solver::{Dense, Direction, no_root_inside};
@@ -390,7 +390,7 @@ impl Body for RigidBody {
         // No |θ| on the step's interpolant exceeds its bound: a step whose bound is below the
         // running peak cannot raise it (nor the drift), and skipping it changes nothing.
         if m.rocking() && !below_peak(dense.bound(THETA), peaks.rotation) {
-            let rot = extremum_on_step(dense, t_end, |y| y[THETA], |y| y[THETA_DOT]);
+            let rot = extremum_of_component(dense, t_end, THETA, THETA_DOT);
             peaks.rotation = peaks.rotation.max(rot);
             peaks.drift = peaks.drift.max(self.drift_of(rot));
         }

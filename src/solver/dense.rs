@@ -51,6 +51,35 @@ impl<const N: usize> Dense<N> {
         y
     }
 
+    /// Component `i` of the interpolant and its time derivative at t, from one pass over the
+    /// nested form (each the same numbers as [`Self::state`] and [`Self::derivative`] give):
+    /// what a Newton search on one component reads.
+    #[inline]
+    pub fn component_with_rate(&self, t: f64, i: usize) -> (f64, f64) {
+        let th = self.tau(t);
+        let th1 = 1.0 - th;
+        let r = &self.r;
+        if self.top == 4 {
+            let v3 = r[3][i] + th1 * r[4][i];
+            let v2 = r[2][i] + th * v3;
+            let v1 = r[1][i] + th1 * v2;
+            let dv1 = -v2 + th1 * (v3 - th * r[4][i]);
+            let value = r[0][i] + th * (r[1][i] + th1 * (r[2][i] + th * (r[3][i] + th1 * r[4][i])));
+            return (value, (v1 + th * dv1) / self.h);
+        }
+        debug_assert_eq!(self.top, 7);
+        let inner = r[4][i] + th * (r[5][i] + th1 * (r[6][i] + th * r[7][i]));
+        let value = r[0][i] + th * (r[1][i] + th1 * (r[2][i] + th * (r[3][i] + th1 * inner)));
+        const TOP: usize = 7;
+        let (mut v, mut dv) = (r[TOP][i], 0.0);
+        for k in (0..TOP).rev() {
+            let (m, dm) = if k % 2 == 0 { (th, 1.0) } else { (th1, -1.0) };
+            dv = dm * v + m * dv;
+            v = r[k][i] + m * v;
+        }
+        (value, dv / self.h)
+    }
+
     /// No |y_i(t)| of the interpolant on the step exceeds this. In the nested form
     /// y = r0 + τ(r1 + (1−τ)(r2 + …)) every multiplier lies in [0, 1], so
     /// y = (1−τ)y(t0) + τy(t1) + τ(1−τ)Q with |Q| ≤ Σ_{k≥2}|r_k| and τ(1−τ) ≤ ¼.

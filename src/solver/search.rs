@@ -165,6 +165,60 @@ pub fn brent_max(
     (x, -fx)
 }
 
+/// A root of f in the bracket (a, f(a)), (b, f(b)) of opposite signs, from f and its rate:
+/// bracketed Newton (rtsafe, Press et al.) from the secant of the ends, bisecting where a
+/// Newton step leaves the bracket or does not halve the step before it (rounding noise near
+/// the root). Every probe keeps tol/2 inside the bracket, so once Newton has converged from
+/// one side the next probe closes the bracket from the other. Stops at a bracket of `tol`;
+/// returns its post-crossing end, where that sign was seen, and the evaluations made.
+pub fn newton_root(
+    mut f: impl FnMut(f64) -> (f64, f64),
+    (mut a, mut fa): (f64, f64),
+    (mut b, mut fb): (f64, f64),
+    tol: f64,
+) -> (f64, u64) {
+    let mut calls = 0;
+    let mut c = b - fb * (b - a) / (fb - fa);
+    let mut step = b - a;
+    let (mut last_zero, mut on_zeros) = (false, false);
+    for _ in 0..200 {
+        if b - a <= tol {
+            break;
+        }
+        if !(a..=b).contains(&c) {
+            c = 0.5 * (a + b);
+        }
+        c = c.clamp(a + 0.5 * tol, b - 0.5 * tol);
+        let (fc, rate) = f(c);
+        calls += 1;
+        // Exactly on the surface counts as not yet across (as in the Illinois search).
+        if fc != 0.0 && fc.signum() == fb.signum() {
+            (b, fb) = (c, fc);
+        } else {
+            (a, fa) = (c, fc);
+        }
+        // The Newton step must land in the bracket (its ends included: the clamp above then
+        // steps tol/2 in) and be at most half the last step (rtsafe's test, stricter: rtsafe
+        // compares with the step before the last). A point exactly on the surface counts as
+        // not yet across, and Newton's zero step from it probes tol/2 further, which closes
+        // the bracket at an isolated root; on a stretch of zeros it would creep by tol/2 a
+        // probe, so once two probes in a row were 0, zeros are bisected.
+        on_zeros |= fc == 0.0 && last_zero;
+        last_zero = fc == 0.0;
+        let newton = -fc / rate;
+        let next = c + newton;
+        let newton_ok =
+            !(on_zeros && fc == 0.0) && (a..=b).contains(&next) && 2.0 * newton.abs() <= step.abs();
+        if newton_ok {
+            (step, c) = (newton, next);
+        } else {
+            (step, c) = (0.5 * (b - a), 0.5 * (a + b));
+        }
+    }
+    let _ = fa;
+    (b, calls)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
