@@ -14,7 +14,8 @@
 # error (1e-4, 1e-6, 1e-8) each side takes its loosest tolerance that meets it; the table gives
 # RHS calls, time, ns per RHS call all-in and the ratio peer time / rocklab time (> 1: rocklab
 # faster), then the geometric mean of the ratios per scene, and the right-hand side alone (ns
-# per call) of the peer.
+# per call) of the peer: calls independent of each other (throughput, what the processor
+# overlaps) and calls each waiting on the last (latency, what a Runge-Kutta stage chain pays).
 #
 # ROCKLAB_FLAGS adds flags to rocklab's timed runs only (not to its reference), e.g.
 # ROCKLAB_FLAGS=--stop-when-settled: rocklab then ends a scene once no peak can change (the
