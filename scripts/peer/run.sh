@@ -4,7 +4,8 @@
 #
 #   scripts/peer/run.sh [REPEATS] [ROUNDS]
 #
-# Builds the peer with `gcc -O2` and rocklab with `cargo build --release` (or takes the binary
+# Builds the peer with `gcc -O2 -march=x86-64-v2` (the level rocklab is built for, .cargo/config.toml)
+# and rocklab with `cargo build --release` (or takes the binary
 # in $ROCKLAB). For every tolerance of $RTOLS and each scene, each round runs the peer (fastest
 # of REPEATS in-process runs) and then `rocklab simulate … --repeat REPEATS` (its wall_seconds:
 # the fastest of REPEATS in-process runs), so load on the machine hits both alike; a time is the
@@ -32,7 +33,7 @@ RTOLS=${RTOLS:-1e-3 3e-4 1e-4 3e-5 1e-5 3e-6 1e-6 3e-7 1e-7 3e-8 1e-8 3e-9 1e-9 
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 
-gcc -O2 -o "$WORK/peer" scripts/peer/dop853.c -lm
+gcc -O2 -march=x86-64-v2 -o "$WORK/peer" scripts/peer/dop853.c -lm
 if [[ -z "${ROCKLAB:-}" ]]; then
     cargo build --release --quiet --bin rocklab
     ROCKLAB=target/release/rocklab
@@ -40,7 +41,7 @@ fi
 read -r -a FLAGS <<<"${ROCKLAB_FLAGS:-}"
 PIN=()
 [[ -n "${CPU-0}" ]] && command -v taskset >/dev/null && PIN=(taskset -c "${CPU-0}")
-echo "rocklab: $ROCKLAB ($(git rev-parse --short HEAD)$(git diff --quiet || echo '+dirty')) ${ROCKLAB_FLAGS:-}; peer: gcc -O2 $(gcc -dumpfullversion); load: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
+echo "rocklab: $ROCKLAB ($(git rev-parse --short HEAD)$(git diff --quiet || echo '+dirty')) ${ROCKLAB_FLAGS:-}; peer: gcc -O2 -march=x86-64-v2 $(gcc -dumpfullversion); load: $(cut -d' ' -f1-3 /proc/loadavg)" >&2
 
 BASE=(simulate --p 2 --alpha 10deg --amplitude-alpha 1.5 --frequency-ratio 4 --duration 10 --json)
 MECH=(--device mechanistic --sigma 0.5 --clutch-frequency-ratio 25 --cbar 1)
