@@ -141,6 +141,20 @@ fn every_design_point_meets_the_target_at_its_value_and_fails_just_below() {
     let rows = replay(&study, &results.outcomes).unwrap();
     assert_eq!(rows.len(), 3 * 2, "three devices × two α");
     assert_eq!(check_answers(&study, &rows), 4, "{rows:?}");
+    // An answer governed at an end of the frequency axis (ωg/p = 3 or 7) says the worst case
+    // may lie beyond it; one governed inside says nothing. The warning reaches design.csv.
+    let csv =
+        String::from_utf8(rocklab::report::design::design_csv(&study, &rows).unwrap()).unwrap();
+    for row in rows.iter().filter(|r| r.status == DesignStatus::Found) {
+        let at: f64 = row.governing.rsplit('=').next().unwrap().parse().unwrap();
+        let at_end = at == 3.0 || at == 7.0;
+        assert_eq!(row.warning.is_some(), at_end, "{row:?}");
+        if let Some(w) = &row.warning {
+            let end = if at == 3.0 { "lowest" } else { "highest" };
+            assert!(w.contains(&format!("governed at the {end} ωg/p")), "{w}");
+            assert!(csv.contains(w.as_str()), "{csv}");
+        }
+    }
     // The bare block fails at α = 8° and the clutches need a σ > 0 there.
     assert!(
         rows.iter()

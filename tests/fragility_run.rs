@@ -104,6 +104,41 @@ fn a_fragility_run_writes_stripes_and_fits_and_resumes_after_a_stop() {
     }
     let fragility_csv = read(&full, "fragility.csv");
     assert_eq!(fragility_csv.lines().count(), 1 + 6);
+    // summary.txt (what `rocklab run` prints) gives each fitted median as the PGA* it is, with
+    // the report's interval; a median outside the stripes (1.5 … 8) is flagged, in the summary
+    // and in fragility.csv's median_warning column.
+    let summary = read(&full, "summary.txt");
+    let fmt = |v: Option<f64>| rocklab::numfmt::fmt_digits(v.unwrap(), 3);
+    let mut csv = csv::Reader::from_reader(fragility_csv.as_bytes());
+    let warn_col = csv
+        .headers()
+        .unwrap()
+        .iter()
+        .position(|h| h == "median_warning");
+    let warnings: Vec<String> = csv
+        .records()
+        .map(|r| r.unwrap()[warn_col.expect("a median_warning column")].to_string())
+        .collect();
+    for (c, warning) in report.curves.iter().zip(&warnings) {
+        let Some(median) = c.median else { continue };
+        let shown = format!(
+            "median PGA* {} [{}, {}]",
+            fmt(c.median),
+            fmt(c.median_lo),
+            fmt(c.median_hi)
+        );
+        let line = summary
+            .lines()
+            .find(|l| l.contains(&shown) && l.contains(&c.variant.device))
+            .unwrap_or_else(|| panic!("{shown} not in\n{summary}"));
+        let expected = match median {
+            m if m < 1.5 => "below_data",
+            m if m > 8.0 => "above_data",
+            _ => "",
+        };
+        assert_eq!(warning, expected, "{c:?}");
+        assert_eq!(line.contains("WARNING"), !expected.is_empty(), "{line}");
+    }
 
     // Stopped by SIGTERM mid-sweep, then rerun: every journalled scene is reused and the
     // files are the uninterrupted run's.

@@ -232,8 +232,9 @@ fn the_fragility_view_reads_out_the_selected_curve() {
     assert!(small.contains("θmax/α ≥ 0.5"), "{small}");
     // The bare variant's row: median and β with their intervals, as in the report.
     let bare = &report.curves[0];
+    // The median is named as the intensity measure it is a value of, not "θ" (a rotation).
     let row = format!(
-        "θ {} [{}, {}]",
+        "PGA* {} [{}, {}]",
         fmt(bare.median),
         fmt(bare.median_lo),
         fmt(bare.median_hi)
@@ -297,4 +298,54 @@ fn results_without_fragility_say_so() {
     app.open_results(results, PathBuf::from("tests/data"));
     keys(&mut app, &[Char('p')]);
     assert!(screen(&app, (80, 24)).contains("no fragility curves"));
+}
+
+/// A small far-field fragility study (44 components × 3 stripes, bare): a run inside the
+/// workbench shows its curves at once (`p`), with the median named PGA* and the numbers of
+/// the fragility.json the run wrote; no reopening needed.
+#[test]
+fn a_fragility_run_in_the_workbench_shows_its_curves_at_once() {
+    const STUDY: &str = r#"(
+        version: 1,
+        name: "tui_fragility_run",
+        structure: rigid(p: 2.0, alpha: 0.2),
+        devices: [none],
+        excitation: record(suite: (name: "far_field"), scale: [2.0, 4.0, 7.0], scale_to: pga_star, tail: 5.0),
+        quantities: [peak_rotation_ratio],
+        spectrum: scale,
+        fragility: (damage_states: levels([1.0]), bootstrap: 50, seed: 3),
+    )"#;
+    let out_root = PathBuf::from("target/tui-tests/fragility-run");
+    let _ = std::fs::remove_dir_all(&out_root);
+    let study = Study::from_ron_str(STUDY, "tui_fragility_run.ron").unwrap();
+    let mut app = App::new(
+        study,
+        None,
+        Options {
+            deterministic: true,
+            jobs: Some(2),
+            out_root: out_root.clone(),
+        },
+    );
+    keys(&mut app, &[Char('r')]);
+    assert!(app.wait_idle(std::time::Duration::from_secs(300)));
+    assert_eq!(app.screen, Screen::Results, "{:?}", app.message);
+    let written = rocklab::report::fragility::read_fragility_json(
+        &out_root.join("tui_fragility_run").join(FRAGILITY_JSON),
+    )
+    .unwrap();
+    let shown = app.shared.results.as_ref().unwrap().fragility.clone();
+    assert_eq!(shown.as_ref(), Some(&written), "the run's report is shown");
+    keys(&mut app, &[Char('p')]);
+    let small = screen(&app, (80, 24));
+    assert!(!small.contains("no fragility curves"), "{small}");
+    let bare = &written.curves[0];
+    let row = format!(
+        "PGA* {} [{}, {}]",
+        fmt(bare.median),
+        fmt(bare.median_lo),
+        fmt(bare.median_hi)
+    );
+    assert!(small.contains(&row), "{row} not in\n{small}");
+    snap("fragility_after_run_80x24", small);
 }

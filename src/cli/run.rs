@@ -337,7 +337,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     drop(points);
     let elapsed = started.elapsed();
     if !args.quiet {
-        print_out(&report::summary(&results))?;
+        print_out(&report::study_summary(&study, &results)?)?;
     }
     say(&format!(
         "{} scenes ({} reused, {} new) in {:.1} s; results in {}",
@@ -402,7 +402,11 @@ pub fn merge(args: &MergeArgs) -> anyhow::Result<()> {
         report::write_tables(&args.out, study, &merged)?;
     }
     if !args.quiet {
-        print_out(&report::summary(&merged))?;
+        let text = match &merged.study {
+            Some(study) => report::study_summary(study, &merged)?,
+            None => report::summary(&merged),
+        };
+        print_out(&text)?;
     }
     if merged.cancelled {
         say(&format!(

@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 
 /// The columns of design.csv around the design point's axes (which come first, after
 /// `device`): name and meaning. One table: the CSV header and the README's list read it.
-pub const DESIGN_COLUMNS: [(&str, &str); 11] = [
+pub const DESIGN_COLUMNS: [(&str, &str); 12] = [
     (
         "parameter",
         "the sized parameter (empty: a variant without it, evaluated once as a reference)",
@@ -49,6 +49,11 @@ pub const DESIGN_COLUMNS: [(&str, &str); 11] = [
         "values above the answer that fail the target again (non_monotone)",
     ),
     ("target", "the target, as the study states it"),
+    (
+        "warning",
+        "why the answer leans on the study's range: governed at an end of an excitation axis, \
+         or a median interval straddling a fragility goal (empty if neither)",
+    ),
 ];
 
 /// The design rows of a design study's results (None for another study).
@@ -124,6 +129,7 @@ pub fn design_csv(study: &Study, rows: &[DesignRow]) -> anyhow::Result<Vec<u8>> 
                 .collect::<Vec<_>>()
                 .join(";"),
             target.clone(),
+            r.warning.clone().unwrap_or_default(),
         ]);
         w.write_record(&line)?;
     }
@@ -213,6 +219,9 @@ pub fn design_summary(study: &Study, rows: &[DesignRow], distinct: usize) -> Str
                 )
             }
         );
+        if let Some(warning) = &r.warning {
+            let _ = writeln!(text, "    WARNING: {warning}");
+        }
     }
     let _ = writeln!(
         text,

@@ -43,11 +43,10 @@ pub fn write_tables(
         &out.join("results.columns.csv"),
         &results_columns_csv(results)?,
     )?;
-    let mut text = summary(results);
-    if crate::sweep::is_ida(study) {
-        text.push_str(&super::ida::scenes_line(&super::ida::ida(study, results)?));
-    }
-    super::write_atomic(&out.join("summary.txt"), text.as_bytes())?;
+    super::write_atomic(
+        &out.join("summary.txt"),
+        study_summary(study, results)?.as_bytes(),
+    )?;
     if study.map.is_some() {
         super::write_atomic(&out.join("boundary.csv"), &boundary_csv(results)?)?;
     }
@@ -60,6 +59,22 @@ pub fn write_tables(
     // A fragility study's stripes.csv, and its fit once every scene has run.
     super::stripes::write(out, study, results)?;
     study.save(&out.join("study.ron"))
+}
+
+/// [`summary`] and what the study's analyses add: an IDA's scene count and a fragility
+/// study's fitted medians (summary.txt, and what `rocklab run` prints).
+pub fn study_summary(
+    study: &crate::study::Study,
+    results: &SweepResults,
+) -> anyhow::Result<String> {
+    let mut text = summary(results);
+    if crate::sweep::is_ida(study) {
+        text.push_str(&super::ida::scenes_line(&super::ida::ida(study, results)?));
+    }
+    if let Some(report) = super::stripes::fit(study, results)? {
+        text.push_str(&super::fragility::summary_text(&report));
+    }
+    Ok(text)
 }
 
 /// The overturning boundary of every map: one row per pair of neighbouring grid cells where

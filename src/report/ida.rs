@@ -179,20 +179,12 @@ pub fn scenes_line(ida: &Ida) -> String {
 }
 
 /// ida.csv of an IDA study, and fragility.csv / fragility.json once every hunt has finished.
-pub fn write(
-    out: &Path,
-    f: &Fragility,
-    study: &Study,
-    results: &SweepResults,
-) -> anyhow::Result<()> {
+pub fn write(out: &Path, study: &Study, results: &SweepResults) -> anyhow::Result<()> {
     let ida = ida(study, results)?;
     super::write_atomic(&out.join(IDA_CSV), &ida_csv(study, &ida.rows)?)?;
-    if results.cancelled || !ida.complete {
-        // A fit of part of the hunts would read as the study's: the rerun that finishes them
-        // writes it.
+    let Some(report) = super::stripes::fit(study, results)? else {
         return Ok(());
-    }
-    let report = analyse(f, study, &ida.rows);
+    };
     write_fragility_csv(&report, &out.join(FRAGILITY_CSV))?;
     write_fragility_json(&report, &out.join(FRAGILITY_JSON))
 }

@@ -24,7 +24,8 @@ pub use aggregate::{
 };
 pub use export::{
     CsvLayout, Parameter, boundary_csv, parameter, results_columns_csv, results_csv,
-    results_csv_layout, results_json, save_results, stand_in_records, summary, write_tables,
+    results_csv_layout, results_json, save_results, stand_in_records, study_summary, summary,
+    write_tables,
 };
 pub use figure::{FigureOptions, FigureSize, ImageFormat, MAX_MEGAPIXELS, MEGAPIXELS_CEILING};
 pub use plot::{

@@ -279,14 +279,30 @@ pub fn write(out: &Path, study: &Study, results: &SweepResults) -> anyhow::Resul
     super::write_atomic(&out.join(STRIPES_CSV), &stripes_csv(study, &rows)?)?;
     if f.method.ida_resolution().is_some() {
         // An IDA's scenes are its hunts' probes: ida.csv and the capacities' fit.
-        return super::ida::write(out, f, study, results);
+        return super::ida::write(out, study, results);
     }
-    if results.cancelled {
-        // A fit of part of the scenes would read as the study's: the rerun that finishes
-        // them writes it.
+    let Some(report) = fit(study, results)? else {
         return Ok(());
-    }
-    let report = analyse(f, study, &rows);
+    };
     write_fragility_csv(&report, &out.join(FRAGILITY_CSV))?;
     write_fragility_json(&report, &out.join(FRAGILITY_JSON))
+}
+
+/// The fitted fragility report of a fragility study's results (stripes or IDA), or None: no
+/// fragility section, or results not complete (a fit of part of the scenes would read as the
+/// study's; the rerun that finishes them gives it).
+pub fn fit(study: &Study, results: &SweepResults) -> anyhow::Result<Option<FragilityReport>> {
+    let Some(f) = &study.fragility else {
+        return Ok(None);
+    };
+    if results.cancelled {
+        return Ok(None);
+    }
+    if f.method.ida_resolution().is_some() {
+        let ida = super::ida::ida(study, results)?;
+        return Ok(ida
+            .complete
+            .then(|| super::ida::analyse(f, study, &ida.rows)));
+    }
+    Ok(Some(analyse(f, study, &rows(study, results)?)))
 }

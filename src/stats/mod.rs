@@ -240,6 +240,42 @@ impl Curve {
         let (m, b) = (self.median?, self.beta?);
         Some(normal::cdf((x / m).ln() / b))
     }
+
+    /// Whether the fitted median lies outside the IM range the data cover: then it is the
+    /// lognormal's extrapolation, not a value the stripes (or capacities) bracket.
+    pub fn extrapolation(&self) -> Option<Extrapolation> {
+        let (median, [lo, hi]) = (self.median?, self.im_range?);
+        match () {
+            _ if median < lo => Some(Extrapolation::BelowData),
+            _ if median > hi => Some(Extrapolation::AboveData),
+            _ => None,
+        }
+    }
+}
+
+/// A fitted median outside the data's IM range (see [`Curve::extrapolation`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Extrapolation {
+    BelowData,
+    AboveData,
+}
+
+impl Extrapolation {
+    /// The word in fragility.csv's `median_warning` column.
+    pub fn name(self) -> &'static str {
+        match self {
+            Extrapolation::BelowData => "below_data",
+            Extrapolation::AboveData => "above_data",
+        }
+    }
+
+    /// A sentence for summaries and readouts.
+    pub fn explain(self) -> &'static str {
+        match self {
+            Extrapolation::BelowData => "median below the lowest IM of the data: extrapolated",
+            Extrapolation::AboveData => "median above the highest IM of the data: extrapolated",
+        }
+    }
 }
 
 /// Median of variant `a` over that of variant `b` (the bare one) for one damage state, with a
@@ -272,6 +308,13 @@ pub struct FragilityReport {
 }
 
 impl FragilityReport {
+    /// What the median is a value of: the intensity measure's short name ("PGA*" of
+    /// "PGA* = PGA/(g·tanα)", "PGA" of "PGA (g)"), "IM" when the report names none.
+    pub fn im_name(&self) -> &str {
+        let short = self.im.split([' ', '=']).next().unwrap_or("");
+        if short.is_empty() { "IM" } else { short }
+    }
+
     /// The ratio for a curve's variant and damage state against the bare variant, if any.
     pub fn ratio_of(&self, curve: &Curve) -> Option<&MedianRatio> {
         self.ratios

@@ -373,3 +373,27 @@ fn status_names_are_the_serde_names() {
         );
     }
 }
+
+#[test]
+fn a_median_outside_the_stripes_is_flagged_as_extrapolated() {
+    // Capacities ~ LN(ln 2, 0.5²) on stripes 0.8 … 5 bracket the median: no warning. The same
+    // records on stripes from 2.5 up (most overturn at the first) put the fitted median below
+    // the data; on stripes up to 1.2 (few overturn), above them.
+    let caps = capacities(11, 400, 2.0, 0.5);
+    let fit = |ims: &[f64]| {
+        let opts = FragilityOptions {
+            damage_states: vec![1.0],
+            bootstrap: 0,
+            ..Default::default()
+        };
+        analyse_stripes(&stripe_obs(&variant("none"), &caps, ims), &opts).curves[0].clone()
+    };
+    let inside = fit(&[0.8, 1.2, 1.6, 2.0, 2.5, 3.0, 4.0, 5.0]);
+    assert_eq!(inside.extrapolation(), None);
+    let below = fit(&[2.5, 3.0, 4.0, 5.0]);
+    assert!(below.median.unwrap() < 2.5, "{:?}", below.median);
+    assert_eq!(below.extrapolation(), Some(Extrapolation::BelowData));
+    let above = fit(&[0.6, 0.8, 1.0, 1.2]);
+    assert!(above.median.unwrap() > 1.2, "{:?}", above.median);
+    assert_eq!(above.extrapolation(), Some(Extrapolation::AboveData));
+}

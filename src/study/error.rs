@@ -51,9 +51,14 @@ impl StudyError {
     pub fn from_ron(e: ron::error::SpannedError, origin: &str) -> Self {
         use ron::error::Error as E;
         let (field, hint) = match &e.code {
-            E::NoSuchStructField { found, .. } => (
+            E::NoSuchStructField {
+                found, expected, ..
+            } => (
                 Some(found.clone()),
-                Some("check the spelling: fields are snake_case as in studies/*.ron".into()),
+                Some(match closest(found, expected) {
+                    Some(near) => format!("did you mean `{near}`?"),
+                    None => "check the spelling: fields are snake_case as in studies/*.ron".into(),
+                }),
             ),
             E::MissingStructField { field, outer } => (
                 Some(field.to_string()),
@@ -62,9 +67,14 @@ impl StudyError {
                     None => format!("add `{field}: …`"),
                 }),
             ),
-            E::NoSuchEnumVariant { found, .. } => (
+            E::NoSuchEnumVariant {
+                found, expected, ..
+            } => (
                 Some(found.clone()),
-                Some("variant names are snake_case, e.g. `none`, `alpha_ratio(1.5)`".into()),
+                Some(match closest(found, expected) {
+                    Some(near) => format!("did you mean `{near}`?"),
+                    None => "variant names are snake_case, e.g. `none`, `alpha_ratio(1.5)`".into(),
+                }),
             ),
             E::DuplicateStructField { field, .. } => {
                 (Some(field.to_string()), Some("give each field once".into()))
@@ -74,12 +84,22 @@ impl StudyError {
                 Some("see studies/default.ron for a complete example".into()),
             ),
         };
+        // RON names the schema's Rust enum (`in enum Quantity`): say it in the study's terms.
+        let message = match &e.code {
+            E::NoSuchEnumVariant {
+                found, expected, ..
+            } => format!(
+                "unknown name `{found}`; the names here: {}",
+                expected.join(", ")
+            ),
+            code => code.to_string(),
+        };
         StudyError {
             origin: origin.to_string(),
             line: Some(e.span.start.line),
             column: Some(e.span.start.col),
             field,
-            message: e.code.to_string(),
+            message,
             hint,
         }
     }
@@ -127,6 +147,17 @@ impl StudyError {
         }
         self
     }
+}
+
+/// The one of `names` a misspelt `found` most likely meant (`sequentail` → `sequential`,
+/// `peak_rotation_ration` → `peak_rotation_ratio`), if any is close: Jaro-Winkler similarity
+/// from `strsim` of at least 0.85, the best one.
+pub fn closest<'a>(found: &str, names: &[&'a str]) -> Option<&'a str> {
+    (names.iter().copied())
+        .map(|n| (strsim::jaro_winkler(found, n), n))
+        .filter(|(score, _)| *score >= 0.85)
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, n)| n)
 }
 
 /// Offset of the last `)` outside comments.
@@ -208,4 +239,23 @@ fn nth_item(text: &str, idx: usize) -> Option<usize> {
         i += 1;
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::closest;
+
+    #[test]
+    fn a_misspelt_name_finds_the_one_meant_and_a_stranger_none() {
+        let names = ["none", "inerter", "sequential", "mechanistic", "Some"];
+        assert_eq!(closest("sequentail", &names), Some("sequential"));
+        assert_eq!(closest("mechanstic", &names), Some("mechanistic"));
+        assert_eq!(closest("inertor", &names), Some("inerter"));
+        assert_eq!(closest("linspace", &names), None);
+        let fields = ["peak_rotation", "peak_rotation_ratio", "peak_device_force"];
+        assert_eq!(
+            closest("peak_rotation_ration", &fields),
+            Some("peak_rotation_ratio")
+        );
+    }
 }

@@ -123,12 +123,19 @@ pub fn check_names(text: &str, origin: &str) -> Result<(), StudyError> {
                 column: Some(column),
                 field: None,
                 message: format!("unknown name `{name}(`"),
-                hint: Some(format!(
-                    "a parameter is a number, a list [a, b, …] or a range (from: a, to: b, \
-                     steps: n); an angle may be given in degrees as deg(10); the names a study \
-                     may use before `(` are: {}",
-                    valid.join(", ")
-                )),
+                hint: Some(match super::error::closest(&name, &valid) {
+                    Some(near) => format!("did you mean `{near}(`?"),
+                    None => format!(
+                        "a parameter is a number, a list [a, b, …] or a range (from: a, to: b, \
+                         steps: n); an angle may be given in degrees as deg(10); the names a \
+                         study may use before `(` are: {}",
+                        // `Some` is RON's, not a name to offer.
+                        (valid.iter().filter(|n| **n != "Some"))
+                            .copied()
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                }),
             });
         }
     }

@@ -121,6 +121,10 @@ pub struct DesignRow {
     pub status: DesignStatus,
     /// Values above the answer that fail the target (non-monotone), ascending.
     pub fails_above: Vec<f64>,
+    /// Why the answer leans on the study's range: governed at an end of an excitation axis
+    /// (the worst case may lie beyond it), or a fragility target whose median interval
+    /// straddles the goal.
+    pub warning: Option<String>,
 }
 
 /// One design point of the study's expansion.
@@ -133,6 +137,8 @@ struct Point {
     /// The nominal scenes over the excitation axes, and each one's excitation text.
     nominal: Vec<ScenePoint>,
     excitation: Vec<String>,
+    /// Per nominal scene: which end of an ordered excitation axis it sits at, if any.
+    edges: Vec<Option<String>>,
 }
 
 /// A scene's verdict under the target.
@@ -497,6 +503,10 @@ impl Search {
             }),
             status,
             fails_above,
+            warning: shown.and_then(|e| match (&self.fragility, &e.fit) {
+                (Some(fit), Some(s)) => fit.warning(s),
+                _ => point.edges[e.worst].clone(),
+            }),
         }
     }
 }
@@ -656,6 +666,22 @@ fn design_points(study: &Study, design: &Design) -> Result<Vec<Point>, StudyErro
                 )
             })
             .collect();
+        // An ordered axis (not a record list) at its first or last value.
+        let edge = (0..at.len())
+            .filter(|&i| is_over(i) && params[i].varies() && params[i].names.is_none())
+            .find_map(|i| {
+                let end = match at[i] {
+                    0 => "lowest",
+                    a if a + 1 == params[i].values.len() => "highest",
+                    _ => return None,
+                };
+                Some(format!(
+                    "governed at the {end} {} of the study ({}): the worst case may lie \
+                     beyond the axis",
+                    params[i].label,
+                    layout.value_text(&params[i], at[i])
+                ))
+            });
         let next = points.len();
         let p = *by_key.entry((v, key)).or_insert(next);
         if p == next {
@@ -679,10 +705,12 @@ fn design_points(study: &Study, design: &Design) -> Result<Vec<Point>, StudyErro
                 sized: design.parameter.sizes(&study.devices[v]),
                 nominal: Vec::new(),
                 excitation: Vec::new(),
+                edges: Vec::new(),
             });
         }
         points[p].nominal.push(nominal);
         points[p].excitation.push(excitation.join(" "));
+        points[p].edges.push(edge);
     }
     Ok(points)
 }

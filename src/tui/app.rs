@@ -225,12 +225,23 @@ impl App {
         let n = results.outcomes.len();
         self.show_results(results, cancelled);
         self.screen = Screen::Results;
-        let mut checks = match self.shared.results.as_mut().map(|r| r.load_checks(&dir)) {
+        let beside = self.load_beside(&dir);
+        self.say(format!(
+            "opened {n} scenes of results in {}/{beside}",
+            dir.display()
+        ));
+    }
+
+    /// Read what is written beside the results shown (check.csv, fragility.json) from
+    /// `dir`: after `o` and after a run, so a fragility study's curves are there at once.
+    /// Returns what was read, as a message tail ("; fragility curves: p").
+    pub(super) fn load_beside(&mut self, dir: &std::path::Path) -> String {
+        let mut checks = match self.shared.results.as_mut().map(|r| r.load_checks(dir)) {
             Some(Ok(0)) | None => String::new(),
             Some(Ok(m)) => format!("; check.csv: {m} scenes checked"),
             Some(Err(e)) => format!("; not read: {e}"),
         };
-        match self.shared.results.as_mut().map(|r| r.load_fragility(&dir)) {
+        match self.shared.results.as_mut().map(|r| r.load_fragility(dir)) {
             Some(Ok(true)) => {
                 checks.push_str("; fragility curves: p");
                 if let Some(data) = &self.shared.results
@@ -243,10 +254,7 @@ impl App {
             Some(Err(e)) => checks.push_str(&format!("; not read: {e}")),
             _ => {}
         }
-        self.say(format!(
-            "opened {n} scenes of results in {}/{checks}",
-            dir.display()
-        ));
+        checks
     }
 
     /// A new study: its check (the expansion, computed once by the caller or here), the

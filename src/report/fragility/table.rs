@@ -16,7 +16,7 @@ fn num(v: Option<f64>) -> String {
 type Cell = fn(&FragilityReport, &Curve) -> String;
 
 /// The columns after `device` and the varying parameters: header and value, one table.
-const COLUMNS: [(&str, Cell); 15] = [
+const COLUMNS: [(&str, Cell); 16] = [
     ("damage_state", |_, c| c.damage_state.to_string()),
     ("median", |_, c| num(c.median)),
     ("beta", |_, c| num(c.beta)),
@@ -41,6 +41,10 @@ const COLUMNS: [(&str, Cell); 15] = [
     ("crosses_bare", |r, c| {
         r.ratio_of(c)
             .map_or_else(String::new, |x| x.curves_cross.to_string())
+    }),
+    // A median outside the data's IM range (below_data / above_data): extrapolated.
+    ("median_warning", |_, c| {
+        c.extrapolation().map_or("", |e| e.name()).to_string()
     }),
 ];
 
@@ -131,15 +135,16 @@ mod tests {
         assert_eq!(
             lines.next().unwrap(),
             "device,alpha,damage_state,median,beta,median_lo,median_hi,beta_lo,beta_hi,\
-             n_records,n_stripes,method,status,median_ratio,median_ratio_lo,median_ratio_hi,crosses_bare"
+             n_records,n_stripes,method,status,median_ratio,median_ratio_lo,median_ratio_hi,crosses_bare,\
+             median_warning"
         );
         let rows: Vec<&str> = lines.collect();
         assert_eq!(rows.len(), 2);
         assert!(rows[0].starts_with("none,0.2,1,"), "{}", rows[0]);
-        assert!(rows[0].ends_with(",30,0,ida,fitted,,,,"), "{}", rows[0]);
+        assert!(rows[0].ends_with(",30,0,ida,fitted,,,,,"), "{}", rows[0]);
         // Identical capacities: the ratio is 1 in every resample, and equal curves do not cross.
         assert!(
-            rows[1].ends_with(",30,0,ida,fitted,1,1,1,false"),
+            rows[1].ends_with(",30,0,ida,fitted,1,1,1,false,"),
             "{}",
             rows[1]
         );

@@ -35,7 +35,8 @@ pub const MAX_SERIES: usize = 12;
 /// Which of `groups` the `--select` selectors pick (the union; all without selectors), in
 /// `compare`'s selector language (report/select.rs): `mechanistic`, `bare`,
 /// `mechanistic(k_theta: 3.0, play: 0.005)`, `sequential(record: landers)`. A selector that
-/// is malformed is an error; one that matches nothing says what there is and picks nothing.
+/// is malformed, or matches nothing, is an error saying what there is (never a figure
+/// silently left out while the command succeeds).
 pub(super) fn selection(choice: &PlotChoice, groups: &[&Group]) -> anyhow::Result<Vec<bool>> {
     if choice.select.is_empty() {
         return Ok(vec![true; groups.len()]);
@@ -45,7 +46,7 @@ pub(super) fn selection(choice: &PlotChoice, groups: &[&Group]) -> anyhow::Resul
         let sel = Selector::parse(text).map_err(|e| anyhow::anyhow!("--select: {e}"))?;
         match select(groups, &sel) {
             Ok(found) => found.into_iter().for_each(|i| picked[i] = true),
-            Err(e) => eprintln!("--select {text}: {e}"),
+            Err(e) => anyhow::bail!("--select {text}: {e}"),
         }
     }
     Ok(picked)

@@ -182,6 +182,26 @@ impl FragilityFit {
 /// The first stripe at or above `im` and the largest fraction of records reaching the state at
 /// any stripe up to it (`stripes` sorted by intensity, as a curve holds them); None if every
 /// stripe is below `im`.
+impl FragilityFit {
+    /// A median goal met or missed within the median's own bootstrap interval: the verdict
+    /// rests on the records drawn, and the summary must say so.
+    pub fn warning(&self, s: &FitSummary) -> Option<String> {
+        let FragilityGoal::MedianAtLeast(goal) = self.goal else {
+            return None;
+        };
+        let (lo, hi) = (s.median_lo?, s.median_hi?);
+        (lo < goal && goal < hi).then(|| {
+            format!(
+                "the median's interval [{}, {}] straddles the goal {}: met or missed within \
+                 its uncertainty",
+                fmt_num(lo),
+                fmt_num(hi),
+                fmt_num(goal)
+            )
+        })
+    }
+}
+
 fn stripe_bound(stripes: &[StripePoint], im: f64) -> Option<(f64, f64)> {
     let s = stripes.iter().position(|p| p.im >= im)?;
     let most = stripes[..=s]

@@ -67,6 +67,13 @@ impl App {
                 self.say(format!("sweep cancelled: {done} finished scenes kept"));
             } else {
                 self.show_results(*results, cancelled);
+                // The run wrote its fragility report beside the results: show it now, not
+                // only after the directory is reopened.
+                let dir = self.shared.output_dir();
+                let beside = self.load_beside(&dir);
+                if !beside.is_empty() {
+                    self.say(format!("sweep finished: {done} scenes{beside}"));
+                }
                 if self.screen == Screen::Run {
                     self.screen = Screen::Results;
                 }

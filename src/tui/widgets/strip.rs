@@ -161,7 +161,8 @@ pub fn series_lines(
         .collect()
 }
 
-/// The axis under a strip: first, middle and last values of the window, then the axis name.
+/// The axis under a strip: first, middle and last values of the window, then the axis name,
+/// and `[a–b of n]` when the window shows only part of the axis.
 pub fn axis_line(xs: &[f64], st: &Strip, indent: usize, axis: &str) -> Line<'static> {
     if st.count == 0 {
         return Line::raw("");
@@ -189,8 +190,14 @@ pub fn axis_line(xs: &[f64], st: &Strip, indent: usize, axis: &str) -> Line<'sta
         );
     }
     put(width, &fmt_num(xs[last]));
+    // A window narrower than the axis says which part it shows: never data cut unmarked.
+    let more = if st.count < xs.len() {
+        format!("  [{}–{} of {}]", first + 1, last + 1, xs.len())
+    } else {
+        String::new()
+    };
     Line::raw(format!(
-        "{}{}  {axis}",
+        "{}{}  {axis}{more}",
         " ".repeat(indent),
         cells.into_iter().collect::<String>()
     ))

@@ -582,7 +582,8 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
     };
     let sel = view.pair.min(pairs.len() - 1);
     let pair = &pairs[sel];
-    let label_width = 20.min(area.width as usize / 4);
+    // A quarter of the width for the labels (20 at 80 columns, 40 at 160; cut with `…`).
+    let label_width = (area.width as usize / 4).min(40);
     let width = (area.width as usize).saturating_sub(label_width + 12);
     let x = screen.spectra.x.min(pair.points.len().saturating_sub(1));
     let st = Strip::fit(pair.points.len(), width, x);

@@ -6,8 +6,9 @@
 
 use super::super::super::theme::Theme;
 use super::super::super::widgets::{fmt_num, truncate};
-use crate::numfmt::fmt_digits;
-use crate::report::fragility::{Curve, FitStatus, FragilityReport, Method, data_points};
+use crate::report::fragility::{
+    Curve, FitStatus, FragilityReport, Method, data_points, with_interval,
+};
 use crossterm::event::{KeyCode, KeyEvent};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
@@ -234,22 +235,6 @@ fn draw_curves(
     frame.render_widget(chart, area);
 }
 
-/// A fitted number to three significant digits.
-pub fn fmt_fit(v: f64) -> String {
-    fmt_digits(v, 3)
-}
-
-/// `3.12 [2.8, 3.5]`, or `–` without a value.
-fn with_interval(v: Option<f64>, lo: Option<f64>, hi: Option<f64>) -> String {
-    match (v, lo, hi) {
-        (Some(v), Some(lo), Some(hi)) => {
-            format!("{} [{}, {}]", fmt_fit(v), fmt_fit(lo), fmt_fit(hi))
-        }
-        (Some(v), _, _) => fmt_fit(v),
-        _ => "–".into(),
-    }
-}
-
 /// How a variant's row is laid out.
 struct Row {
     selected: bool,
@@ -283,8 +268,11 @@ fn variant_row(
         ),
     ];
     if c.status == FitStatus::Fitted {
+        // A median the data do not bracket is marked `!` (the readout says why).
+        let mark = if c.extrapolation().is_some() { "!" } else { "" };
         spans.push(Span::raw(format!(
-            "  θ {}  β {}",
+            "  {} {}{mark}  β {}",
+            report.im_name(),
             with_interval(c.median, c.median_lo, c.median_hi),
             match wide {
                 true => with_interval(c.beta, c.beta_lo, c.beta_hi),
@@ -340,5 +328,12 @@ fn readout_lines(c: &Curve, x: Option<f64>, im: &str, theme: Theme) -> Vec<Line<
             second.push_str(&format!(", observed {}/{} reached", p.exceed, p.n));
         }
     }
-    vec![Line::raw(first), Line::styled(second, theme.dim())]
+    match c.extrapolation() {
+        // The warning outranks the cursor's readout.
+        Some(e) => vec![
+            Line::raw(first),
+            Line::styled(format!("! {}", e.explain()), theme.warn()),
+        ],
+        None => vec![Line::raw(first), Line::styled(second, theme.dim())],
+    }
 }

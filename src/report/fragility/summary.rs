@@ -1,0 +1,78 @@
+//! The fragility report as summary text: one line per variant and damage state with the
+//! median (named as the intensity measure it is a value of, e.g. "median PGA*"), β, the ratio
+//! to the bare variant, and a warning where the median is extrapolated beyond the data.
+//! `rocklab run` prints it and summary.txt holds it.
+
+use super::{Curve, FragilityReport};
+use crate::numfmt::fmt_digits;
+use std::fmt::Write as _;
+
+/// A fitted number to three significant digits.
+pub fn fmt_fit(v: f64) -> String {
+    fmt_digits(v, 3)
+}
+
+/// `3.12 [2.8, 3.5]`, the value alone without an interval, or `–` without a value.
+pub fn with_interval(v: Option<f64>, lo: Option<f64>, hi: Option<f64>) -> String {
+    match (v, lo, hi) {
+        (Some(v), Some(lo), Some(hi)) => {
+            format!("{} [{}, {}]", fmt_fit(v), fmt_fit(lo), fmt_fit(hi))
+        }
+        (Some(v), _, _) => fmt_fit(v),
+        _ => "–".into(),
+    }
+}
+
+/// One curve's line (without indent or newline).
+pub fn curve_line(report: &FragilityReport, c: &Curve) -> String {
+    let mut line = format!(
+        "{}, {} ≥ {}: ",
+        c.variant.label(),
+        report.damage_measure,
+        fmt_fit(c.damage_state)
+    );
+    if c.median.is_none() {
+        line.push_str(c.status.explain());
+        return line;
+    }
+    let _ = write!(
+        line,
+        "median {} {}, β {}",
+        report.im_name(),
+        with_interval(c.median, c.median_lo, c.median_hi),
+        with_interval(c.beta, c.beta_lo, c.beta_hi)
+    );
+    if let Some(r) = report.ratio_of(c) {
+        let _ = write!(
+            line,
+            ", {}× bare{}",
+            with_interval(r.ratio, r.lo, r.hi),
+            if r.curves_cross { ", crosses bare" } else { "" }
+        );
+    }
+    if let Some(e) = c.extrapolation() {
+        let _ = write!(line, "; WARNING: {}", e.explain());
+    }
+    line
+}
+
+/// The whole report as summary text, a header line then one line per curve.
+pub fn summary_text(report: &FragilityReport) -> String {
+    let mut text = String::new();
+    let method = report.curves.first().map_or("", |c| c.method.name());
+    let _ = writeln!(
+        text,
+        "fragility over {} ({method}, {} bootstrap resamples, {} % intervals):",
+        if report.im.is_empty() {
+            "IM"
+        } else {
+            &report.im
+        },
+        report.bootstrap,
+        fmt_fit(100.0 * report.confidence)
+    );
+    for c in &report.curves {
+        let _ = writeln!(text, "  {}", curve_line(report, c));
+    }
+    text
+}
