@@ -47,10 +47,16 @@ ds = grid.to_xarray()
 ds
 
 # %%
+# One dimension per study axis: the variant (group), ωg/p and the clutch's ωc/p (NaN where
+# a variant has no such member). One line per (variant, ωc/p) that ran:
+da = ds["peak_rotation_ratio"]
+x = "omega_g_over_p"
+lines = da.stack(line=[d for d in da.dims if d != x]).dropna("line", how="all")
 fig, ax = plt.subplots(figsize=(6, 4))
-x = [d for d in ds["peak_rotation_ratio"].dims if d != "group"][0]
-for group in ds["group"].values:
-    ds["peak_rotation_ratio"].sel(group=group).plot(ax=ax, label=str(group), marker=".")
+for i in range(lines.sizes["line"]):
+    line = lines.isel(line=i)
+    ax.plot(line[x], line, marker=".", label=str(line["group"].item()))
+ax.set_xlabel("ωg/p")
 ax.set_ylabel("θmax/α")
 ax.set_title("Clutch stiffness: sequential vs mechanistic")
 ax.legend(fontsize=7)

@@ -10,6 +10,6 @@ def test_example_runs_and_draws_both_figures(tmp_path, monkeypatch, capsys):
     env = runpy.run_path(str(EXAMPLE), run_name="__main__")
     for name in ["clutch_grid.png", "fragility.png"]:
         assert (tmp_path / name).stat().st_size > 1000, name
-    # The grid: 5 variants (sequential + 4 clutch frequencies) by 11 frequency ratios.
-    assert env["ds"]["peak_rotation_ratio"].shape == (5, 11)
+    # The grid: 5 variants (sequential + 4 clutch frequencies), each with 11 frequency ratios.
+    assert env["lines"].sizes == {"omega_g_over_p": 11, "line": 5}
     assert len(env["fitted"]) >= 1
