@@ -3,7 +3,7 @@
 
 use super::UsageError;
 use crate::report;
-use crate::study::Study;
+use crate::study::{Study, StudyKind};
 use crate::sweep::{self, OpenOptions, Progress, SweepResults};
 use anyhow::Context;
 use clap::Args;
@@ -170,7 +170,7 @@ pub use sweep::results_name;
 /// An adaptive map cannot be split into shards (each refinement round needs every verdict of
 /// the round before): refused before anything runs.
 pub fn refuse_adaptive_shards(study: &Study, what: &str) -> anyhow::Result<()> {
-    if study.map.is_some_and(|m| m.refine.is_some()) {
+    if study.kind() == StudyKind::RefinedMap {
         return Err(UsageError::new(format!(
             "study {}: its map is adaptive (map: (…, refine: …)) and cannot run as {what}: each \
              refinement round needs every verdict of the round before. Run it unsharded (it runs \
@@ -185,7 +185,7 @@ pub fn refuse_adaptive_shards(study: &Study, what: &str) -> anyhow::Result<()> {
 /// A design study's search cannot be split into shards either (each probe needs the verdict
 /// of the one before).
 pub fn refuse_design_shards(study: &Study, what: &str) -> anyhow::Result<()> {
-    if study.design.is_some() {
+    if study.kind() == StudyKind::Design {
         return Err(UsageError::new(format!(
             "study {}: it has a design section and cannot run as {what}: each probe of the \
              search needs the verdict of the one before. Run it unsharded (`rocklab design`)",
@@ -193,7 +193,7 @@ pub fn refuse_design_shards(study: &Study, what: &str) -> anyhow::Result<()> {
         ))
         .into());
     }
-    if sweep::is_ida(study) {
+    if study.kind() == StudyKind::Ida {
         return Err(UsageError::new(format!(
             "study {}: it is an incremental dynamic analysis (fragility method ida) and cannot \
              run as {what}: each probe of a record's hunt needs the verdict of the one before. \

@@ -3,8 +3,8 @@
 //! greyscale printing, clean tick labels, light major grid, and a legend drawn outside the
 //! panels (so it never hides data). Plotters draws; this module decides how it looks.
 
+use crate::error::Context;
 use crate::numfmt::fmt_digits;
-use anyhow::{Context, anyhow};
 use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
@@ -118,14 +118,14 @@ impl FigureOptions {
     /// Pixel size of the figure `what` (whose panels suit `default`) and the scale from
     /// typographic points to pixels. Refused before anything is allocated: a `--size` under
     /// [`MIN_SIZE_FRACTION`] of the default, and a PNG over [`Self::max_megapixels`].
-    pub fn canvas(&self, default: FigureSize, what: &str) -> anyhow::Result<Canvas> {
+    pub fn canvas(&self, default: FigureSize, what: &str) -> crate::error::Result<Canvas> {
         let size = self.size.unwrap_or(default);
         let (min_w, min_h) = (
             (default.width_mm * MIN_SIZE_FRACTION).ceil(),
             (default.height_mm * MIN_SIZE_FRACTION).ceil(),
         );
         if size.width_mm < min_w || size.height_mm < min_h {
-            anyhow::bail!(
+            crate::error::bail!(
                 "--size {}x{}mm is too small for {what}: its panels and labels need at least \
                  {min_w}x{min_h}mm (its own size is {}x{}mm); give a larger --size, or leave \
                  --size out",
@@ -146,7 +146,7 @@ impl FigureOptions {
         let megapixels = f64::from(w) * f64::from(h) / 1e6;
         let cap = self.max_megapixels.min(MEGAPIXELS_CEILING);
         if self.format == ImageFormat::Png && megapixels > cap {
-            anyhow::bail!(
+            crate::error::bail!(
                 "{what} at {}x{}mm and --dpi {} is a {w}×{h} px PNG ({} megapixels), over the \
                  limit of {} megapixels; lower --size or --dpi, or raise --max-megapixels (at \
                  most {MEGAPIXELS_CEILING})",
@@ -196,8 +196,8 @@ pub fn register_font() {
     });
 }
 
-pub fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
-    anyhow!("drawing failed: {e:?}")
+pub fn err<E: std::fmt::Debug>(e: E) -> crate::error::Error {
+    crate::error::error!("drawing failed: {e:?}")
 }
 
 /// Draw with `draw` into `path` (atomically: a temporary file in the same directory, then
@@ -206,9 +206,9 @@ pub fn render(
     path: &Path,
     options: &FigureOptions,
     canvas: Canvas,
-    draw_svg: impl Fn(DrawingArea<SVGBackend, Shift>) -> anyhow::Result<()>,
-    draw_png: impl Fn(DrawingArea<BitMapBackend, Shift>) -> anyhow::Result<()>,
-) -> anyhow::Result<()> {
+    draw_svg: impl Fn(DrawingArea<SVGBackend, Shift>) -> crate::error::Result<()>,
+    draw_png: impl Fn(DrawingArea<BitMapBackend, Shift>) -> crate::error::Result<()>,
+) -> crate::error::Result<()> {
     register_font();
     match options.format {
         ImageFormat::Svg => {
@@ -342,7 +342,7 @@ pub fn draw_line<DB: DrawingBackend>(
     points: &[(f64, f64)],
     style: SeriesStyle,
     width_pt: f64,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let line = canvas.line(style.color, width_pt);
     match style.dash.pattern() {
         None => {
@@ -372,7 +372,7 @@ pub fn draw_markers<DB: DrawingBackend>(
     points: &[(f64, f64)],
     marker: Marker,
     color: RGBColor,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let r = canvas.px(MARKER_PT) as i32;
     let fill = color.filled();
     let stroke = canvas.line(color, 0.8);
@@ -462,7 +462,7 @@ pub fn build_chart<'a, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, Shift>,
     canvas: Canvas,
     axes: &Axes,
-) -> anyhow::Result<Chart<'a, DB>> {
+) -> crate::error::Result<Chart<'a, DB>> {
     let (w, h) = area.dim_in_pixel();
     let mut builder = ChartBuilder::on(area);
     builder
@@ -511,7 +511,7 @@ pub fn split_figure<DB: DrawingBackend>(
     canvas: Canvas,
     title: &str,
     legend: &[LegendEntry],
-) -> anyhow::Result<(DrawingArea<DB, Shift>, DrawingArea<DB, Shift>)> {
+) -> crate::error::Result<(DrawingArea<DB, Shift>, DrawingArea<DB, Shift>)> {
     root.fill(&WHITE).map_err(err)?;
     let (w, h) = root.dim_in_pixel();
     let body = if title.is_empty() {

@@ -24,7 +24,7 @@
 //! ```
 
 use super::fragility::Method;
-use super::{DeviceVariant, ExcitationFamily, Layout, Quantity, Study, StudyError};
+use super::{DeviceVariant, ExcitationFamily, Layout, Param, Quantity, Study, StudyError};
 use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -58,6 +58,7 @@ pub(crate) fn default_verify() -> usize {
     4
 }
 
+all_variants! {
 /// A sizable device parameter, named as the study's device fields.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -75,39 +76,29 @@ pub enum DesignParameter {
     /// Clutch frequency ratio √(kθ/J)/p, mechanistic clutch.
     ClutchFrequencyRatio,
 }
+}
 
 impl DesignParameter {
-    pub const ALL: [DesignParameter; 6] = [
-        DesignParameter::Sigma,
-        DesignParameter::Cbar,
-        DesignParameter::XiTheta,
-        DesignParameter::Friction,
-        DesignParameter::KTheta,
-        DesignParameter::ClutchFrequencyRatio,
-    ];
+    /// The grid parameter it sizes.
+    pub fn param(self) -> Param {
+        match self {
+            DesignParameter::Sigma => Param::Sigma,
+            DesignParameter::Cbar => Param::Cbar,
+            DesignParameter::XiTheta => Param::XiTheta,
+            DesignParameter::Friction => Param::Friction,
+            DesignParameter::KTheta => Param::KTheta,
+            DesignParameter::ClutchFrequencyRatio => Param::ClutchFrequencyRatio,
+        }
+    }
 
     /// The study field (and expansion parameter id) it sizes.
     pub fn id(self) -> &'static str {
-        match self {
-            DesignParameter::Sigma => "sigma",
-            DesignParameter::Cbar => "cbar",
-            DesignParameter::XiTheta => "xi_theta",
-            DesignParameter::Friction => "friction",
-            DesignParameter::KTheta => "k_theta",
-            DesignParameter::ClutchFrequencyRatio => "clutch_frequency_ratio",
-        }
+        self.param().field()
     }
 
     /// Paper notation (as coordinates label it).
     pub fn label(self) -> &'static str {
-        match self {
-            DesignParameter::Sigma => "σ",
-            DesignParameter::Cbar => "c̄",
-            DesignParameter::XiTheta => "ξθ",
-            DesignParameter::Friction => "fμ",
-            DesignParameter::KTheta => "kθ",
-            DesignParameter::ClutchFrequencyRatio => "ωc/p",
-        }
+        self.param().label()
     }
 
     /// Whether a device variant has this parameter (the others are evaluated once, as a

@@ -749,14 +749,14 @@ pub fn run_design(
     checkpoint: Checkpoint,
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
-) -> anyhow::Result<SweepResults> {
+) -> crate::error::Result<SweepResults> {
     rounds::refuse_shards(
         study,
         opts,
         "a design study",
         "each probe of its search needs the verdict of the one before; run it unsharded",
     )?;
-    let mut search = Search::new(study).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let mut search = Search::new(study).map_err(|e| crate::error::error!("{e}"))?;
     let run = rounds::run_journalled(&mut search, opts, library, checkpoint, cancel, progress);
     Ok(SweepResults {
         study_hash: study.hash(),

@@ -10,8 +10,8 @@
 
 use super::journal::{self, Journal, JournalHeader};
 use super::{SceneResult, build_id};
+use crate::error::Context;
 use crate::study::Study;
-use anyhow::Context;
 use std::collections::HashMap;
 use std::fs::File;
 use std::io::{Read, Write};
@@ -30,6 +30,12 @@ pub enum OutputError {
     },
     #[error("cannot write in the output directory {dir}: {reason}; nothing was run")]
     NotWritable { dir: String, reason: String },
+}
+
+impl From<OutputError> for crate::error::Error {
+    fn from(e: OutputError) -> Self {
+        crate::error::Error::Other(Box::new(e))
+    }
 }
 
 pub fn results_name(shard: Option<(usize, usize)>) -> String {
@@ -60,7 +66,7 @@ pub struct OutputLock {
 }
 
 impl OutputLock {
-    pub fn acquire(results: &Path) -> anyhow::Result<OutputLock> {
+    pub fn acquire(results: &Path) -> crate::error::Result<OutputLock> {
         let path = lock_path(results);
         let mut file = std::fs::OpenOptions::new()
             .read(true)
@@ -148,7 +154,7 @@ pub fn open_output(
     study: &Study,
     total: usize,
     opts: OpenOptions,
-) -> anyhow::Result<Output> {
+) -> crate::error::Result<Output> {
     let not_writable = |reason: String| OutputError::NotWritable {
         dir: dir.display().to_string(),
         reason,

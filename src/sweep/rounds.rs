@@ -127,9 +127,9 @@ pub fn refuse_shards(
     opts: &SweepOptions,
     what: &str,
     why: &str,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     match opts.shard {
-        Some((i, n)) => anyhow::bail!(
+        Some((i, n)) => crate::error::bail!(
             "study {}: {what} cannot run as shard {i}/{n}: {why}",
             study.name
         ),

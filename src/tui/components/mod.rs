@@ -100,6 +100,17 @@ pub enum Action {
     Complain(String),
 }
 
+/// A key (or keys) of a screen and what it does, as the help overlay lists it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Command {
+    pub keys: &'static str,
+    pub what: &'static str,
+}
+
+pub const fn command(keys: &'static str, what: &'static str) -> Command {
+    Command { keys, what }
+}
+
 /// A screen of the workbench.
 pub trait Component {
     fn handle_key(&mut self, key: KeyEvent, shared: &Shared) -> Action;
@@ -108,6 +119,9 @@ pub trait Component {
     /// Keys the status line offers on this screen, most useful first (narrow terminals cut
     /// the end).
     fn hints(&self, shared: &Shared) -> Vec<Hint>;
+    /// Every key of the screen, for the help overlay (which lists each screen's own list,
+    /// so a screen's keys are written beside its `handle_key`, never in the overlay).
+    fn commands(&self) -> &'static [Command];
     /// True while the component takes every key itself (a line editor is open): the global
     /// keys (q, ?, 1–4, Tab) are off.
     fn captures_keys(&self) -> bool {

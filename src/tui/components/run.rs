@@ -9,7 +9,7 @@ use super::super::job::{AsyncSingleJob, JobEvent};
 use super::super::theme::Theme;
 use super::super::widgets::{Hint, fmt_coords, fmt_duration, gauge, pad, truncate};
 use super::prompt::{Prompt, StopSweep};
-use super::{Action, Check, Component, Shared};
+use super::{Action, Check, Command, Component, Shared, command};
 use crate::report;
 use crate::study::{ScenePoint, Study};
 use crate::sweep::{self, OpenOptions, Progress, SweepResults};
@@ -380,6 +380,17 @@ impl RunScreen {
 }
 
 impl Component for RunScreen {
+    fn commands(&self) -> &'static [Command] {
+        const COMMANDS: &[Command] = &[
+            command(
+                "c / Esc",
+                "stop (asks; finished scenes are kept, r resumes)",
+            ),
+            command("↑↓ d Enter", "scroll (PgUp/Dn g/G) / results dir / results"),
+        ];
+        COMMANDS
+    }
+
     fn handle_key(&mut self, key: KeyEvent, shared: &Shared) -> Action {
         let page = self.page.get().max(2) - 1;
         match key.code {
