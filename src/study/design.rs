@@ -25,6 +25,7 @@
 
 use super::fragility::Method;
 use super::{DeviceVariant, ExcitationFamily, Layout, Quantity, Study, StudyError};
+use crate::numfmt::fmt_exact;
 use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -49,6 +50,11 @@ pub struct Design {
     #[serde(default = "default_verify")]
     pub verify: usize,
 }
+
+/// The finest `resolution` a search can reach: four spacings of f64 at the answer (its
+/// relative spacing is at most `f64::EPSILON` anywhere in a bracket). Below it the bracket
+/// stops narrowing before it is narrow enough, so the search could never stop.
+pub const MIN_RESOLUTION: f64 = 4.0 * f64::EPSILON;
 
 pub(crate) fn default_resolution() -> f64 {
     0.01
@@ -284,8 +290,23 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
     if !(design.resolution.is_finite() && design.resolution > 0.0 && design.resolution < 0.5) {
         return Err(StudyError::field(
             "design.resolution",
-            format!("{} is out of range", design.resolution),
+            format!("{} is out of range", fmt_exact(design.resolution)),
             "a relative resolution in (0, 0.5), e.g. 0.01 for 1 % of the answer",
+        ));
+    }
+    if design.resolution < MIN_RESOLUTION {
+        return Err(StudyError::field(
+            "design.resolution",
+            format!(
+                "{} is finer than f64 can resolve: neighbouring numbers are up to {} apart \
+                 (relative), so the bracket would stop narrowing before it got there",
+                fmt_exact(design.resolution),
+                fmt_exact(f64::EPSILON)
+            ),
+            &format!(
+                "at least {} (4 spacings of f64); 0.01 finds the answer to 1 %",
+                fmt_exact(MIN_RESOLUTION)
+            ),
         ));
     }
     if design.verify > 20 {

@@ -148,6 +148,12 @@ pub(crate) fn default_confidence() -> f64 {
 /// Most bootstrap resamples a study may ask for (each refits every curve).
 const MAX_BOOTSTRAP: usize = 100_000;
 
+/// Fewest bootstrap resamples a study may ask for (0 asks for none). A 90 % interval is read
+/// off the 5th and 95th percentiles of the resamples: with a handful of them those are
+/// single draws, and the "interval" need not even contain the median it is about (2 gave
+/// one that did not); 200 puts ten resamples beyond each end.
+pub const MIN_BOOTSTRAP: usize = 200;
+
 /// The intensity measure of a fragility study's stripes, as `stripes.csv` and the fit name it.
 pub fn im_name(scale_to: RecordScaling) -> Option<&'static str> {
     match scale_to {
@@ -239,6 +245,16 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
     }
     if let Some(resolution) = f.method.ida_resolution() {
         validate_ida(study, resolution)?;
+    }
+    if (1..MIN_BOOTSTRAP).contains(&f.bootstrap) {
+        return Err(StudyError::field(
+            "fragility.bootstrap",
+            format!(
+                "{} resamples are too few for a confidence interval",
+                f.bootstrap
+            ),
+            &format!("at least {MIN_BOOTSTRAP} (1000 is the default), or 0 for no intervals"),
+        ));
     }
     if f.bootstrap > MAX_BOOTSTRAP {
         return Err(StudyError::field(
