@@ -102,7 +102,7 @@ fn a_design_at_the_resolution_floor_ends() {
         "        mechanistic(sigma: 0.5, clutch_frequency_ratio: 25.0, cbar: 1.0),\n",
         "",
     );
-    let text = edited(&text, "(from: 3.0, to: 10.0, steps: 15)", "6.0");
+    let text = edited(&text, "(from: 3.0, to: 10.0, steps: 15)", "3.0");
     let text = edited(&text, "resolution: 0.01", "resolution: 1e-15");
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("fine.ron");
@@ -244,7 +244,9 @@ fn a_png_whose_pixels_do_not_fit_in_memory_is_a_clear_error() {
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(1), "{e}");
     assert!(e.contains("memory") && e.contains("--dpi"), "{e}");
-    assert!(!png.exists());
+    // `--png` names a folder: no figure was left in it.
+    let left = std::fs::read_dir(&png).map_or(0, |d| d.count());
+    assert_eq!(left, 0, "{e}");
 }
 
 const AT2: &str = "PEER NGA STRONG MOTION DATABASE RECORD\nLANDERS\n\

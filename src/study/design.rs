@@ -320,7 +320,7 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
         if !(max.is_finite() && max > 0.0) {
             return Err(StudyError::field(
                 "design.target.max",
-                format!("{max} is not a response limit"),
+                format!("{} is not a response limit", fmt_exact(max)),
                 "a finite limit > 0, e.g. limit(quantity: peak_rotation_ratio, max: 0.5)",
             ));
         }
@@ -429,7 +429,10 @@ fn validate_fragility_target(study: &Study, design: &Design) -> Result<(), Study
         let list: Vec<String> = levels.iter().map(|l| format!("{l:?}")).collect();
         return Err(StudyError::field(
             "design.target.state",
-            format!("{state} is not one of the study's damage states"),
+            format!(
+                "{} is not one of the study's damage states",
+                fmt_exact(state)
+            ),
             &format!(
                 "a threshold of fragility.damage_states: one of {} (1.0 = overturning for θmax/α)",
                 list.join(", ")
@@ -477,7 +480,7 @@ fn validate_fragility_target(study: &Study, design: &Design) -> Result<(), Study
     let im = |name: &str, v: Option<f64>| match v {
         Some(v) if !(v.is_finite() && v > 0.0) => Err(StudyError::field(
             format!("design.target.{name}"),
-            format!("{v} is not an intensity"),
+            format!("{} is not an intensity", fmt_exact(v)),
             "a finite intensity > 0 in the study's measure (scale_to), e.g. 4.0 for PGA* = 4",
         )),
         _ => Ok(()),
@@ -489,7 +492,10 @@ fn validate_fragility_target(study: &Study, design: &Design) -> Result<(), Study
     {
         return Err(StudyError::field(
             "design.target.exceedance_at_most",
-            format!("{p} is not a probability strictly between 0 and 1"),
+            format!(
+                "{} is not a probability strictly between 0 and 1",
+                fmt_exact(p)
+            ),
             "e.g. exceedance_at_most: 0.1 (at most a 10 % chance of reaching the state at `at`)",
         ));
     }

@@ -12,6 +12,7 @@
 //! r (IM units); report::ida writes ida.csv and fits the capacities (censored at the top).
 
 use super::{Axis, ExcitationFamily, Quantity, RecordScaling, StructureFamily, Study, StudyError};
+use crate::numfmt::fmt_exact;
 use serde::{Deserialize, Serialize};
 
 /// Fragility analysis of a study's scenes.
@@ -203,7 +204,7 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
     if let Some(bad) = levels.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
         return Err(StudyError::field(
             "fragility.damage_states",
-            format!("{bad} is not a damage-state threshold"),
+            format!("{} is not a damage-state threshold", fmt_exact(*bad)),
             "thresholds of the damage measure are finite and > 0 (1 = overturning for θmax/α)",
         ));
     }
@@ -266,7 +267,7 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
     if !(f.confidence > 0.0 && f.confidence < 1.0) {
         return Err(StudyError::field(
             "fragility.confidence",
-            format!("{} is not a confidence level", f.confidence),
+            format!("{} is not a confidence level", fmt_exact(f.confidence)),
             "between 0 and 1, e.g. 0.9 for 5th–95th percentile intervals",
         ));
     }
@@ -293,7 +294,10 @@ fn validate_ida(study: &Study, resolution: f64) -> Result<(), StudyError> {
     if !(resolution.is_finite() && resolution >= finest) {
         return Err(StudyError::field(
             "fragility.method",
-            format!("resolution {resolution} is not an IM interval of at least {finest:.3e}"),
+            format!(
+                "resolution {} is not an IM interval of at least {finest:.3e}",
+                fmt_exact(resolution)
+            ),
             &format!(
                 "ida(resolution: r): the widest final bracket in IM units, ≥ the ladder's top \
                  ({top}) / 2^{MAX_BISECTIONS}, e.g. ida(resolution: {})",
