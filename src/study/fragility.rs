@@ -300,7 +300,8 @@ fn validate_ida(study: &Study, resolution: f64) -> Result<(), StudyError> {
             ),
             &format!(
                 "ida(resolution: r): the widest final bracket in IM units, ≥ the ladder's top \
-                 ({top}) / 2^{MAX_BISECTIONS}, e.g. ida(resolution: {})",
+                 ({}) / 2^{MAX_BISECTIONS}, e.g. ida(resolution: {})",
+                fmt_exact(top),
                 crate::numfmt::fmt_sig(top / 100.0)
             ),
         ));
