@@ -228,15 +228,48 @@ pub fn render(
                 .suffix(".png")
                 .tempfile_in(dir)
                 .with_context(|| format!("cannot create a file in {}", dir.display()))?;
+            let mut pixels = pixel_buffer(canvas.pixels)?;
             {
-                let root = BitMapBackend::new(tmp.path(), canvas.pixels).into_drawing_area();
+                let root =
+                    BitMapBackend::with_buffer(&mut pixels, canvas.pixels).into_drawing_area();
                 draw_png(root)?;
             }
+            let (w, h) = canvas.pixels;
+            image::save_buffer(tmp.path(), &pixels, w, h, image::ColorType::Rgb8)
+                .with_context(|| format!("cannot write {}", tmp.path().display()))?;
             super::readable_by_all(tmp.as_file())?;
             tmp.persist(path)
                 .with_context(|| format!("cannot write {}", path.display()))?;
             Ok(())
         }
+    }
+}
+
+/// A PNG's RGB pixels, zeroed, or an error if memory cannot hold them. Plotters' own
+/// `BitMapBackend::new` allocates them infallibly, and a large figure on a machine short of
+/// memory then aborts the process ("memory allocation of 5832842508 bytes failed"); drawn
+/// into this buffer and encoded with `image` (as plotters does), it is a message instead.
+fn pixel_buffer((w, h): (u32, u32)) -> crate::error::Result<Vec<u8>> {
+    let bytes = 3 * w as usize * h as usize;
+    let mut pixels = Vec::new();
+    pixels.try_reserve_exact(bytes).map_err(|_| {
+        crate::error::error!(
+            "a {w}×{h} px PNG needs {} of memory for its pixels, more than this machine can \
+             give now; lower --size or --dpi, or write an SVG",
+            fmt_bytes(bytes)
+        )
+    })?;
+    pixels.resize(bytes, 0);
+    Ok(pixels)
+}
+
+/// `5.8 GB`, `350 MB`: a byte count as a message gives it.
+fn fmt_bytes(bytes: usize) -> String {
+    let b = bytes as f64;
+    if b >= 1e9 {
+        format!("{:.1} GB", b / 1e9)
+    } else {
+        format!("{:.0} MB", (b / 1e6).max(1.0))
     }
 }
 

@@ -138,7 +138,7 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ),
     (
         "bootstrap",
-        "bootstrap resamples over records for the confidence intervals (0: none)",
+        "bootstrap resamples over records for the confidence intervals: 0 (none) or at least 200",
     ),
     ("seed", "bootstrap seed (reruns agree)"),
     (

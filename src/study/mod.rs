@@ -473,12 +473,13 @@ impl Study {
     pub fn parse_ron(text: &str, origin: &str) -> Result<Study, StudyError> {
         // A byte-order mark (some Windows editors write one) is no part of the study.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        strict::check_nesting(text, origin)?;
         strict::check_names(text, origin)?;
         strict::check_not_numbers(text, origin)?;
         let resolved = strict::resolve_degrees(text, origin)?;
         let study = ron_options()
             .from_str(&resolved)
-            .map_err(|e| StudyError::from_ron(e, origin))?;
+            .map_err(|e| StudyError::from_ron(e, &resolved, origin))?;
         strict::check_meaning(text, &study, origin)?;
         Ok(study)
     }

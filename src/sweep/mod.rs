@@ -19,7 +19,7 @@ pub use facade::{
     DirRun, Finished, SCENE_TIME_LIMIT, SetStatus, Writers, load_fullest, lock_results,
     seconds_per_scene, set_status,
 };
-pub use output::{OpenOptions, OutputError, OutputLock, results_name};
+pub use output::{OpenOptions, OutputError, OutputLock, default_out_dir, results_name};
 
 use journal::Journal;
 use output::Output;

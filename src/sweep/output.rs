@@ -30,6 +30,29 @@ pub enum OutputError {
     },
     #[error("cannot write in the output directory {dir}: {reason}; nothing was run")]
     NotWritable { dir: String, reason: String },
+    #[error(
+        "the study's name {name:?} would put its results outside {root} (an absolute path or \
+         `..`); give the study a plain name, or choose the directory with --out"
+    )]
+    NameLeavesRoot { name: String, root: String },
+}
+
+/// Where a study's results go when no `--out` is given: `root/<name>`, the name made one path
+/// component (`a/b` is `a_b`). A name that is absolute or climbs with `..` is refused rather
+/// than renamed, so that `run`, `slurm` (and so its `status` and `merge` lines) and the
+/// workbench never disagree about it and never write outside `root`.
+pub fn default_out_dir(root: &Path, study_name: &str) -> Result<PathBuf, OutputError> {
+    let climbs = study_name
+        .split(['/', '\\'])
+        .any(|part| part.trim() == "..");
+    let absolute = Path::new(study_name).has_root() || study_name.starts_with(['/', '\\']);
+    if climbs || absolute {
+        return Err(OutputError::NameLeavesRoot {
+            name: study_name.to_string(),
+            root: root.display().to_string(),
+        });
+    }
+    Ok(root.join(crate::fsutil::single_component(study_name)))
 }
 
 impl From<OutputError> for crate::error::Error {

@@ -188,7 +188,11 @@ pub fn run_journalled(
             cancel,
             &round_progress,
         );
-        stopped = part.cancelled || journal.is_some_and(|j| j.failure().is_some());
+        // A stop asked for while a round had nothing left to run (every scene reused) is
+        // honoured here too: no round is ever started after it.
+        stopped = part.cancelled
+            || cancel.load(Ordering::Relaxed)
+            || journal.is_some_and(|j| j.failure().is_some());
         RoundEnd {
             outcomes: part.outcomes,
             go_on: !stopped,

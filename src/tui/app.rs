@@ -577,7 +577,7 @@ impl App {
                     } else {
                         self.shared.out_dir = Some(PathBuf::from(dir));
                     }
-                    let shown = self.shared.output_dir().display().to_string();
+                    let shown = self.shared.output_dir_shown();
                     self.say(format!("results of the next run go to {shown}/"));
                 }
             },

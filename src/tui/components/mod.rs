@@ -49,14 +49,21 @@ pub struct Shared {
 }
 
 impl Shared {
-    /// Where a run of the open study writes: the chosen directory, or `out/<study name>/` as
-    /// `rocklab run` does.
-    pub fn output_dir(&self) -> PathBuf {
-        self.out_dir.clone().unwrap_or_else(|| {
-            self.options
-                .out_root
-                .join(crate::fsutil::single_component(&self.study.name))
-        })
+    /// Where a run of the open study writes: the chosen directory, or `out/<study name>/` by
+    /// the rule `rocklab run` follows (an error for a name that would leave `out/`).
+    pub fn output_dir(&self) -> Result<PathBuf, crate::sweep::OutputError> {
+        match &self.out_dir {
+            Some(dir) => Ok(dir.clone()),
+            None => crate::sweep::default_out_dir(&self.options.out_root, &self.study.name),
+        }
+    }
+
+    /// The output directory as a screen shows it: the directory, or why there is none.
+    pub fn output_dir_shown(&self) -> String {
+        match self.output_dir() {
+            Ok(dir) => dir.display().to_string(),
+            Err(e) => format!("(no directory: {e})"),
+        }
     }
 
     /// Estimated wall time of the whole study (seconds), when a per-scene time is known.

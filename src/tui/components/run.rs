@@ -418,9 +418,14 @@ impl RunScreen {
     fn command_key(&mut self, key: KeyEvent, shared: &Shared) -> Action {
         match key.code {
             KeyCode::Char('r') => Action::StartRun,
-            KeyCode::Char('d') if !self.is_running() => Action::Prompt(Prompt::OutDir(
-                LineEdit::new(shared.output_dir().display().to_string()),
-            )),
+            KeyCode::Char('d') if !self.is_running() => {
+                Action::Prompt(Prompt::OutDir(LineEdit::new(
+                    shared
+                        .output_dir()
+                        .map(|d| d.display().to_string())
+                        .unwrap_or_default(),
+                )))
+            }
             KeyCode::Char('c') | KeyCode::Esc => match self.stop_question(false) {
                 Some(stop) => Action::Prompt(Prompt::StopSweep(stop)),
                 None => Action::None,
@@ -454,7 +459,7 @@ impl RunScreen {
                     "No sweep yet. Press r to run the study ({} scenes); results go to {}/ \
                      (d changes it), and a run stopped early resumes there.",
                     points.len(),
-                    shared.output_dir().display()
+                    shared.output_dir_shown()
                 ),
                 Check::Invalid(msg) => format!("The study is invalid: {msg}"),
             };
