@@ -64,7 +64,10 @@ pub fn run(
     let points = study
         .expand()
         .map_err(|e| crate::StudyError::new_err(e.to_string()))?;
-    let out = out.unwrap_or_else(|| default_out(&study));
+    let out = match out {
+        Some(out) => out,
+        None => default_out(&study.name).map_err(|e| crate::StudyError::new_err(e.to_string()))?,
+    };
     let plan = RunPlan {
         study: &study,
         points: &points,
