@@ -16,6 +16,7 @@
 //! | F11 an index `file:` outside the records folder | `an_index_file_outside_the_records_folder_is_refused_unread` |
 //! | F12 raw parser messages, bootstrap: 2 | `parser_messages_name_the_field_with_a_hint`, `a_bootstrap_too_small_for_its_interval_is_refused` |
 
+use crate::strict_inputs::AT2;
 use crate::util::{rocklab, rocklab_command};
 use rocklab::excitation::reader;
 use rocklab::study::Study;
@@ -248,11 +249,6 @@ fn a_png_whose_pixels_do_not_fit_in_memory_is_a_clear_error() {
     let left = std::fs::read_dir(&png).map_or(0, |d| d.count());
     assert_eq!(left, 0, "{e}");
 }
-
-const AT2: &str = "PEER NGA STRONG MOTION DATABASE RECORD\nLANDERS\n\
-                   ACCELERATION TIME HISTORY IN UNITS OF G\n\
-                   NPTS=    6, DT=   .0100 SEC\n\
-                   0.1 0.2 0.3\n0.4 0.5 0.6\n";
 
 #[test]
 fn an_at2_header_that_gives_a_key_twice_is_refused() {

@@ -51,7 +51,8 @@ fn refused(text: &str) -> (usize, String) {
     }
 }
 
-const AT2: &str = "PEER NGA STRONG MOTION DATABASE RECORD\nLANDERS\n\
+/// A well-formed six-sample AT2 file (also the base of tests/campaign.rs's header mutants).
+pub(crate) const AT2: &str = "PEER NGA STRONG MOTION DATABASE RECORD\nLANDERS\n\
                    ACCELERATION TIME HISTORY IN UNITS OF G\n\
                    NPTS=    6, DT=   .0100 SEC\n\
                    0.1 0.2 0.3\n0.4 0.5 0.6\n";
