@@ -130,7 +130,9 @@ pub fn run(
         finished,
         results_path,
     } = ran.map_err(crate::to_py)?;
-    finished.written.map_err(crate::to_py)?;
+    finished
+        .written
+        .map_err(|e| crate::to_py(anyhow::Error::from(e)))?;
     let results = finished.results;
     if results.cancelled {
         return Err(pyo3::exceptions::PyRuntimeError::new_err(format!(
