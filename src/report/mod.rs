@@ -15,7 +15,12 @@ mod plot_design;
 pub mod select;
 pub mod stripes;
 
-pub use crate::fsutil::{readable_by_all, write_atomic};
+pub use crate::fsutil::readable_by_all;
+
+/// [`crate::fsutil::write_atomic`], its error as the report's.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> crate::error::Result<()> {
+    Ok(crate::fsutil::write_atomic(path, bytes)?)
+}
 pub use crate::study::Quantity;
 pub use crate::sweep::load_results;
 pub use aggregate::{
@@ -23,9 +28,9 @@ pub use aggregate::{
     spectra,
 };
 pub use export::{
-    CsvLayout, Parameter, boundary_csv, parameter, results_columns_csv, results_csv,
-    results_csv_layout, results_json, save_results, stand_in_records, study_summary, summary,
-    write_tables,
+    BOUNDARY_CSV, CsvLayout, DESIGN_CSV, Parameter, axis_columns, boundary_csv, parameter,
+    results_columns_csv, results_csv, results_csv_layout, results_json, save_results,
+    stand_in_records, study_summary, summary, write_tables,
 };
 pub use figure::{FigureOptions, FigureSize, ImageFormat, MAX_MEGAPIXELS, MEGAPIXELS_CEILING};
 pub use plot::{
@@ -37,6 +42,16 @@ pub use plot_design::plot_design;
 use crate::sim::History;
 use std::path::Path;
 
+/// The tables a run writes beside its results (when the study has them), by name: what
+/// Python's `Results.fragility()`, `.stripes()`, `.ida()`, `.design()` and `.boundary()` read.
+pub const TABLE_FILES: [(&str, &str); 5] = [
+    ("fragility", fragility::FRAGILITY_CSV),
+    ("stripes", stripes::STRIPES_CSV),
+    ("ida", ida::IDA_CSV),
+    ("design", DESIGN_CSV),
+    ("boundary", BOUNDARY_CSV),
+];
+
 /// How a run writes its results file and tables, for [`crate::sweep::DirRun::run`].
 pub const WRITERS: crate::sweep::Writers<'static> = crate::sweep::Writers {
     results: &save_results,
@@ -44,7 +59,7 @@ pub const WRITERS: crate::sweep::Writers<'static> = crate::sweep::Writers {
 };
 
 /// A history as CSV: one header line, then one row per sample (see [`crate::sim::Sampling`]).
-pub fn history_csv(history: &History) -> anyhow::Result<Vec<u8>> {
+pub fn history_csv(history: &History) -> crate::error::Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(history.columns.iter().map(|c| c.name()))?;
     for row in &history.rows {
@@ -53,6 +68,6 @@ pub fn history_csv(history: &History) -> anyhow::Result<Vec<u8>> {
     Ok(w.into_inner()?)
 }
 
-pub fn write_history_csv(path: &Path, history: &History) -> anyhow::Result<()> {
+pub fn write_history_csv(path: &Path, history: &History) -> crate::error::Result<()> {
     write_atomic(path, &history_csv(history)?)
 }

@@ -19,13 +19,16 @@ impl App {
                 return;
             }
         };
+        let out = match self.shared.output_dir() {
+            Ok(out) => out,
+            Err(e) => {
+                self.complain(format!("cannot run: {e}"));
+                return;
+            }
+        };
         self.calibration.abandon();
-        self.runs.start(
-            &self.shared.study,
-            points,
-            self.shared.options.jobs,
-            self.shared.output_dir(),
-        );
+        self.runs
+            .start(&self.shared.study, points, self.shared.options.jobs, out);
         self.screen = Screen::Run;
     }
 
@@ -60,7 +63,7 @@ impl App {
             if news.discarded {
                 self.say(format!(
                     "sweep discarded: its {done} finished scenes stay in {}/, not shown",
-                    self.shared.output_dir().display()
+                    self.shared.output_dir_shown()
                 ));
             } else if cancelled {
                 self.show_results(*results, cancelled);
@@ -69,8 +72,10 @@ impl App {
                 self.show_results(*results, cancelled);
                 // The run wrote its fragility report beside the results: show it now, not
                 // only after the directory is reopened.
-                let dir = self.shared.output_dir();
-                let beside = self.load_beside(&dir);
+                let beside = match self.shared.output_dir() {
+                    Ok(dir) => self.load_beside(&dir),
+                    Err(_) => String::new(),
+                };
                 if !beside.is_empty() {
                     self.say(format!("sweep finished: {done} scenes{beside}"));
                 }
