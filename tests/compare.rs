@@ -462,6 +462,18 @@ fn compare_json_reports_the_pairs_of_a_results_file() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("k_theta (kθ): 1, 3"), "{err}");
+    // plot --select refuses the same selector with a non-zero exit (issue 42, item 3), and
+    // draws nothing rather than a figure short of what was asked.
+    let figs = dir.path().join("figs");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rocklab"))
+        .args(["plot", dir.path().to_str().unwrap(), "--svg"])
+        .arg(&figs)
+        .args(["--select", "mechanistic(k_theta: 2.0)"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success(), "plot --select exited 0");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("k_theta (kθ): 1, 3"), "{err}");
 }
 
 /// `compare` without `--a/--b` pairs as the workbench does (sequential vs mechanistic here)
@@ -529,4 +541,42 @@ fn compare_defaults_as_the_workbench_and_a_grid_against_its_first_member() {
         .unwrap_err();
         assert!(err.0.contains("same single variant"), "{}", err.0);
     }
+}
+
+/// Issue 42, item 3: a selector may name a map's own axes (`amplitude`, `frequency`), which
+/// pick its rows and columns; a value not on the axis is refused with the axis's values.
+#[test]
+fn map_selectors_pick_rows_and_columns_of_the_maps_axes() {
+    let a = map(
+        DeviceKind::None,
+        vec![
+            vec![Some(false), Some(true), Some(false)],
+            vec![Some(true), Some(true), None],
+        ],
+    );
+    let b = map(
+        DeviceKind::Mechanistic,
+        vec![
+            vec![Some(false), Some(false), Some(true)],
+            vec![Some(true), Some(false), Some(false)],
+        ],
+    );
+    let maps = [a, b];
+    let sel = |t: &str| Selector::parse(t).unwrap();
+    let m = compare::compare_maps(&maps, &sel("bare"), &sel("mechanistic(amplitude: 1.0)"))
+        .unwrap();
+    assert_eq!(m.len(), 1);
+    assert_eq!(m[0].ys, vec![1.0]);
+    use MapCell::*;
+    assert_eq!(m[0].cells, vec![vec![BothOverturn, OnlyBSurvives, Missing]]);
+    let m = compare::compare_maps(&maps, &sel("bare(frequency: [1.0, 3.0])"), &sel("mechanistic"))
+        .unwrap();
+    assert_eq!(m[0].xs, vec![1.0, 3.0]);
+    assert_eq!(m[0].ys, vec![0.5, 1.0]);
+    assert_eq!(m[0].cells[0], vec![BothSurvive, OnlyASurvives]);
+    let e = compare::compare_maps(&maps, &sel("bare"), &sel("mechanistic(amplitude: 0.7)"))
+        .unwrap_err();
+    assert!(e.0.contains("amplitude") && e.0.contains("0.5, 1"), "{e}");
+    // A parameter that is neither a setting nor an axis is still refused.
+    assert!(compare::compare_maps(&maps, &sel("bare"), &sel("mechanistic(k_theta: 1)")).is_err());
 }

@@ -324,3 +324,19 @@ fn a_wrapper_or_key_that_means_nothing_is_refused_where_it_is_written() {
         Study::from_ron_str(&ok, "ok.ron").unwrap_or_else(|e| panic!("{e}\n{ok}"));
     }
 }
+
+/// Issue 42, item 10: the bare structure is `none` in a study and `bare` in results, labels
+/// and selectors; a study takes either name for it.
+#[test]
+fn a_study_takes_bare_for_the_bare_structure_as_results_name_it() {
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/default.ron"))
+            .unwrap();
+    assert!(text.contains("none"), "default.ron names the bare structure `none`");
+    let bare = text.replacen("none", "bare", 1);
+    let (a, b) = (
+        Study::from_ron_str(&text, "default.ron").unwrap(),
+        Study::from_ron_str(&bare, "bare.ron").unwrap(),
+    );
+    assert_eq!(a.devices, b.devices);
+}

@@ -4,7 +4,7 @@
 //! and the workbench.
 
 use super::aggregate::{Group, OverturningMap, PointState, Spectrum};
-use super::select::{SelectError, Selector, select};
+use super::select::{SelectError, Selector, axis_id, keep_on_axis, select, split_axes};
 use crate::study::Part;
 use crate::study::Quantity;
 use crate::sweep::SweepResults;
@@ -276,12 +276,32 @@ pub fn compare_spectra(
 ) -> Result<Vec<SpectrumPair>, SelectError> {
     let of_q: Vec<&Spectrum> = spectra.iter().filter(|s| s.quantity == quantity).collect();
     let groups: Vec<&Group> = of_q.iter().map(|s| &s.group).collect();
-    Ok(pair_groups(&groups, a, b)?
-        .into_iter()
-        .map(|(ia, ib)| {
-            let (sa, sb) = (of_q[ia], of_q[ib]);
-            let points = pair_points(sa, sb);
-            SpectrumPair {
+    // A filter on the spectrum's own axis (`frequency: 2.0`) picks points, not spectra.
+    let axis = of_q.first().and_then(|s| axis_id(&s.axis));
+    let axes: Vec<&str> = axis.into_iter().collect();
+    let ((a_rest, a_axis), (b_rest, b_axis)) = (split_axes(a, &axes), split_axes(b, &axes));
+    let pairs = pair_groups(&groups, &a_rest, &b_rest)?;
+    let mut out = Vec::new();
+    for (ia, ib) in pairs {
+        let (sa, sb) = (of_q[ia], of_q[ib]);
+        let mut points = pair_points(sa, sb);
+        if let Some(id) = axis.filter(|_| !a_axis.is_empty() || !b_axis.is_empty()) {
+            let xs: Vec<f64> = points.iter().map(|p| p.x).collect();
+            let keep_a = keep_on_axis(&a.text, id, &xs, &a_axis)?;
+            let keep_b = keep_on_axis(&b.text, id, &xs, &b_axis)?;
+            let mut k = 0;
+            points.retain(|_| {
+                k += 1;
+                keep_a[k - 1] && keep_b[k - 1]
+            });
+            if points.is_empty() {
+                return Err(SelectError(format!(
+                    "`{}` and `{}` pick no common `{id}`",
+                    a.text, b.text
+                )));
+            }
+        }
+        out.push(SpectrumPair {
                 quantity,
                 a: sa.label.clone(),
                 b: sb.label.clone(),
@@ -290,9 +310,9 @@ pub fn compare_spectra(
                 axis: sa.axis.clone(),
                 stats: pair_stats(&points),
                 points,
-            }
-        })
-        .collect())
+        });
+    }
+    Ok(out)
 }
 
 /// A cell of two overturning maps side by side.
@@ -356,6 +376,32 @@ pub struct MapComparison {
 }
 
 impl MapComparison {
+    /// The comparison on the kept columns (`keep_x`) and rows (`keep_y`) only.
+    pub fn cropped(self, keep_x: &[bool], keep_y: &[bool]) -> MapComparison {
+        let pick = |v: &[f64], keep: &[bool]| -> Vec<f64> {
+            v.iter().zip(keep).filter(|(_, k)| **k).map(|(x, _)| *x).collect()
+        };
+        let cells = self
+            .cells
+            .iter()
+            .zip(keep_y)
+            .filter(|(_, k)| **k)
+            .map(|(row, _)| {
+                row.iter()
+                    .zip(keep_x)
+                    .filter(|(_, k)| **k)
+                    .map(|(c, _)| *c)
+                    .collect()
+            })
+            .collect();
+        MapComparison {
+            xs: pick(&self.xs, keep_x),
+            ys: pick(&self.ys, keep_y),
+            cells,
+            ..self
+        }
+    }
+
     pub fn count(&self, kind: MapCell) -> usize {
         self.cells.iter().flatten().filter(|c| **c == kind).count()
     }
@@ -403,10 +449,37 @@ pub fn compare_maps(
     b: &Selector,
 ) -> Result<Vec<MapComparison>, SelectError> {
     let groups: Vec<&Group> = maps.iter().map(|m| &m.group).collect();
-    Ok(pair_groups(&groups, a, b)?
+    // Filters on the maps' own axes (`amplitude: 1.5`) pick rows and columns, not maps.
+    let axes: Vec<&str> = maps
+        .first()
         .into_iter()
-        .map(|(ia, ib)| compare_map_pair(&maps[ia], &maps[ib]))
-        .collect())
+        .flat_map(|m| [axis_id(&m.x_axis), axis_id(&m.y_axis)])
+        .flatten()
+        .collect();
+    let ((a_rest, a_axis), (b_rest, b_axis)) = (split_axes(a, &axes), split_axes(b, &axes));
+    let mut out = Vec::new();
+    for (ia, ib) in pair_groups(&groups, &a_rest, &b_rest)? {
+        let m = compare_map_pair(&maps[ia], &maps[ib]);
+        let keep = |id: Option<&str>, values: &[f64]| -> Result<Vec<bool>, SelectError> {
+            let Some(id) = id else {
+                return Ok(vec![true; values.len()]);
+            };
+            let ka = keep_on_axis(&a.text, id, values, &a_axis)?;
+            let kb = keep_on_axis(&b.text, id, values, &b_axis)?;
+            let both: Vec<bool> = ka.iter().zip(&kb).map(|(x, y)| *x && *y).collect();
+            if !both.contains(&true) {
+                return Err(SelectError(format!(
+                    "`{}` and `{}` pick no common `{id}`",
+                    a.text, b.text
+                )));
+            }
+            Ok(both)
+        };
+        let keep_x = keep(axis_id(&m.x_axis), &m.xs)?;
+        let keep_y = keep(axis_id(&m.y_axis), &m.ys)?;
+        out.push(m.cropped(&keep_x, &keep_y));
+    }
+    Ok(out)
 }
 
 /// The categorised map as text: one row per y value (largest on top), one character per x.

@@ -308,6 +308,62 @@ pub fn available(groups: &[&Group], among: &[usize], sel: &Selector) -> String {
     text.trim_end().to_string()
 }
 
+/// The study field of an axis a spectrum or map shows by its label (`A/g` → `amplitude`).
+pub fn axis_id(label: &str) -> Option<&'static str> {
+    crate::study::Param::from_label(label).map(|p| p.info().field)
+}
+
+/// The selector without its filters on `axes` (the study fields of a spectrum's x axis or a
+/// map's axes: values within one group, never settings that tell groups apart), and those
+/// filters.
+pub fn split_axes(sel: &Selector, axes: &[&str]) -> (Selector, Vec<Filter>) {
+    let (on_axes, rest): (Vec<Filter>, Vec<Filter>) = sel
+        .filters
+        .iter()
+        .cloned()
+        .partition(|f| axes.contains(&f.id.as_str()));
+    let reduced = Selector {
+        filters: rest,
+        ..sel.clone()
+    };
+    (reduced, on_axes)
+}
+
+/// Which of `values` (one axis of a spectrum or map, study field `id`) every filter on `id`
+/// keeps: all when none names it. A filter that keeps none is an error naming the axis's
+/// values (`text` is the selector, for the message).
+pub fn keep_on_axis(
+    text: &str,
+    id: &str,
+    values: &[f64],
+    filters: &[Filter],
+) -> Result<Vec<bool>, SelectError> {
+    let mut keep = vec![true; values.len()];
+    for f in filters.iter().filter(|f| f.id == id) {
+        let Wanted::Numbers(typed) = &f.wanted else {
+            return Err(SelectError(format!("`{text}`: `{id}` takes numbers")));
+        };
+        let picked: Vec<f64> = typed.iter().flat_map(|t| resolve(*t, values)).collect();
+        for (k, v) in keep.iter_mut().zip(values) {
+            *k &= picked.contains(v);
+        }
+    }
+    if !keep.contains(&true) {
+        let mut sorted = values.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        sorted.dedup();
+        let shown: Vec<String> = sorted.iter().map(|v| fmt_digits(*v, 4)).collect();
+        let list = match shown.len() {
+            n if n > 10 => format!("{}, … {} (of {n})", shown[..9].join(", "), shown[n - 1]),
+            _ => shown.join(", "),
+        };
+        return Err(SelectError(format!(
+            "`{text}` picks no `{id}` here; its values: {list}"
+        )));
+    }
+    Ok(keep)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

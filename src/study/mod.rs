@@ -152,7 +152,8 @@ pub enum StructureFamily {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum DeviceVariant {
-    /// The bare structure.
+    /// The bare structure: `none`, or `bare` as results, labels and selectors name it.
+    #[serde(alias = "bare")]
     None,
     /// A single inerter without clutch, attached rigidly or through a flywheel.
     Inerter {

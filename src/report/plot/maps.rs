@@ -1,13 +1,16 @@
 //! Overturning maps, one panel per group, and two variants' maps compared cell by cell.
 
-use super::{PlotChoice, coordinate_axis, example_of, figure_title, panel_letter, selection};
+use super::{
+    PlotChoice, coordinate_axis, example_of, figure_title, keep_on_axes, kept, panel_letter,
+    selection,
+};
 use crate::report::aggregate::{Group, OverturningMap};
 use crate::report::compare::{MapCell, MapComparison, compare_maps};
 use crate::report::figure::{
     Axes, Canvas, FigureOptions, FigureSize, LegendEntry, Swatch, build_chart, err, render,
     split_figure,
 };
-use crate::report::select::Selector;
+use crate::report::select::{Selector, axis_id};
 use crate::sweep::SweepResults;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -22,13 +25,33 @@ pub fn plot_maps(
     choice: &PlotChoice,
 ) -> crate::error::Result<Option<PathBuf>> {
     let groups: Vec<&Group> = maps.iter().map(|m| &m.group).collect();
-    let picked = selection(choice, &groups)?;
-    let chosen: Vec<&OverturningMap> = maps
-        .iter()
-        .zip(&picked)
-        .filter(|(_, p)| **p)
-        .map(|(m, _)| m)
+    let axes: Vec<&str> = maps
+        .first()
+        .into_iter()
+        .flat_map(|m| [axis_id(&m.x_axis), axis_id(&m.y_axis)])
+        .flatten()
         .collect();
+    let (picked, on_axes) = selection(choice, &groups, &axes)?;
+    // Filters on a map's axes (`amplitude: 1.5`) keep those rows and columns.
+    let mut cropped: Vec<OverturningMap> = Vec::new();
+    for (m, _) in maps.iter().zip(&picked).filter(|(_, p)| **p) {
+        let keep_x = keep_on_axes(axis_id(&m.x_axis), &m.xs, &on_axes)?;
+        let keep_y = keep_on_axes(axis_id(&m.y_axis), &m.ys, &on_axes)?;
+        let rows = |grid: &[Vec<Option<_>>]| -> Vec<Vec<Option<_>>> {
+            kept(grid, &keep_y).iter().map(|r| kept(r, &keep_x)).collect()
+        };
+        cropped.push(OverturningMap {
+            xs: kept(&m.xs, &keep_x),
+            ys: kept(&m.ys, &keep_y),
+            cells: rows(&m.cells),
+            outcomes: kept(&m.outcomes, &keep_y)
+                .iter()
+                .map(|r| kept(r, &keep_x))
+                .collect(),
+            ..m.clone()
+        });
+    }
+    let chosen: Vec<&OverturningMap> = cropped.iter().collect();
     if chosen.is_empty() {
         return Ok(None);
     }

@@ -14,7 +14,7 @@ pub use spectra::plot_spectra;
 
 use super::aggregate::Group;
 use super::export::parameter;
-use super::select::{Selector, select};
+use super::select::{Filter, Selector, keep_on_axis, select, split_axes};
 use crate::numfmt::fmt_num;
 use crate::sweep::SweepResults;
 
@@ -34,22 +34,67 @@ pub const MAX_SERIES: usize = 12;
 
 /// Which of `groups` the `--select` selectors pick (the union; all without selectors), in
 /// `compare`'s selector language (report/select.rs): `mechanistic`, `bare`,
-/// `mechanistic(k_theta: 3.0, play: 0.005)`, `sequential(record: landers)`. A selector that
-/// is malformed, or matches nothing, is an error saying what there is (never a figure
+/// `mechanistic(k_theta: 3.0, play: 0.005)`, `sequential(record: landers)`, and the
+/// selectors' filters on the figure's own `axes` (a spectrum's x, a map's axes:
+/// `mechanistic(amplitude: 1.5)`), which [`keep_on_axes`] applies to the points. A selector
+/// that is malformed, or matches nothing, is an error saying what there is (never a figure
 /// silently left out while the command succeeds).
-pub(super) fn selection(choice: &PlotChoice, groups: &[&Group]) -> crate::error::Result<Vec<bool>> {
+pub(super) fn selection(
+    choice: &PlotChoice,
+    groups: &[&Group],
+    axes: &[&str],
+) -> crate::error::Result<(Vec<bool>, AxisFilters)> {
     if choice.select.is_empty() {
-        return Ok(vec![true; groups.len()]);
+        return Ok((vec![true; groups.len()], Vec::new()));
     }
     let mut picked = vec![false; groups.len()];
+    let mut on_axes = Vec::new();
     for text in &choice.select {
         let sel = Selector::parse(text).map_err(|e| crate::error::error!("--select: {e}"))?;
-        match select(groups, &sel) {
+        let (rest, filters) = split_axes(&sel, axes);
+        match select(groups, &rest) {
             Ok(found) => found.into_iter().for_each(|i| picked[i] = true),
             Err(e) => crate::error::bail!("--select {text}: {e}"),
         }
+        if !filters.is_empty() {
+            on_axes.push((sel.text.clone(), filters));
+        }
     }
-    Ok(picked)
+    Ok((picked, on_axes))
+}
+
+/// Each selector's text and its filters on a figure's own axes.
+pub(super) type AxisFilters = Vec<(String, Vec<Filter>)>;
+
+/// Which of an axis's `values` (study field `id`, None: an axis no selector can name) every
+/// selector's filters keep; an error if they keep none.
+pub(super) fn keep_on_axes(
+    id: Option<&str>,
+    values: &[f64],
+    on_axes: &AxisFilters,
+) -> crate::error::Result<Vec<bool>> {
+    let mut keep = vec![true; values.len()];
+    let Some(id) = id else {
+        return Ok(keep);
+    };
+    for (text, filters) in on_axes {
+        let k = keep_on_axis(text, id, values, filters)
+            .map_err(|e| crate::error::error!("--select {text}: {e}"))?;
+        keep.iter_mut().zip(k).for_each(|(a, b)| *a &= b);
+    }
+    if !keep.contains(&true) {
+        crate::error::bail!("--select: the selectors keep no common `{id}`");
+    }
+    Ok(keep)
+}
+
+/// The items of `v` that `keep` keeps.
+pub(super) fn kept<T: Clone>(v: &[T], keep: &[bool]) -> Vec<T> {
+    v.iter()
+        .zip(keep)
+        .filter(|(_, k)| **k)
+        .map(|(x, _)| x.clone())
+        .collect()
 }
 
 /// A coordinate's axis label with its unit, e.g. `ωn [rad/s]`.

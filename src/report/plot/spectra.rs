@@ -3,10 +3,11 @@
 
 use super::{
     MAX_SERIES, PlotChoice, coordinate_axis, device_name, example_of, figure_title, panel_letter,
-    range_of, selection,
+    keep_on_axes, kept, range_of, selection,
 };
 use crate::numfmt::fmt_num;
 use crate::report::aggregate::{Group, PointState, Spectrum};
+use crate::report::select::axis_id;
 use crate::report::export::parameter;
 use crate::report::figure::{
     Axes, Canvas, Dash, FigureOptions, FigureSize, LINE_PT, LegendEntry, Marker, SeriesStyle,
@@ -151,9 +152,25 @@ pub fn plot_spectra(
     spectra: &[Spectrum],
     choice: &PlotChoice,
 ) -> crate::error::Result<Option<PathBuf>> {
-    let all = curves(results, spectra);
-    let groups: Vec<&Group> = all.iter().map(|c| &c.spectrum.group).collect();
-    let picked = selection(choice, &groups)?;
+    let groups: Vec<&Group> = spectra.iter().map(|s| &s.group).collect();
+    let axes: Vec<&str> = spectra.first().and_then(|s| axis_id(&s.axis)).into_iter().collect();
+    let (picked, on_axes) = selection(choice, &groups, &axes)?;
+    // Filters on the spectrum's axis (`frequency: [1.0, 2.0]`) keep those points.
+    let mut cropped: Vec<Spectrum> = Vec::new();
+    for (s, p) in spectra.iter().zip(&picked) {
+        let keep = match p {
+            true => keep_on_axes(axis_id(&s.axis), &s.xs, &on_axes)?,
+            false => vec![true; s.xs.len()],
+        };
+        cropped.push(Spectrum {
+            xs: kept(&s.xs, &keep),
+            ys: kept(&s.ys, &keep),
+            states: kept(&s.states, &keep),
+            outcomes: kept(&s.outcomes, &keep),
+            ..s.clone()
+        });
+    }
+    let all = curves(results, &cropped);
     let chosen: Vec<&Curve> = all
         .iter()
         .zip(&picked)
