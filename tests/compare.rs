@@ -563,14 +563,18 @@ fn map_selectors_pick_rows_and_columns_of_the_maps_axes() {
     );
     let maps = [a, b];
     let sel = |t: &str| Selector::parse(t).unwrap();
-    let m = compare::compare_maps(&maps, &sel("bare"), &sel("mechanistic(amplitude: 1.0)"))
-        .unwrap();
+    let m =
+        compare::compare_maps(&maps, &sel("bare"), &sel("mechanistic(amplitude: 1.0)")).unwrap();
     assert_eq!(m.len(), 1);
     assert_eq!(m[0].ys, vec![1.0]);
     use MapCell::*;
     assert_eq!(m[0].cells, vec![vec![BothOverturn, OnlyBSurvives, Missing]]);
-    let m = compare::compare_maps(&maps, &sel("bare(frequency: [1.0, 3.0])"), &sel("mechanistic"))
-        .unwrap();
+    let m = compare::compare_maps(
+        &maps,
+        &sel("bare(frequency: [1.0, 3.0])"),
+        &sel("mechanistic"),
+    )
+    .unwrap();
     assert_eq!(m[0].xs, vec![1.0, 3.0]);
     assert_eq!(m[0].ys, vec![0.5, 1.0]);
     assert_eq!(m[0].cells[0], vec![BothSurvive, OnlyASurvives]);

@@ -332,7 +332,10 @@ fn a_study_takes_bare_for_the_bare_structure_as_results_name_it() {
     let text =
         std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("studies/default.ron"))
             .unwrap();
-    assert!(text.contains("none"), "default.ron names the bare structure `none`");
+    assert!(
+        text.contains("none"),
+        "default.ron names the bare structure `none`"
+    );
     let bare = text.replacen("none", "bare", 1);
     let (a, b) = (
         Study::from_ron_str(&text, "default.ron").unwrap(),

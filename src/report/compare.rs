@@ -302,14 +302,14 @@ pub fn compare_spectra(
             }
         }
         out.push(SpectrumPair {
-                quantity,
-                a: sa.label.clone(),
-                b: sb.label.clone(),
-                a_group: sa.group.clone(),
-                b_group: sb.group.clone(),
-                axis: sa.axis.clone(),
-                stats: pair_stats(&points),
-                points,
+            quantity,
+            a: sa.label.clone(),
+            b: sb.label.clone(),
+            a_group: sa.group.clone(),
+            b_group: sb.group.clone(),
+            axis: sa.axis.clone(),
+            stats: pair_stats(&points),
+            points,
         });
     }
     Ok(out)
@@ -379,7 +379,11 @@ impl MapComparison {
     /// The comparison on the kept columns (`keep_x`) and rows (`keep_y`) only.
     pub fn cropped(self, keep_x: &[bool], keep_y: &[bool]) -> MapComparison {
         let pick = |v: &[f64], keep: &[bool]| -> Vec<f64> {
-            v.iter().zip(keep).filter(|(_, k)| **k).map(|(x, _)| *x).collect()
+            v.iter()
+                .zip(keep)
+                .filter(|(_, k)| **k)
+                .map(|(x, _)| *x)
+                .collect()
         };
         let cells = self
             .cells

@@ -38,7 +38,10 @@ pub fn plot_maps(
         let keep_x = keep_on_axes(axis_id(&m.x_axis), &m.xs, &on_axes)?;
         let keep_y = keep_on_axes(axis_id(&m.y_axis), &m.ys, &on_axes)?;
         let rows = |grid: &[Vec<Option<_>>]| -> Vec<Vec<Option<_>>> {
-            kept(grid, &keep_y).iter().map(|r| kept(r, &keep_x)).collect()
+            kept(grid, &keep_y)
+                .iter()
+                .map(|r| kept(r, &keep_x))
+                .collect()
         };
         cropped.push(OverturningMap {
             xs: kept(&m.xs, &keep_x),

@@ -2,17 +2,17 @@
 //! suites as mean ± one standard deviation, overturned points in a strip above the data.
 
 use super::{
-    MAX_SERIES, PlotChoice, coordinate_axis, device_name, example_of, figure_title, panel_letter,
-    keep_on_axes, kept, range_of, selection,
+    MAX_SERIES, PlotChoice, coordinate_axis, device_name, example_of, figure_title, keep_on_axes,
+    kept, panel_letter, range_of, selection,
 };
 use crate::numfmt::fmt_num;
 use crate::report::aggregate::{Group, PointState, Spectrum};
-use crate::report::select::axis_id;
 use crate::report::export::parameter;
 use crate::report::figure::{
     Axes, Canvas, Dash, FigureOptions, FigureSize, LINE_PT, LegendEntry, Marker, SeriesStyle,
     Swatch, build_chart, draw_line, draw_markers, err, render, split_figure,
 };
+use crate::report::select::axis_id;
 use crate::study::Quantity;
 use crate::sweep::{SceneOutcome, SweepResults};
 use plotters::coord::Shift;
@@ -153,7 +153,11 @@ pub fn plot_spectra(
     choice: &PlotChoice,
 ) -> crate::error::Result<Option<PathBuf>> {
     let groups: Vec<&Group> = spectra.iter().map(|s| &s.group).collect();
-    let axes: Vec<&str> = spectra.first().and_then(|s| axis_id(&s.axis)).into_iter().collect();
+    let axes: Vec<&str> = spectra
+        .first()
+        .and_then(|s| axis_id(&s.axis))
+        .into_iter()
+        .collect();
     let (picked, on_axes) = selection(choice, &groups, &axes)?;
     // Filters on the spectrum's axis (`frequency: [1.0, 2.0]`) keep those points.
     let mut cropped: Vec<Spectrum> = Vec::new();
