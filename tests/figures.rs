@@ -419,7 +419,8 @@ fn selectors_pick_series_and_facets_split_them_into_rows() {
         assert_eq!(row.len(), per_row, "{texts:?}");
         assert_eq!(row[0], first, "row {i} starts at ({first}) in {texts:?}");
     }
-    // Nothing matches: no figure, no error.
+    // Nothing matches: an error naming the devices there are, never a figure silently left
+    // out (issue 42, item 3).
     let none = report::plot_spectra(
         dir.path(),
         &svg_options(),
@@ -430,8 +431,9 @@ fn selectors_pick_series_and_facets_split_them_into_rows() {
             ..Default::default()
         },
     )
-    .unwrap();
-    assert!(none.is_none());
+    .unwrap_err()
+    .to_string();
+    assert!(none.contains("sequential, mechanistic"), "{none}");
     // An unknown facet parameter is an error naming the parameters there are.
     let e = report::plot_spectra(
         dir.path(),

@@ -313,7 +313,7 @@ fn a_fragility_run_in_the_workbench_shows_its_curves_at_once() {
         excitation: record(suite: (name: "far_field"), scale: [2.0, 4.0, 7.0], scale_to: pga_star, tail: 5.0),
         quantities: [peak_rotation_ratio],
         spectrum: scale,
-        fragility: (damage_states: levels([1.0]), bootstrap: 50, seed: 3),
+        fragility: (damage_states: levels([1.0]), bootstrap: 200, seed: 3),
     )"#;
     let out_root = PathBuf::from("target/tui-tests/fragility-run");
     let _ = std::fs::remove_dir_all(&out_root);

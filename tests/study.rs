@@ -127,7 +127,7 @@ const GOOD: &str = r#"(
 /// The bad-input cases: (snapshot name, replace this, by this).
 const CASES: &[(&str, &str, &str)] = &[
     ("unknown_field", "alpha: 0.1745", "alpah: 0.1745"),
-    ("unknown_device", "none,", "bare,"),
+    ("unknown_device", "none,", "bogus,"),
     (
         "unknown_clutch_field",
         "cbar: 1.0)",

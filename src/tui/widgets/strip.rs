@@ -191,14 +191,24 @@ pub fn axis_line(xs: &[f64], st: &Strip, indent: usize, axis: &str) -> Line<'sta
     }
     put(width, &fmt_num(xs[last]));
     // A window narrower than the axis says which part it shows: never data cut unmarked.
+    // The mark goes in the label column (blank on this line) so the line is no wider than
+    // the rows above it; after the axis name only if that column is too narrow.
     let more = if st.count < xs.len() {
-        format!("  [{}–{} of {}]", first + 1, last + 1, xs.len())
+        format!("[{}–{} of {}] ", first + 1, last + 1, xs.len())
     } else {
         String::new()
     };
+    let more_len = more.chars().count();
+    let (lead, tail) = if more_len <= indent {
+        (
+            format!("{}{more}", " ".repeat(indent - more_len)),
+            String::new(),
+        )
+    } else {
+        (" ".repeat(indent), format!("  {}", more.trim_end()))
+    };
     Line::raw(format!(
-        "{}{}  {axis}{more}",
-        " ".repeat(indent),
+        "{lead}{}  {axis}{tail}",
         cells.into_iter().collect::<String>()
     ))
 }
