@@ -24,6 +24,7 @@ mod fragility_run;
 mod fragility_views;
 mod fuzz;
 mod hard_cases;
+mod ims;
 mod lost_events;
 mod messages;
 mod paper;

@@ -8,6 +8,7 @@ pub mod compare;
 pub mod paper;
 pub mod plot;
 pub mod records;
+mod records_ims;
 mod records_suite;
 pub mod run;
 pub mod simulate;

@@ -1,7 +1,7 @@
 //! `rocklab records --suite NAME`: the components of a record suite with their metadata
 //! (`index.csv`) and the npts, dt, PGA and PGV rocklab computes from the data.
 
-use super::records::{RecordsArgs, row_json, truncate};
+use super::records::{RecordsArgs, row_json, standard_pgv, truncate};
 use crate::excitation::suite::{SuiteRecord, SuiteSelect};
 use crate::excitation::{G, Library, Record};
 use std::sync::Arc;
@@ -18,6 +18,18 @@ pub fn run(library: &Library, suite: &str, args: &RecordsArgs) -> anyhow::Result
             library.suite_entry(name),
             library.load(name, args.baseline)?,
         ));
+    }
+    if args.ims {
+        let listed = rows
+            .into_iter()
+            .map(|(entry, record)| super::records_ims::Listed {
+                meta: json(entry, &record),
+                name: entry.map_or_else(|| record.name.clone(), SuiteRecord::id),
+                pair: entry.map(|e| (e.set.name().to_string(), e.row.record_id)),
+                record,
+            })
+            .collect();
+        return super::records_ims::run(listed, args);
     }
     if args.json {
         let list: Vec<_> = rows.iter().map(|(e, r)| json(*e, r)).collect();
@@ -57,7 +69,7 @@ fn json(entry: Option<&SuiteRecord>, r: &Record) -> serde_json::Value {
         "dt": s.dt(),
         "duration": s.end(),
         "pga_g": s.pga() / G,
-        "pgv": s.pgv(),
+        "pgv": standard_pgv(r),
         "index_npts": m.npts,
         "index_dt": m.dt,
         "index_pga_g": m.pga_g,
@@ -67,9 +79,10 @@ fn json(entry: Option<&SuiteRecord>, r: &Record) -> serde_json::Value {
 
 fn table(suite: &str, rows: &[(Option<&SuiteRecord>, Arc<Record>)]) -> String {
     let mut out = format!(
-        "suite {suite}: {} components. PGA (g) and PGV (m/s) computed from the data (g = {G}); \
+        "suite {suite}: {} components. PGA (g) and PGV (m/s) computed from the data (g = {}); \
          FEMA NF = the FEMA P695 normalisation factor (`scale_to: fema`).\n",
-        rows.len()
+        rows.len(),
+        crate::excitation::ims::STANDARD_GRAVITY
     );
     out.push_str(&format!(
         "{:<24} {:>5} {:<36} {:>4} {:>5} {:<2} {:<18} {:>6} {:>6} {:>6} {:>6} {:>6} {:>5} {:<5}\n",
@@ -106,7 +119,7 @@ fn table(suite: &str, rows: &[(Option<&SuiteRecord>, Arc<Record>)]) -> String {
                     s.dt(),
                     s.end(),
                     s.pga() / G,
-                    s.pgv(),
+                    standard_pgv(r),
                     m.normalization_factor,
                     e.set.pulse().map_or("-", |p| if p { "yes" } else { "no" }),
                 )
@@ -133,7 +146,7 @@ fn table(suite: &str, rows: &[(Option<&SuiteRecord>, Arc<Record>)]) -> String {
                     s.dt(),
                     s.end(),
                     s.pga() / G,
-                    s.pgv(),
+                    standard_pgv(r),
                     "-",
                     // Table 1's records are the paper's pulse-like set.
                     if meta.and_then(|m| m.table1).is_some() {

@@ -147,7 +147,9 @@ const FIELD_HELP: &[(&str, &str)] = &[
     (
         "scale_to",
         "what scale means: factor, pga (g), pgv (m/s), pga_star (PGA/(g·tanα)), \
-         pgv_star (PGV·p/(g·tanα)) or fema (factor × FEMA P695 normalisation)",
+         pgv_star (PGV·p/(g·tanα)), fema (factor × FEMA P695 normalisation), \
+         sa(period: T) (Sa(T) in g, ξ = 0.05 unless damping: is given), \
+         sa_avg(from: T1, to: T2) (geometric mean of Sa, g) or arias (m/s)",
     ),
     ("baseline", "baseline-correct the records first"),
     (

@@ -274,7 +274,7 @@ pub enum ExcitationFamily {
 }
 
 /// What a record's `scale` value means.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RecordScaling {
     /// a_g = scale · record.
@@ -291,6 +291,18 @@ pub enum RecordScaling {
     /// FEMA P695 normalisation: a_g = `scale` · (the record's normalisation factor) · record
     /// (suite records only; the factor is in their `index.csv`).
     Fema,
+    /// Scaled to Sa(T, ξ) = `scale` g: the record's pseudo-spectral acceleration at `period`
+    /// (s), damping ratio `damping` (default 0.05), as `excitation::ims` computes it.
+    Sa {
+        period: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        damping: Option<f64>,
+    },
+    /// Scaled to Sa_avg = `scale` g: the geometric mean of Sa (ξ = 0.05) at ten log-spaced
+    /// periods from `from` to `to` (s).
+    SaAvg { from: f64, to: f64 },
+    /// Scaled to an Arias intensity of `scale` m/s (it grows with the factor squared).
+    Arias,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -204,7 +204,12 @@ fn build_excitation(
                 .map(|names| names[index].clone())
                 .unwrap_or_default();
             Ok(Excitation::Record {
-                scale: crate::study::suites::scene_scale(*scale_to, value("scale"), &name)?,
+                scale: crate::study::suites::scene_scale(
+                    *scale_to,
+                    value("scale"),
+                    &name,
+                    *baseline,
+                )?,
                 name,
                 baseline: *baseline,
                 kinks: *kinks,
