@@ -19,71 +19,32 @@ Sa at periods below 6 dt is the PGA; the comparison skips those periods.
 """
 
 import argparse
-import glob
+import importlib.util
 import json
 import os
 import subprocess
 import time
 
 import numpy as np
-import eqsig
 
-G0 = 9.80665
-SETS = {"far_field": "farfield", "near_field_pulse": "nearfield_pulse",
-        "near_field_no_pulse": "nearfield_no_pulse"}
+# The FEMA components and eqsig's IMs, as the test reference computes them.
+_spec = importlib.util.spec_from_file_location(
+    "ims_reference", os.path.join(os.path.dirname(__file__), "ims-reference.py"))
+ref_mod = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(ref_mod)
+
+SETS = list(ref_mod.FOLDERS)
 PERIODS = np.geomspace(0.05, 5.0, 100)
-
-
-def read(path):
-    dt = None
-    values = []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#"):
-                if line.lower().startswith("# dt:"):
-                    dt = float(line.split(":")[1])
-                continue
-            values.append(float(line))
-    return dt, np.array(values) * G0
-
-
-def eqsig_ims(dt, acc):
-    sig = eqsig.AccSignal(acc, dt)
-    vel = sig.velocity
-    disp = sig.displacement
-    ia = eqsig.im.calc_arias_intensity(sig)[-1] * 9.81 / G0
-    cav = eqsig.im.calc_cav(sig)[-1]
-    d575 = eqsig.im.calc_sig_dur(sig, 0.05, 0.75)
-    d595 = eqsig.im.calc_sig_dur(sig, 0.05, 0.95)
-    _, _, sa = eqsig.sdof.pseudo_response_spectra(acc, dt, PERIODS, 0.05)
-    return {
-        "pga_g": np.max(np.abs(acc)) / G0,
-        "pgv_m_s": np.max(np.abs(vel)),
-        "pgd_m": np.max(np.abs(disp)),
-        "arias_m_s": ia,
-        "cav_m_s": cav,
-        "d5_75_s": d575,
-        "d5_95_s": d595,
-        "sa_g": sa / G0,
-    }
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--rocklab", default="target/release/rocklab")
     args = ap.parse_args()
-    files = {}
-    for suite, folder in SETS.items():
-        index = os.path.join("records/fema-p695", folder, "index.csv")
-        import csv
-        with open(index) as f:
-            for row in csv.DictReader(f):
-                name = f"{suite}/{row['record_id']}{row['component']}"
-                files[name] = os.path.join("records/fema-p695", folder, row["file"])
-    records = {name: read(path) for name, path in files.items()}
+    records = {name: (dt, acc) for name, dt, acc in ref_mod.components()}
 
     t0 = time.perf_counter()
-    ref = {name: eqsig_ims(dt, acc) for name, (dt, acc) in records.items()}
+    ref = {name: ref_mod.eqsig_ims(dt, acc, PERIODS) for name, (dt, acc) in records.items()}
     t_eqsig = time.perf_counter() - t0
 
     periods = ",".join(repr(float(p)) for p in PERIODS)
@@ -108,7 +69,7 @@ def main():
     for n, (dt, _) in records.items():
         keep = PERIODS >= 6 * dt
         a = np.array(ours[n]["sa_g"])[keep]
-        b = ref[n]["sa_g"][keep]
+        b = np.array(ref[n]["sa_g"])[keep]
         worst = max(worst, float(np.max(np.abs(a / b - 1.0))))
     print(f"  sa_g       largest relative difference {worst:.2e} (periods >= 6 dt)")
 

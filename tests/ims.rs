@@ -37,14 +37,25 @@ fn records_ims_json_lists_every_measure() {
     assert_eq!(rows.len(), 56);
     for r in rows {
         for key in [
-            "pga_g", "pgv_m_s", "pgd_m", "arias_m_s", "cav_m_s", "d5_75_s", "d5_95_s", "tm_s",
+            "pga_g",
+            "pgv_m_s",
+            "pgd_m",
+            "arias_m_s",
+            "cav_m_s",
+            "d5_75_s",
+            "d5_95_s",
+            "tm_s",
         ] {
             assert!(r[key].as_f64().is_some_and(|v| v > 0.0), "{key}: {r}");
         }
         assert_eq!(r["periods_s"], serde_json::json!([0.5, 1.0, 2.0]));
         assert_eq!(r["sa_g"].as_array().unwrap().len(), 3);
         assert!(r["d5_75_s"].as_f64() < r["d5_95_s"].as_f64());
-        assert_eq!(r["pulse_like"].as_bool().unwrap(), !r["tp_s"].is_null(), "{r}");
+        assert_eq!(
+            r["pulse_like"].as_bool().unwrap(),
+            !r["tp_s"].is_null(),
+            "{r}"
+        );
         // PGA in g as index.csv gives it; PGV at standard gravity, never below the index's
         // sample maximum and at most PGA·dt/2 above it.
         let pga = r["pga_g"].as_f64().unwrap();
@@ -58,7 +69,9 @@ fn records_ims_json_lists_every_measure() {
         let rot = r["rotd50_g"].as_array().expect("both components listed");
         let mate = rows
             .iter()
-            .find(|m| m["record_id"] == r["record_id"] && m["set"] == r["set"] && m["name"] != r["name"])
+            .find(|m| {
+                m["record_id"] == r["record_id"] && m["set"] == r["set"] && m["name"] != r["name"]
+            })
             .unwrap();
         for i in 0..3 {
             let (a, b) = (
@@ -66,7 +79,10 @@ fn records_ims_json_lists_every_measure() {
                 mate["sa_g"][i].as_f64().unwrap(),
             );
             let x = rot[i].as_f64().unwrap();
-            assert!(x <= (a * a + b * b).sqrt() + 1e-12 && x >= a.min(b) * 0.5f64.sqrt(), "{r}");
+            assert!(
+                x <= (a * a + b * b).sqrt() + 1e-12 && x >= a.min(b) * 0.5f64.sqrt(),
+                "{r}"
+            );
         }
     }
 }
@@ -98,9 +114,16 @@ fn near_field_pulse_calls_follow_femas_split() {
         let fema = r["pulse"].as_bool().unwrap();
         let ours = r["pulse_like"].as_bool().unwrap();
         if ours {
-            *(if fema { &mut pulse_set } else { &mut no_pulse_set }) += 1;
+            *(if fema {
+                &mut pulse_set
+            } else {
+                &mut no_pulse_set
+            }) += 1;
         }
-        calls.push(format!("{} fema {fema} ours {ours} tp {}", r["name"], r["tp_s"]));
+        calls.push(format!(
+            "{} fema {fema} ours {ours} tp {}",
+            r["name"], r["tp_s"]
+        ));
     }
     assert_eq!(calls.len(), 28);
     assert!(
@@ -118,13 +141,16 @@ fn studies_scale_records_to_sa_sa_avg_and_arias() {
         (
             "sa(period: 1.0)",
             0.4,
-            (&|r: &Accelerogram| ims::spectrum::sa(r, &[1.0], 0.05).unwrap()[0] / ims::STANDARD_GRAVITY)
-                as &dyn Fn(&Accelerogram) -> f64,
+            (&|r: &Accelerogram| {
+                ims::spectrum::sa(r, &[1.0], 0.05).unwrap()[0] / ims::STANDARD_GRAVITY
+            }) as &dyn Fn(&Accelerogram) -> f64,
         ),
         (
             "sa(period: 0.5, damping: 0.02)",
             0.7,
-            &|r: &Accelerogram| ims::spectrum::sa(r, &[0.5], 0.02).unwrap()[0] / ims::STANDARD_GRAVITY,
+            &|r: &Accelerogram| {
+                ims::spectrum::sa(r, &[0.5], 0.02).unwrap()[0] / ims::STANDARD_GRAVITY
+            },
         ),
         ("sa_avg(from: 0.5, to: 2.0)", 0.3, &|r: &Accelerogram| {
             ims::spectrum::sa_avg(r, 0.5, 2.0, 0.05).unwrap() / ims::STANDARD_GRAVITY
@@ -150,10 +176,13 @@ fn studies_scale_records_to_sa_sa_avg_and_arias() {
                 panic!("{scale:?}")
             };
             let rec = accelerogram(name);
-            let scaled = Accelerogram::new(rec.dt, rec.accel.iter().map(|a| a * k).collect())
-                .unwrap();
+            let scaled =
+                Accelerogram::new(rec.dt, rec.accel.iter().map(|a| a * k).collect()).unwrap();
             let got = measure(&scaled);
-            assert!((got / target - 1.0).abs() < 1e-12, "{scale_to} {name}: {got}");
+            assert!(
+                (got / target - 1.0).abs() < 1e-12,
+                "{scale_to} {name}: {got}"
+            );
         }
     }
 }
@@ -169,7 +198,14 @@ fn bad_im_scalings_and_periods_are_clear_errors() {
     .unwrap_err();
     assert_eq!(e.field.as_deref(), Some("excitation.scale_to"), "{e}");
     assert!(e.to_string().contains("period -1"), "{e}");
-    let out = rocklab(&["records", "--suite", "table1", "--ims", "--periods", "0.5,-2"]);
+    let out = rocklab(&[
+        "records",
+        "--suite",
+        "table1",
+        "--ims",
+        "--periods",
+        "0.5,-2",
+    ]);
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--periods: -2"));
 }
@@ -197,20 +233,42 @@ fn fema_components_match_an_independent_implementation() {
         let dt = rec.dt;
         let kin = ims::kinematics(&rec);
         let pga = rec.accel.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
-        assert!(rel(pga / ims::STANDARD_GRAVITY, f("pga_g")) < 1e-12, "{name}");
+        assert!(
+            rel(pga / ims::STANDARD_GRAVITY, f("pga_g")) < 1e-12,
+            "{name}"
+        );
         let excess = kin.pgv - f("pgv_m_s");
-        assert!((-1e-12..=0.5 * pga * dt).contains(&excess), "{name}: PGV {excess}");
-        assert!(rel(kin.pgd, f("pgd_m")) < 1e-3, "{name}: PGD {} {}", kin.pgd, f("pgd_m"));
-        assert!(rel(ims::arias(&rec), f("arias_m_s")) < 1e-10, "{name}: Arias");
+        assert!(
+            (-1e-12..=0.5 * pga * dt).contains(&excess),
+            "{name}: PGV {excess}"
+        );
+        assert!(
+            rel(kin.pgd, f("pgd_m")) < 1e-3,
+            "{name}: PGD {} {}",
+            kin.pgd,
+            f("pgd_m")
+        );
+        assert!(
+            rel(ims::arias(&rec), f("arias_m_s")) < 1e-10,
+            "{name}: Arias"
+        );
         assert!(rel(ims::cav(&rec), f("cav_m_s")) < 1e-10, "{name}: CAV");
         for (from, to, key) in [(0.05, 0.75, "d5_75_s"), (0.05, 0.95, "d5_95_s")] {
             let d = ims::significant_duration(&rec, from, to);
-            assert!((d - f(key)).abs() <= 2.0 * dt + 1e-9, "{name}: {key} {d} {}", f(key));
+            assert!(
+                (d - f(key)).abs() <= 2.0 * dt + 1e-9,
+                "{name}: {key} {d} {}",
+                f(key)
+            );
         }
         let sa = ims::spectrum::sa(&rec, &periods, 0.05).unwrap();
         for (i, s) in sa.iter().enumerate() {
             let r = want["sa_g"][i].as_f64().unwrap();
-            assert!(rel(s / ims::STANDARD_GRAVITY, r) < 1e-6, "{name}: Sa({}) {s} {r}", periods[i]);
+            assert!(
+                rel(s / ims::STANDARD_GRAVITY, r) < 1e-6,
+                "{name}: Sa({}) {s} {r}",
+                periods[i]
+            );
         }
     }
 }
