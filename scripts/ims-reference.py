@@ -6,6 +6,11 @@ eqsig computes them (an implementation independent of rocklab), for tests/ims.rs
 
 Records in g are converted with g = 9.80665; eqsig's Arias (g = 9.81) is rescaled to it.
 PGV and PGD are eqsig's sample maxima, durations its sample-based readings; Sa at 5 %.
+eqsig's displacement integrates its velocity by the trapezoid rule, which is not the issue's
+definition (the exact integral of the piecewise-linear record), so `pgv_exact_m_s` and
+`pgd_exact_m` are that definition written here again with numpy (closed-form velocity and
+displacement at the samples, and the peaks between them where a or v changes sign), for
+rocklab's continuous peaks to be checked to rounding.
 """
 import csv
 import json
@@ -56,10 +61,45 @@ def eqsig_ims(dt, acc, periods):
     }
 
 
+def exact_peaks(dt, acc):
+    """PGV and PGD of the piecewise-linear record from rest, peaks between samples included."""
+    a0, a1 = acc[:-1], acc[1:]
+    b = (a1 - a0) / dt
+    v = np.concatenate([[0.0], np.cumsum(0.5 * (a0 + a1) * dt)])
+    d = np.concatenate([[0.0], np.cumsum(v[:-1] * dt + a0 * dt**2 / 3 + a1 * dt**2 / 6)])
+    v0, d0 = v[:-1], d[:-1]
+    pgv, pgd = np.max(np.abs(v)), np.max(np.abs(d))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # v is extreme where a(t) = a0 + b t = 0 inside the step.
+        t = -a0 / b
+        inside = (b != 0) & (t > 0) & (t < dt)
+        vt = v0 + a0 * t + 0.5 * b * t**2
+        if inside.any():
+            pgv = max(pgv, np.max(np.abs(vt[inside])))
+        # d is extreme where v(t) = v0 + a0 t + b t²/2 = 0 inside the step.
+        roots = []
+        disc = a0**2 - 2 * b * v0
+        ok = disc >= 0
+        sq = np.sqrt(np.where(ok, disc, 0.0))
+        quad = b != 0
+        roots.append(np.where(quad, (-a0 + sq) / b, np.nan))
+        roots.append(np.where(quad, (-a0 - sq) / b, np.nan))
+        roots.append(np.where(~quad & (a0 != 0), -v0 / a0, np.nan))
+        for t in roots:
+            inside = ok & np.isfinite(t) & (t > 0) & (t < dt)
+            dt_ = d0 + v0 * t + 0.5 * a0 * t**2 + b * t**3 / 6
+            if inside.any():
+                pgd = max(pgd, np.max(np.abs(dt_[inside])))
+    return float(pgv), float(pgd)
+
+
 def main():
     out = {"eqsig": eqsig.__version__, "periods_s": PERIODS, "components": {}}
     for name, dt, acc in components():
         out["components"][name] = eqsig_ims(dt, acc, PERIODS)
+        pgv, pgd = exact_peaks(dt, acc)
+        out["components"][name]["pgv_exact_m_s"] = pgv
+        out["components"][name]["pgd_exact_m"] = pgd
     with open("tests/data/fema_ims_eqsig.json", "w") as f:
         json.dump(out, f, indent=1, sort_keys=True)
         f.write("\n")
