@@ -26,6 +26,7 @@ mod fragility_views;
 mod fuzz;
 mod hard_cases;
 mod ims;
+mod ims_report;
 mod lost_events;
 mod messages;
 mod paper;

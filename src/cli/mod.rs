@@ -5,6 +5,7 @@ mod bench_quantities;
 mod bench_suite;
 pub mod check;
 pub mod compare;
+pub mod ims;
 pub mod paper;
 pub mod plot;
 pub mod records;
@@ -58,6 +59,9 @@ pub enum Command {
     Check(check::CheckArgs),
     /// The paper's results-section claims rerun against rocklab: the PAPER.md table.
     Paper(paper::PaperArgs),
+    /// Which intensity measure predicts each damage state best: β of ln IDA capacity per
+    /// IM, variant and damage state, with bootstrap intervals and magnitude sufficiency.
+    Ims(ims::ImsArgs),
     /// Figures from a results file: spectra, overturning maps, a scene's histories.
     Plot(plot::PlotArgs),
     /// The results as CSV, long (tidy) or wide, with ASCII column names.
@@ -179,6 +183,7 @@ pub fn main() -> ExitCode {
                 | Command::Plot(_)
                 | Command::Status(_)
                 | Command::Table(_)
+                | Command::Ims(_)
         )
     ) {
         quiet_on_broken_pipe();
@@ -196,6 +201,7 @@ pub fn main() -> ExitCode {
         Some(Command::Check(args)) => check::run(&args),
         Some(Command::Plot(args)) => plot::run(&args),
         Some(Command::Paper(args)) => paper::run(&args),
+        Some(Command::Ims(args)) => ims::run(&args),
         Some(Command::Table(args)) => table::run(&args),
         Some(Command::Tui(args)) => tui(&args),
         None => tui(&TuiArgs {

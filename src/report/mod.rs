@@ -8,6 +8,7 @@ mod export;
 mod figure;
 pub mod fragility;
 pub mod ida;
+pub mod ims;
 mod legend;
 pub mod naming;
 mod plot;

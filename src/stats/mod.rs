@@ -11,7 +11,7 @@
 //! The contract with the engine is /work/notes/fragility-interface.md (copied into the types
 //! below); degenerate fits are statuses, never numbers.
 
-mod bootstrap;
+pub(crate) mod bootstrap;
 mod fit;
 mod normal;
 #[cfg(test)]

@@ -14,7 +14,7 @@ pub mod fields;
 pub mod fragility;
 mod param;
 mod strict;
-mod suites;
+pub(crate) mod suites;
 mod values;
 pub mod writer;
 

@@ -56,7 +56,7 @@ impl ExcitationFamily {
 }
 
 /// The scene scaling of record `name` for the study value `value` of `scale`.
-pub(super) fn scene_scale(
+pub(crate) fn scene_scale(
     scale_to: RecordScaling,
     value: f64,
     name: &str,
