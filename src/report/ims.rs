@@ -57,6 +57,11 @@ pub struct ImRow {
     pub p_magnitude: Option<f64>,
 }
 
+/// (IM name, its value for the unscaled record, its scaling exponent).
+type Measure = (String, f64, i32);
+/// (record, baseline, α bits, p bits).
+type RecordKey = (String, bool, u64, u64);
+
 /// One finished hunt that reached a damage state: its capacity in each IM and its magnitude.
 struct Capacity {
     variant: Variant,
@@ -72,7 +77,7 @@ fn measures(
     record: &crate::excitation::library::Record,
     alpha: f64,
     p: f64,
-) -> Result<Vec<(String, f64, i32)>> {
+) -> Result<Vec<Measure>> {
     let acc = Accelerogram::from_series(&record.series).context("intensity measures")?;
     let block_period = 2.0 * std::f64::consts::PI / p;
     let mut periods = SA_PERIODS.to_vec();
@@ -150,7 +155,7 @@ pub fn report(study: &Study, results: &SweepResults) -> Result<Vec<ImRow>> {
     let library = library::global().context("the record library")?;
     let on_grid: Vec<&ScenePoint> = Vec::new();
     let mut caps: Vec<Capacity> = Vec::new();
-    let mut cache: BTreeMap<(String, bool, u64, u64), Vec<(String, f64, i32)>> = BTreeMap::new();
+    let mut cache: BTreeMap<RecordKey, Vec<Measure>> = BTreeMap::new();
     for r in search.records() {
         if !r.done || r.failed {
             continue;
