@@ -65,10 +65,14 @@ fn compute(
         .into_par_iter()
         .map(|i| match partner(i) {
             // Computed once per pair, at its first component, and copied to the second.
+            // A pair whose components differ in dt or length (far_field/15: 2676 and 2300
+            // samples) has no RotD50 (null), rather than failing the whole listing.
             Some((a, b)) if a == i => {
-                ims::spectrum::rotd50(&records[a], &records[b], periods, damping)
-                    .map(|v| Some(v.iter().map(|s| s / ims::STANDARD_GRAVITY).collect()))
-                    .map_err(|e| anyhow::anyhow!("{}: {e}", listed[i].name))
+                match ims::spectrum::rotd50(&records[a], &records[b], periods, damping) {
+                    Ok(v) => Ok(Some(v.iter().map(|s| s / ims::STANDARD_GRAVITY).collect())),
+                    Err(ims::ImError::Pair(_)) => Ok(None),
+                    Err(e) => Err(anyhow::anyhow!("{}: {e}", listed[i].name)),
+                }
             }
             _ => Ok(None),
         })
