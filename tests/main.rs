@@ -36,6 +36,7 @@ mod readme;
 mod records_cli;
 mod records_sim;
 mod rigid;
+mod risk;
 mod robustness;
 mod saving;
 mod scene_history;

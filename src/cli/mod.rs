@@ -9,6 +9,7 @@ pub mod paper;
 pub mod plot;
 pub mod records;
 mod records_suite;
+pub mod risk;
 pub mod run;
 pub mod simulate;
 pub mod slurm;
@@ -57,6 +58,10 @@ pub enum Command {
     Check(check::CheckArgs),
     /// The paper's results-section claims rerun against rocklab: the PAPER.md table.
     Paper(paper::PaperArgs),
+    /// Seismic risk at a site: the mean annual frequency of reaching each damage state from a
+    /// fragility study's results and a hazard curve, bare against protected, with intervals;
+    /// FEMA P695 collapse margins with --mce.
+    Risk(risk::RiskArgs),
     /// Figures from a results file: spectra, overturning maps, a scene's histories.
     Plot(plot::PlotArgs),
     /// The results as CSV, long (tidy) or wide, with ASCII column names.
@@ -176,6 +181,7 @@ pub fn main() -> ExitCode {
                 | Command::Bench(_)
                 | Command::Compare(_)
                 | Command::Plot(_)
+                | Command::Risk(_)
                 | Command::Status(_)
                 | Command::Table(_)
         )
@@ -194,6 +200,7 @@ pub fn main() -> ExitCode {
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Check(args)) => check::run(&args),
         Some(Command::Plot(args)) => plot::run(&args),
+        Some(Command::Risk(args)) => risk::run(&args),
         Some(Command::Paper(args)) => paper::run(&args),
         Some(Command::Table(args)) => table::run(&args),
         Some(Command::Tui(args)) => tui(&args),

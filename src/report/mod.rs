@@ -12,6 +12,8 @@ mod legend;
 pub mod naming;
 mod plot;
 mod plot_design;
+pub mod risk;
+mod risk_plot;
 pub mod select;
 pub mod stripes;
 
@@ -32,6 +34,7 @@ pub use plot::{
     scene_label, scene_title,
 };
 pub use plot_design::plot_design;
+pub use risk_plot::plot_risk;
 
 use crate::sim::History;
 use std::path::Path;

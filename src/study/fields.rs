@@ -34,6 +34,13 @@ pub const OPTIONAL_FIELDS: &[OptionalField] = &[
         "fragility",
         "(damage_states: levels([0.2, 0.5, 1.0]))",
     ),
+    optional(
+        "study",
+        "risk",
+        "(hazard: \"hazards/illustrative_pga.csv\", years: 50.0)",
+    ),
+    optional("risk", "mce", "0.7"),
+    optional("risk", "beta_total", "0.525"),
     optional("rigid", "size", "1.0"),
     optional("rigid", "p", "2.0"),
     optional("flexible", "omega_n", "10.0"),
@@ -158,6 +165,28 @@ const FIELD_HELP: &[(&str, &str)] = &[
     (
         "damage_states",
         "levels([…]) or twelve (0.01 … 1): thresholds of the damage measure",
+    ),
+    (
+        "risk",
+        "seismic risk at a site from the fragility curves: (hazard: \"FILE\", years, mce, \
+         beta_total); writes risk.csv, risk.json and risk.svg",
+    ),
+    (
+        "hazard",
+        "the site's hazard curve CSV (header pga,annual_rate or pgv,annual_rate), relative to \
+         the study file's directory",
+    ),
+    (
+        "years",
+        "years of exposure for p_years = 1 − exp(−MAF · years)",
+    ),
+    (
+        "mce",
+        "FEMA P695 margins: the MCE intensity in the hazard's IM (with beta_total)",
+    ),
+    (
+        "beta_total",
+        "FEMA P695 margins: the total collapse uncertainty β_TOT (Table 7-2)",
     ),
     (
         "measure",
