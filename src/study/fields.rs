@@ -39,8 +39,6 @@ pub const OPTIONAL_FIELDS: &[OptionalField] = &[
         "risk",
         "(hazard: \"hazards/illustrative_pga.csv\", years: 50.0)",
     ),
-    optional("risk", "mce", "0.7"),
-    optional("risk", "beta_total", "0.525"),
     optional("rigid", "size", "1.0"),
     optional("rigid", "p", "2.0"),
     optional("flexible", "omega_n", "10.0"),
