@@ -34,11 +34,11 @@ const SEQ: usize = 1;
 const MECH: usize = 2;
 
 /// `m` per record (real ones, or the stand-ins) for device index `d`.
-fn per_record(d: usize, m: Measure, real: bool) -> anyhow::Result<Vec<Series>> {
+fn per_record(d: usize, m: Measure, real: bool) -> crate::error::Result<Vec<Series>> {
     per_record_of(&devices()[d], m, real)
 }
 
-fn per_record_of(device: &Device, m: Measure, real: bool) -> anyhow::Result<Vec<Series>> {
+fn per_record_of(device: &Device, m: Measure, real: bool) -> crate::error::Result<Vec<Series>> {
     RECORDS
         .iter()
         .filter(|(_, r)| *r == real)
@@ -52,7 +52,7 @@ fn mech(change: fn(&mut crate::scene::Clutch)) -> Device {
 }
 
 /// The real records' series of device `d` end to end.
-fn flat(d: usize, m: Measure) -> anyhow::Result<Series> {
+fn flat(d: usize, m: Measure) -> crate::error::Result<Series> {
     Ok(per_record(d, m, true)?.concat())
 }
 
@@ -63,23 +63,23 @@ fn beside(
     a: usize,
     b: usize,
     m: Measure,
-) -> anyhow::Result<Judgement> {
+) -> crate::error::Result<Judgement> {
     let s = fair::compare(
         relation,
         &per_record(a, m, false)?.concat(),
         &per_record(b, m, false)?.concat(),
     );
-    Ok(j.with("beside: stand-ins' mean ratio", s.value("mean ratio")))
+    Ok(j.with("beside: stand-ins' mean ratio", s.value("mean ratio")?))
 }
 
-fn overturned(d: usize, real: bool) -> anyhow::Result<f64> {
+fn overturned(d: usize, real: bool) -> crate::error::Result<f64> {
     Ok(per_record(d, Measure::Rotation, real)?
         .iter()
         .map(|s| s.iter().filter(|x| x.is_none()).count())
         .sum::<usize>() as f64)
 }
 
-fn fig24_overturning() -> anyhow::Result<Row> {
+fn fig24_overturning() -> crate::error::Result<Row> {
     let bare = overturned(BARE, true)?;
     let j = fair::compare(
         Relation::MuchLower,
@@ -104,7 +104,7 @@ fn fig24_overturning() -> anyhow::Result<Row> {
 }
 
 /// Per ωn, the coefficient of variation of θmax/α over the real records (where all survive).
-fn dispersion(d: usize) -> anyhow::Result<Series> {
+fn dispersion(d: usize) -> crate::error::Result<Series> {
     let recs = per_record(d, Measure::Rotation, true)?;
     Ok((0..runs::record_axis().len())
         .map(|i| {
@@ -117,7 +117,7 @@ fn dispersion(d: usize) -> anyhow::Result<Series> {
         .collect())
 }
 
-fn fig24_dispersion() -> anyhow::Result<Row> {
+fn fig24_dispersion() -> crate::error::Result<Row> {
     let bare = dispersion(BARE)?;
     let mut a = bare.clone();
     a.extend(bare);
@@ -129,7 +129,7 @@ fn fig24_dispersion() -> anyhow::Result<Row> {
     Ok(judged("fig24-dispersion", j, ""))
 }
 
-fn clutched(m: Measure) -> anyhow::Result<(Series, Series)> {
+fn clutched(m: Measure) -> crate::error::Result<(Series, Series)> {
     let bare = flat(BARE, m)?;
     let mut a = bare.clone();
     a.extend(bare);
@@ -138,7 +138,7 @@ fn clutched(m: Measure) -> anyhow::Result<(Series, Series)> {
     Ok((a, b))
 }
 
-fn fig24_rotation_deformation() -> anyhow::Result<Row> {
+fn fig24_rotation_deformation() -> crate::error::Result<Row> {
     let (ra, rb) = clutched(Measure::Rotation)?;
     let (da, db) = clutched(Measure::Deformation)?;
     let j = fair::both(
@@ -153,14 +153,14 @@ fn fig24_rotation_deformation() -> anyhow::Result<Row> {
     Ok(judged("fig24-rotation-deformation", j, ""))
 }
 
-fn offset(m: Measure, mech: &Device) -> anyhow::Result<Judgement> {
+fn offset(m: Measure, mech: &Device) -> crate::error::Result<Judgement> {
     let seq = per_record(SEQ, m, true)?;
     let mech = per_record_of(mech, m, true)?;
     let pairs: Vec<(&Series, &Series)> = seq.iter().zip(&mech).collect();
     Ok(fair::constant_offset(&runs::record_axis(), &pairs, 0.08))
 }
 
-fn fig24_8pct() -> anyhow::Result<Row> {
+fn fig24_8pct() -> crate::error::Result<Row> {
     // Beside: the peak-of-spectrum ratio (dominated by low ωn).
     let mut peaks = Vec::new();
     for (m, name) in [
@@ -200,8 +200,8 @@ fn fig24_8pct() -> anyhow::Result<Row> {
     )
 }
 
-fn fig24_more_engagements() -> anyhow::Result<Row> {
-    let count = |d: usize| -> anyhow::Result<Series> {
+fn fig24_more_engagements() -> crate::error::Result<Row> {
+    let count = |d: usize| -> crate::error::Result<Series> {
         let mut v = Vec::new();
         for (name, real) in RECORDS {
             if real {
@@ -226,7 +226,7 @@ fn acceleration_band(
     device: &Device,
     real: bool,
     keep: impl Fn(f64) -> bool,
-) -> anyhow::Result<f64> {
+) -> crate::error::Result<f64> {
     let xs = runs::record_axis();
     let bare = per_record(BARE, Measure::Acceleration, real)?;
     let c = per_record_of(device, Measure::Acceleration, real)?;
@@ -240,10 +240,10 @@ fn acceleration_band(
     Ok(fair::mean(&fair::ratios(&a, &b)))
 }
 
-fn fig24_acceleration_hardest() -> anyhow::Result<Row> {
+fn fig24_acceleration_hardest() -> crate::error::Result<Row> {
     let xs = runs::record_axis();
     let inside = |w: f64| 12.0 < w && w < 18.0;
-    let hardest = |device: &Device, real: bool| -> anyhow::Result<Judgement> {
+    let hardest = |device: &Device, real: bool| -> crate::error::Result<Judgement> {
         let i = acceleration_band(device, real, inside)?;
         let o = acceleration_band(device, real, |w| !inside(w))?;
         Ok(fair::compare(
@@ -275,7 +275,7 @@ fn fig24_acceleration_hardest() -> anyhow::Result<Row> {
     let stand_ins = hardest(&devices()[MECH], false)?;
     j = j.with(
         "beside: stand-ins, mechanistic inside/outside",
-        stand_ins.value("mean ratio"),
+        stand_ins.value("mean ratio")?,
     );
     let reason = if j.verdict == super::Agreement::Agrees {
         String::new()
@@ -290,7 +290,7 @@ fn fig24_acceleration_hardest() -> anyhow::Result<Row> {
     Ok(judged("fig24-acceleration-hardest", j, reason))
 }
 
-fn fig24_mechanistic_acceleration() -> anyhow::Result<Row> {
+fn fig24_mechanistic_acceleration() -> crate::error::Result<Row> {
     let j = fair::compare(
         Relation::Larger,
         &flat(SEQ, Measure::Acceleration)?,
@@ -303,7 +303,7 @@ fn fig24_mechanistic_acceleration() -> anyhow::Result<Row> {
     Ok(judged("fig24-mechanistic-acceleration", j, ""))
 }
 
-fn fig24_el_centro() -> anyhow::Result<Row> {
+fn fig24_el_centro() -> crate::error::Result<Row> {
     let bare =
         Measure::Acceleration.series(&runs::record_spectrum("imperial_valley", Device::None)?);
     let mech = Measure::Acceleration.series(&runs::record_spectrum(
@@ -317,11 +317,11 @@ fn fig24_el_centro() -> anyhow::Result<Row> {
     j.values = vec![
         (
             "beside: stand-in, share of ωn with mechanistic above bare".into(),
-            stand_in.value("share above"),
+            stand_in.value("share above")?,
         ),
         (
             "beside: stand-in, mean ratio mechanistic/bare".into(),
-            stand_in.value("mean ratio"),
+            stand_in.value("mean ratio")?,
         ),
     ];
     j.check = format!(
@@ -331,7 +331,7 @@ fn fig24_el_centro() -> anyhow::Result<Row> {
     Ok(judged("fig24-el-centro", j, ""))
 }
 
-fn s9_clutch_increases_acceleration() -> anyhow::Result<Row> {
+fn s9_clutch_increases_acceleration() -> crate::error::Result<Row> {
     let (a, b) = clutched(Measure::Acceleration)?;
     let j = fair::compare(Relation::HigherSomewhere, &a, &b).on(&format!(
         "|ẍ + a_g|max/g, sequential and mechanistic each against bare; {FIG24}"

@@ -40,7 +40,7 @@ pub fn plot_risk(
     dir: &Path,
     options: &FigureOptions,
     report: &RiskReport,
-) -> anyhow::Result<Option<PathBuf>> {
+) -> crate::error::Result<Option<PathBuf>> {
     let rows = drawn(report);
     if rows.is_empty() {
         return Ok(None);
@@ -80,7 +80,7 @@ fn draw<DB: DrawingBackend>(
     legend: &[LegendEntry],
     report: &RiskReport,
     rows: &[&RiskRow],
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let (body, _) = split_figure(&root, canvas, title, legend)?;
     let areas = body.split_evenly((1, 3));
     let h = &report.hazard.curve;
