@@ -15,7 +15,7 @@ const STUDY: &str = r#"(
     excitation: record(suite: (name: "far_field"), scale: [2.0, 4.0, 8.0], scale_to: pga_star, tail: 10.0),
     quantities: [peak_rotation_ratio],
     spectrum: scale,
-    fragility: (damage_states: levels([0.5, 1.0]), bootstrap: 100, seed: 3),
+    fragility: (damage_states: levels([0.5, 1.0]), bootstrap: 200, seed: 3),
     risk: (hazard: "site.csv", years: 30.0, mce: 0.7, beta_total: 0.5),
 )"#;
 
@@ -79,11 +79,39 @@ fn a_risk_section_and_the_risk_command_give_cornells_closed_form() {
         }
         let lo: f64 = row[column(&header, "maf_lo")].parse().unwrap();
         let hi: f64 = row[column(&header, "maf_hi")].parse().unwrap();
-        assert!(0.0 < lo && lo <= hi, "{lo} {hi}");
+        assert!(0.0 < lo && lo <= maf && maf <= hi, "{lo} {maf} {hi}");
         let p: f64 = row[column(&header, "p_years")].parse().unwrap();
         assert!((p - (1.0 - (-30.0 * maf).exp())).abs() < 1e-15);
     }
     assert!(fitted >= 3, "{fitted} fitted curves");
+    // The ratio to bare at each state: the two rows' MAFs, and so Cornell's ratio
+    // (θ/θb)^−k exp(k²(β² − βb²)/2) of the two fits.
+    let mut ratios = 0;
+    for (row, curve) in rows.iter().zip(&fragility.curves) {
+        if curve.variant.is_bare() || curve.median.is_none() {
+            continue;
+        }
+        let Some((brow, bare)) = rows.iter().zip(&fragility.curves).find(|(_, b)| {
+            b.variant.is_bare() && b.damage_state == curve.damage_state && b.median.is_some()
+        }) else {
+            continue;
+        };
+        ratios += 1;
+        let get = |r: &csv::StringRecord, name: &str| -> f64 {
+            r[column(&header, name)].parse().unwrap()
+        };
+        let ratio = get(row, "maf_ratio");
+        assert!((ratio / (get(row, "maf") / get(brow, "maf")) - 1.0).abs() < 1e-12);
+        let (m, b) = (curve.median.unwrap(), curve.beta.unwrap());
+        let (mb, bb) = (bare.median.unwrap(), bare.beta.unwrap());
+        let closed = (m / mb).powf(-K) * (K * K * (b * b - bb * bb) / 2.0).exp();
+        // Both MAFs are the closed form to within what lies below the table.
+        let below = get(row, "share_below_table").max(get(brow, "share_below_table"));
+        assert!((ratio / closed - 1.0).abs() < 1e-9 + 2.0 * below, "{ratio} vs {closed}");
+        let (lo, hi) = (get(row, "maf_ratio_lo"), get(row, "maf_ratio_hi"));
+        assert!(0.0 < lo && lo <= hi, "{lo} {hi}");
+    }
+    assert!(ratios >= 1, "no protected curve beside a fitted bare one");
     // The overturning rows carry the P695 margin: CMR = median (g) / 0.7.
     let top = rows
         .iter()
@@ -119,6 +147,55 @@ fn a_risk_section_and_the_risk_command_give_cornells_closed_form() {
     );
     let printed = String::from_utf8_lossy(&o.stdout);
     assert!(printed.contains("MAF (1/yr)"), "{printed}");
+
+    // P695 margins from Table 7-2's ratings (β_RTR = 0.4 at μT = 3, 0.2 at μT = 1): β_TOT as
+    // Table 7-2 prints it, ACMR(p) = exp(√2 β erfc⁻¹(2p)) = exp(β z_{1−p}) with the standard
+    // normal quantiles z_0.9 and z_0.8, and Table 7-3's two-decimal values.
+    const Z90: f64 = 1.2815515655446004;
+    const Z80: f64 = 0.8416212335729143;
+    for (ratings, mu_t, beta, table_10, table_20) in [
+        ("A,A,A", "3", 0.425, 1.72, 1.43),
+        ("B,B,B", "3", 0.525, 1.96, 1.56),
+        ("C,C,C", "3", 0.725, 2.53, 1.84),
+        ("D,D,D", "3", 0.95, 3.38, 2.22),
+        ("B,B,B", "1", 0.4, 1.67, 1.40),
+    ] {
+        let margins = dir.path().join(format!("p695-{ratings}-{mu_t}"));
+        let o = crate::util::rocklab(&[
+            "risk",
+            out.to_str().unwrap(),
+            "--hazard",
+            hazard.to_str().unwrap(),
+            "--mce",
+            "0.7",
+            "--ratings",
+            ratings,
+            "--mu-t",
+            mu_t,
+            "--out",
+            margins.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let text = std::fs::read_to_string(margins.join("risk.csv")).unwrap();
+        let mut reader = csv::Reader::from_reader(text.as_bytes());
+        let header = reader.headers().unwrap().clone();
+        let mut checked = 0;
+        for row in reader.records().map(Result::unwrap) {
+            if row[column(&header, "cmr")].is_empty() {
+                continue;
+            }
+            checked += 1;
+            let get = |name: &str| -> f64 { row[column(&header, name)].parse().unwrap() };
+            assert!((get("beta_total") - beta).abs() < 1e-12, "{ratings}");
+            let (a10, a20) = (get("acmr_10"), get("acmr_20"));
+            assert!(((beta * Z90).exp() / a10 - 1.0).abs() < 1e-12, "{ratings} {a10}");
+            assert!(((beta * Z80).exp() / a20 - 1.0).abs() < 1e-12, "{ratings} {a20}");
+            assert!((a10 - table_10).abs() < 0.005 && (a20 - table_20).abs() < 0.005);
+            let pass = get("cmr") * get("ssf") >= a10;
+            assert_eq!(&row[column(&header, "pass_10")], pass.to_string());
+        }
+        assert!(checked >= 1, "no margin row for {ratings}");
+    }
 
     // A PGV hazard for a PGA* study: refused, naming the file and the header.
     let pgv = dir.path().join("pgv.csv");

@@ -96,7 +96,7 @@ pub fn run(args: &RiskArgs) -> anyhow::Result<()> {
     } else {
         print!("{}", table(&risk));
         println!(
-            "\nwritten: {}, {}",
+            "written: {}, {}",
             out.join(RISK_CSV).display(),
             out.join(RISK_JSON).display()
         );
@@ -153,7 +153,7 @@ pub fn table(risk: &RiskReport) -> String {
         ));
     }
     if !risk.margins.is_empty() {
-        s.push_str("\nFEMA P695 margins (collapse = the highest damage state; SSF = 1):\n");
+        s.push_str("FEMA P695 margins (collapse = the highest damage state; SSF = 1):\n");
         for m in &risk.margins {
             let g = &m.margin;
             s.push_str(&format!(
