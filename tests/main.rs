@@ -12,6 +12,7 @@ mod compare;
 mod conditioning;
 mod design;
 mod design_fragility;
+mod design_risk;
 mod design_status;
 mod design_view;
 mod exact_contact;

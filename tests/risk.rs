@@ -107,7 +107,10 @@ fn a_risk_section_and_the_risk_command_give_cornells_closed_form() {
         let closed = (m / mb).powf(-K) * (K * K * (b * b - bb * bb) / 2.0).exp();
         // Both MAFs are the closed form to within what lies below the table.
         let below = get(row, "share_below_table").max(get(brow, "share_below_table"));
-        assert!((ratio / closed - 1.0).abs() < 1e-9 + 2.0 * below, "{ratio} vs {closed}");
+        assert!(
+            (ratio / closed - 1.0).abs() < 1e-9 + 2.0 * below,
+            "{ratio} vs {closed}"
+        );
         let (lo, hi) = (get(row, "maf_ratio_lo"), get(row, "maf_ratio_hi"));
         assert!(0.0 < lo && lo <= hi, "{lo} {hi}");
     }
@@ -188,8 +191,14 @@ fn a_risk_section_and_the_risk_command_give_cornells_closed_form() {
             let get = |name: &str| -> f64 { row[column(&header, name)].parse().unwrap() };
             assert!((get("beta_total") - beta).abs() < 1e-12, "{ratings}");
             let (a10, a20) = (get("acmr_10"), get("acmr_20"));
-            assert!(((beta * Z90).exp() / a10 - 1.0).abs() < 1e-12, "{ratings} {a10}");
-            assert!(((beta * Z80).exp() / a20 - 1.0).abs() < 1e-12, "{ratings} {a20}");
+            assert!(
+                ((beta * Z90).exp() / a10 - 1.0).abs() < 1e-12,
+                "{ratings} {a10}"
+            );
+            assert!(
+                ((beta * Z80).exp() / a20 - 1.0).abs() < 1e-12,
+                "{ratings} {a20}"
+            );
             assert!((a10 - table_10).abs() < 0.005 && (a20 - table_20).abs() < 0.005);
             let pass = get("cmr") * get("ssf") >= a10;
             assert_eq!(&row[column(&header, "pass_10")], pass.to_string());

@@ -5,10 +5,9 @@
 
 use super::fragility::{FRAGILITY_JSON, FragilityReport, Variant};
 use super::stripes::variant_of;
-use crate::excitation::G;
 use crate::fsutil::write_atomic;
-use crate::risk::{HazardCurve, HazardIm, RiskError, RiskOptions, RiskReport, RiskRow};
-use crate::study::{ExcitationFamily, RecordScaling, ScenePoint, Study};
+use crate::risk::{HazardCurve, RiskError, RiskOptions, RiskReport, RiskRow};
+use crate::study::{ScenePoint, Study};
 use crate::sweep::SweepResults;
 use std::path::Path;
 
@@ -22,44 +21,14 @@ pub fn im_factors(
     hazard: &HazardCurve,
     hazard_path: &Path,
 ) -> Result<Vec<(Variant, f64)>, RiskError> {
-    let scale_to = match &study.excitation {
-        ExcitationFamily::Record { scale_to, .. } => Some(*scale_to),
-        _ => None,
-    };
-    let mismatch = |scaling: &str, hint: &str| RiskError::ImMismatch {
-        path: hazard_path.to_path_buf(),
-        header: hazard.im.name(),
-        scaling: scaling.to_string(),
-        hint: hint.to_string(),
-    };
-    // The factor from the structure's α and p (g as rocklab's model uses it in both the
-    // hazard's g and the dimensionless measure, so g cancels for PGA*).
-    let factor: fn(f64, f64) -> f64 = match (scale_to, hazard.im) {
-        (Some(RecordScaling::PgaStar), HazardIm::Pga) => |alpha, _| 1.0 / alpha.tan(),
-        (Some(RecordScaling::PgvStar), HazardIm::Pgv) => |alpha, p| p / (G * alpha.tan()),
-        (Some(RecordScaling::Pga), HazardIm::Pga) | (Some(RecordScaling::Pgv), HazardIm::Pgv) => {
-            |_, _| 1.0
+    let factor = crate::study::risk::im_factor(study, hazard.im).map_err(|(scaling, hint)| {
+        RiskError::ImMismatch {
+            path: hazard_path.to_path_buf(),
+            header: hazard.im.name(),
+            scaling: scaling.to_string(),
+            hint: hint.to_string(),
         }
-        (Some(RecordScaling::PgaStar | RecordScaling::Pga), _) => {
-            return Err(mismatch(
-                "PGA (pga_star or pga)",
-                "give the site's hazard in PGA: the header `pga,annual_rate`, PGA in g",
-            ));
-        }
-        (Some(RecordScaling::PgvStar | RecordScaling::Pgv), _) => {
-            return Err(mismatch(
-                "PGV (pgv_star or pgv)",
-                "give the site's hazard in PGV: the header `pgv,annual_rate`, PGV in m/s",
-            ));
-        }
-        _ => {
-            return Err(mismatch(
-                "a scale factor, not an intensity measure",
-                "a risk needs fragility over an intensity measure: scale the records with \
-                 `scale_to: pga_star`, `pga_star`, `pgv` or `pgv_star`",
-            ));
-        }
-    };
+    })?;
     let layout = study.layout().map_err(|e| RiskError::Results {
         path: hazard_path.to_path_buf(),
         message: e.to_string(),

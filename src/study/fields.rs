@@ -222,7 +222,8 @@ const FIELD_HELP: &[(&str, &str)] = &[
         "target",
         "limit(quantity: q, max: v) (and no overturning) or no_overturning, at every excitation \
          point; in a fragility study fragility(state: d, median_at_least: x) or \
-         fragility(state: d, at: x, exceedance_at_most: p), fitted over every record and stripe",
+         fragility(state: d, at: x, exceedance_at_most: p), fitted over every record and stripe; \
+         with a risk section risk(state: d, maf_at_most: x) or risk(state: d, p_years_at_most: p)",
     ),
     ("quantity", "the response quantity the target limits"),
     ("max", "the response limit of the target"),
@@ -237,6 +238,14 @@ const FIELD_HELP: &[(&str, &str)] = &[
     (
         "at",
         "fragility target: the intensity the exceedance probability is read at",
+    ),
+    (
+        "maf_at_most",
+        "risk target: most mean annual frequency (1/yr) of reaching the state at the risk's site",
+    ),
+    (
+        "p_years_at_most",
+        "risk target: most probability of reaching the state in the risk section's years",
     ),
     (
         "exceedance_at_most",

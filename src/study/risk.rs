@@ -4,8 +4,9 @@
 //! file's directory (so a study and its hazard curve travel together); `Study::load` resolves
 //! it and checks the file, so a bad hazard is refused before any scene runs.
 
-use super::{Study, StudyError};
-use crate::risk::{HazardCurve, RiskOptions};
+use super::{ExcitationFamily, RecordScaling, Study, StudyError};
+use crate::excitation::G;
+use crate::risk::{HazardCurve, HazardIm, RiskOptions};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -107,8 +108,41 @@ pub fn resolve(study: &mut Study, study_path: &Path) -> Result<Option<HazardCurv
     HazardCurve::read(&r.hazard_path()).map(Some).map_err(|e| {
         StudyError::field(
             "risk.hazard",
-            &e.to_string(),
+            e.to_string(),
             "the hazard file's path is relative to the study file's directory",
         )
     })
+}
+
+/// x* = factor(α, p) · x: the hazard's IM x converted to a structure's scaling IM x*.
+pub type ImFactor = fn(f64, f64) -> f64;
+
+/// How a hazard in `im` converts to the study's scaling measure (PGA* = PGA/(g tan α) with
+/// PGA in g, PGV* = PGV·p/(g tan α)), from each structure's α and p; Err: the measures do not
+/// match, with what the study scales to and a hint.
+pub fn im_factor(study: &Study, im: HazardIm) -> Result<ImFactor, (&'static str, &'static str)> {
+    let scale_to = match &study.excitation {
+        ExcitationFamily::Record { scale_to, .. } => Some(*scale_to),
+        _ => None,
+    };
+    match (scale_to, im) {
+        (Some(RecordScaling::PgaStar), HazardIm::Pga) => Ok(|alpha, _| 1.0 / alpha.tan()),
+        (Some(RecordScaling::PgvStar), HazardIm::Pgv) => Ok(|alpha, p| p / (G * alpha.tan())),
+        (Some(RecordScaling::Pga), HazardIm::Pga) | (Some(RecordScaling::Pgv), HazardIm::Pgv) => {
+            Ok(|_, _| 1.0)
+        }
+        (Some(RecordScaling::PgaStar | RecordScaling::Pga), _) => Err((
+            "PGA (pga_star or pga)",
+            "give the site's hazard in PGA: the header `pga,annual_rate`, PGA in g",
+        )),
+        (Some(RecordScaling::PgvStar | RecordScaling::Pgv), _) => Err((
+            "PGV (pgv_star or pgv)",
+            "give the site's hazard in PGV: the header `pgv,annual_rate`, PGV in m/s",
+        )),
+        _ => Err((
+            "a scale factor, not an intensity measure",
+            "a risk needs fragility over an intensity measure: scale the records with \
+             `scale_to: pga_star`, `pga_star`, `pgv` or `pgv_star`",
+        )),
+    }
 }
