@@ -280,4 +280,4 @@ fn margins(rows: &[RiskRow], mce: f64, beta_total: f64) -> Vec<VariantMargin> {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

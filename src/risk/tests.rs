@@ -4,7 +4,7 @@ use super::*;
 use crate::stats::tests::{capacities, ida_obs, variant};
 use crate::stats::{FragilityOptions, analyse_ida};
 
-fn power_law_hazard(k0: f64, k: f64) -> HazardCurve {
+pub(crate) fn power_law_hazard(k0: f64, k: f64) -> HazardCurve {
     let x: Vec<f64> = (0..40).map(|i| 0.002 * 1.3f64.powi(i)).collect();
     HazardCurve {
         im: HazardIm::Pga,
@@ -14,7 +14,7 @@ fn power_law_hazard(k0: f64, k: f64) -> HazardCurve {
 }
 
 /// Bare capacities (in PGA*) median 3, the inerter's 1.6 times higher.
-fn report() -> FragilityReport {
+pub(crate) fn report() -> FragilityReport {
     let bare = capacities(11, 40, 3.0, 0.4);
     let protected: Vec<f64> = bare.iter().map(|c| 1.6 * c).collect();
     let mut obs = ida_obs(&variant("none"), &bare, 1e3);
@@ -27,7 +27,7 @@ fn report() -> FragilityReport {
     analyse_ida(&obs, &opts)
 }
 
-fn options() -> RiskOptions {
+pub(crate) fn options() -> RiskOptions {
     RiskOptions {
         years: 50.0,
         mce: Some(0.5),

@@ -84,3 +84,44 @@ pub fn draw(risk: &RiskReport, curve: Option<&Curve>, theme: Theme, frame: &mut 
         .collect();
     frame.render_widget(Paragraph::new(text), area);
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::risk::tests::{options, power_law_hazard, report};
+
+    /// The fragility view's risk lines name the selected curve's own row: its MAF and
+    /// interval, P(years), and for the protected variant its ratio to bare; the collapse
+    /// state's P695 margin on the second line.
+    #[test]
+    fn the_lines_show_the_selected_curves_risk() {
+        let report = report();
+        let hazard = power_law_hazard(1e-4, 2.4);
+        let risk = crate::risk::assess(&report, &hazard, "site.csv", |_| Some(5.0), &options());
+        for (curve, row) in report.curves.iter().zip(&risk.rows) {
+            let lines = lines(&risk, curve);
+            assert_eq!(lines.len(), 2, "{lines:?}");
+            let expected = format!(
+                "risk at site.csv: MAF {}/yr [{}, {}], P(50 yr) {}",
+                fmt_sig(row.maf.unwrap()),
+                fmt_sig(row.maf_lo.unwrap()),
+                fmt_sig(row.maf_hi.unwrap()),
+                fmt_sig(row.p_years.unwrap())
+            );
+            assert!(lines[0].starts_with(&expected), "{lines:?} vs {expected}");
+            let ratio = row.ratio_to_bare.map(|r| format!("{}× bare", fmt_sig(r)));
+            assert_eq!(
+                ratio
+                    .as_ref()
+                    .is_some_and(|r| lines[0].contains(r.as_str())),
+                !curve.variant.is_bare(),
+                "{lines:?}"
+            );
+            assert!(lines[1].contains("P695 CMR"), "{lines:?}");
+        }
+        // A curve the risk has no row for: no lines.
+        let mut other = report.curves[0].clone();
+        other.damage_state = 0.3;
+        assert!(lines(&risk, &other).is_empty());
+    }
+}
