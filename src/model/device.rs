@@ -546,6 +546,7 @@ impl ClutchModel {
         match self.reset {
             ResetRule::Paper => delta_a < self.play,
             ResetRule::Strict => delta_a < 0.0,
+            ResetRule::Never => false,
         }
     }
 
@@ -553,6 +554,7 @@ impl ClutchModel {
         match self.reset {
             ResetRule::Paper => delta_b > -self.play,
             ResetRule::Strict => delta_b > 0.0,
+            ResetRule::Never => false,
         }
     }
 }

@@ -110,7 +110,10 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ("play", "gear play up (m)"),
     ("epsilon", "clutch tanh smoothing ε (per rad)"),
     ("rho", "pinion radius ρ (m)"),
-    ("reset", "re-engagement reset with play: paper or strict"),
+    (
+        "reset",
+        "re-engagement reset with play: paper or strict (never: no reset, the paper's §4 counterfactual)",
+    ),
     ("label", "name of the variant in results"),
     (
         "excitation",
