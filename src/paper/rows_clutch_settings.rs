@@ -65,25 +65,28 @@ fn fig16_similar_peaks() -> anyhow::Result<Row> {
 }
 
 /// Of the Fig. 14 scene with `device`: the half-cycles of the structure's velocity Ẋ (between
-/// its zero crossings) in which a flywheel makes contact, and the share of them with two
-/// contacts or more (a series of collisions).
+/// its zero crossings) in which a clutch contact event falls (the events are exact; bounces
+/// shorter than the resampled grid leave no row), and the share of them with three contact
+/// events or more (two collisions or more: a series).
 fn collision_series(device: Device) -> anyhow::Result<(f64, f64)> {
+    use crate::model::device::ClutchEvent::{ContactA, ContactB};
     let h = runs::history(&flexible_fig14(device))?;
     let t = runs::column(&h.1, col::T)?;
     let mut bounds = histories::crossings(&t, &runs::column(&h.1, col::X_DOT)?);
     bounds.insert(0, f64::NEG_INFINITY);
     bounds.push(f64::INFINITY);
-    let mut starts = Vec::new();
-    for c in [col::CLUTCH_A, col::CLUTCH_B] {
-        let f = runs::column(&h.1, c)?;
-        starts.extend(histories::contacts(&f).iter().map(|r| t[r.start]));
-    }
+    let contacts: Vec<f64> =
+        h.1.events
+            .iter()
+            .filter(|(_, n)| *n == ContactA.name() || *n == ContactB.name())
+            .map(|(t, _)| *t)
+            .collect();
     let per_half: Vec<usize> = bounds
         .windows(2)
-        .map(|w| starts.iter().filter(|&&s| w[0] <= s && s < w[1]).count())
+        .map(|w| contacts.iter().filter(|&&s| w[0] <= s && s < w[1]).count())
         .filter(|&n| n > 0)
         .collect();
-    let series = per_half.iter().filter(|&&n| n >= 2).count();
+    let series = per_half.iter().filter(|&&n| n >= 3).count();
     Ok((
         per_half.len() as f64,
         series as f64 / per_half.len().max(1) as f64,
@@ -97,12 +100,12 @@ fn s7_series_of_collisions() -> anyhow::Result<Row> {
     let (halves, share) = collision_series(play(0.01))?;
     let (_, without) = collision_series(play(0.0))?;
     let j = fair::at_least(
-        "share of engaging half-cycles with two contacts or more, up = 1 cm",
+        "share of engaging half-cycles with three contact events or more, up = 1 cm",
         share,
         WHENEVER,
     )
     .on(&format!(
-        "the half-cycles of Ẋ (between its zero crossings) in which a flywheel makes contact, gear play up = 1 cm, ξθ = 0.02; {FIG14}; histories as `simulate --history` writes them"
+        "the half-cycles of Ẋ (between its zero crossings) with a clutch contact event, gear play up = 1 cm, ξθ = 0.02; {FIG14}; histories as `simulate --history` writes them"
     ))
     .with("engaging half-cycles, up = 1 cm", halves)
     .with("beside: the same share without play", without);
@@ -143,7 +146,12 @@ fn fig21_similar_to_viscous() -> anyhow::Result<Row> {
     .on(&format!(
         "the pointwise reduction (damped / undamped) by friction fμ = 0.1 and 0.2 mr g (η = 100 s/rad) against the viscous ξθ = 0.02 and 0.2 (the paper's operational and high levels), one after the other on the axis; {SPECTRA}"
     ));
-    Ok(judged("fig21-similar-to-viscous", j, ""))
+    let reason = if j.verdict == super::Agreement::Agrees {
+        ""
+    } else {
+        "friction's reductions are not the viscous damping's: the friction torque brakes the flywheel whenever it spins, so at the same level it cuts the rotation far more (fig21-operational-negligible)"
+    };
+    Ok(judged("fig21-similar-to-viscous", j, reason))
 }
 
 /// The largest difference of `m`'s spectrum from `reference`'s, over its peak.
