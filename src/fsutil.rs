@@ -1,9 +1,37 @@
 //! Files written safely: atomic replacement of regular files only. A base-level module (no
 //! rocklab types) so the study, the sweep's results store and the report can all use it.
 
-use anyhow::Context;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+
+/// Why a file could not be written safely.
+#[derive(Debug, thiserror::Error)]
+pub enum FsError {
+    #[error("{} exists and is not a regular file; refusing to replace it", .0.display())]
+    NotRegular(PathBuf),
+    #[error("{}: too many levels of symbolic links", .0.display())]
+    LinkLoop(PathBuf),
+    /// What was being done, and the cause.
+    #[error("{context}")]
+    Failed {
+        context: String,
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync + 'static>,
+    },
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+}
+
+/// `result`'s error as the cause of `context()`.
+fn failed<T, E: std::error::Error + Send + Sync + 'static>(
+    result: Result<T, E>,
+    context: impl FnOnce() -> String,
+) -> Result<T, FsError> {
+    result.map_err(|e| FsError::Failed {
+        context: context(),
+        source: Box::new(e),
+    })
+}
 
 /// Write `bytes` to `path` atomically: a temporary file in the same directory, synced, then
 /// renamed over the target and the directory synced, so a reader (or a power loss) never sees
@@ -13,31 +41,31 @@ use std::path::{Path, PathBuf};
 /// rename would silently replace `/dev/full` or a results directory). A symlink is followed
 /// to its target, as editors do, so the link survives. An existing file keeps its mode; a new
 /// one is readable by all (0644), since results are for sharing.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FsError> {
     let target = resolve_symlink(path)?;
     let mode = match std::fs::metadata(&target) {
         Ok(meta) if meta.is_file() => Some(meta.permissions()),
-        Ok(_) => anyhow::bail!(
-            "{} exists and is not a regular file; refusing to replace it",
-            target.display()
-        ),
+        Ok(_) => return Err(FsError::NotRegular(target)),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
         Err(e) => {
-            return Err(e).with_context(|| format!("cannot inspect {}", target.display()));
+            return failed(Err(e), || format!("cannot inspect {}", target.display()));
         }
     };
     let dir = parent_dir(&target);
-    let mut tmp = tempfile::NamedTempFile::new_in(dir)
-        .with_context(|| format!("cannot create a file in {}", dir.display()))?;
-    tmp.write_all(bytes)
-        .and_then(|()| tmp.as_file().sync_all())
-        .with_context(|| format!("cannot write {}", target.display()))?;
+    let mut tmp = failed(tempfile::NamedTempFile::new_in(dir), || {
+        format!("cannot create a file in {}", dir.display())
+    })?;
+    failed(
+        tmp.write_all(bytes).and_then(|()| tmp.as_file().sync_all()),
+        || format!("cannot write {}", target.display()),
+    )?;
     match mode {
         Some(perms) => tmp.as_file().set_permissions(perms)?,
         None => readable_by_all(tmp.as_file())?,
     }
-    tmp.persist(&target)
-        .with_context(|| format!("cannot write {}", target.display()))?;
+    failed(tmp.persist(&target), || {
+        format!("cannot write {}", target.display())
+    })?;
     sync_dir(dir);
     Ok(())
 }
@@ -59,24 +87,25 @@ pub fn sync_dir(dir: &Path) {
 }
 
 /// The file a symlink chain at `path` ends in (the path itself if it is no link).
-fn resolve_symlink(path: &Path) -> anyhow::Result<PathBuf> {
+fn resolve_symlink(path: &Path) -> Result<PathBuf, FsError> {
     let mut current = path.to_path_buf();
     // A bounded walk: a link loop is an error, not a hang.
     for _ in 0..40 {
         match std::fs::symlink_metadata(&current) {
             Ok(meta) if meta.file_type().is_symlink() => {
-                let link = std::fs::read_link(&current)
-                    .with_context(|| format!("cannot read the link {}", current.display()))?;
+                let link = failed(std::fs::read_link(&current), || {
+                    format!("cannot read the link {}", current.display())
+                })?;
                 current = parent_dir(&current).join(link);
             }
             _ => return Ok(current),
         }
     }
-    anyhow::bail!("{}: too many levels of symbolic links", path.display())
+    Err(FsError::LinkLoop(path.to_path_buf()))
 }
 
 /// Temporary files are created private (0600); results are for sharing (0644).
-pub fn readable_by_all(file: &std::fs::File) -> anyhow::Result<()> {
+pub fn readable_by_all(file: &std::fs::File) -> Result<(), FsError> {
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt;

@@ -3,7 +3,11 @@
 //! Data flows one way: scene → [`sim::run`] (model + excitation + solver) → result.
 //! See docs/MODEL.md in the repository for the equations each module implements.
 
+#[macro_use]
+mod enum_all;
+
 pub mod cli;
+pub mod error;
 pub mod excitation;
 pub mod fsutil;
 pub mod model;

@@ -71,6 +71,31 @@ pub struct SyntaxError {
 
 const PUNCT: &str = "()[]{},:";
 
+/// The deepest nesting of brackets a text may have. A study needs about six (a list in a
+/// range in a device in the study); the parser and every walk over its tree recurse once per
+/// level, so a bound far above any study's keeps a hostile text (10 000 brackets) from
+/// overflowing the stack.
+pub const MAX_DEPTH: usize = 64;
+
+/// The first bracket of `tokens` that opens a level past [`MAX_DEPTH`], as an error.
+pub fn too_deep(tokens: &[Token]) -> Option<SyntaxError> {
+    let mut depth = 0usize;
+    for t in tokens {
+        match t.kind {
+            Kind::Punct('(' | '[' | '{') => depth += 1,
+            Kind::Punct(')' | ']' | '}') => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+        if depth > MAX_DEPTH {
+            return Some(SyntaxError {
+                span: t.span,
+                message: format!("brackets nested more than {MAX_DEPTH} deep"),
+            });
+        }
+    }
+    None
+}
+
 /// The tokens of `text`, whitespace left out, comments kept.
 pub fn lex(text: &str) -> Result<Vec<Token>, SyntaxError> {
     let chars: Vec<(usize, char)> = text.char_indices().collect();
@@ -428,6 +453,9 @@ impl Parser<'_> {
 /// The tree of `text`; `keep_layout` records which groups the text broke over lines.
 pub fn parse(text: &str, keep_layout: bool) -> Result<Document, SyntaxError> {
     let toks = lex(text)?;
+    if let Some(e) = too_deep(&toks) {
+        return Err(e);
+    }
     let first = toks
         .iter()
         .position(|t| t.kind != Kind::Comment)

@@ -22,7 +22,7 @@ const STUDY: &str = r#"(
     quantities: [peak_rotation_ratio],
     spectrum: scale,
     fragility: (method: ida(resolution: 0.2), damage_states: levels([0.5, 1.0]),
-                bootstrap: 100, seed: 3),
+                bootstrap: 200, seed: 3),
 )"#;
 const HUNTS: usize = 16;
 /// A probe scene of stripes.csv: (IM, θmax/α unless overturned, overturned).

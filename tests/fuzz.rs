@@ -1,10 +1,12 @@
 //! Property-based fuzzing (proptest) of the input surfaces: the record reader (AT2 and
-//! column files), the study parser, the records index (index.ron) and the `simulate` flag
-//! set. The property: any input
+//! column files, AT2 headers spelled every way), the study parser (the whole text, and the
+//! design, fragility and IDA sections field by field), the records index (index.ron) and the
+//! `simulate` flag set. The property: any input
 //! gives a value or a clear error, never a panic (a panic fails the case and proptest shrinks
 //! it to a minimal reproduction). Bounded: a fixed number of cases per target so `cargo test`
-//! stays quick and deterministic (a fixed seed); raise PROPTEST_CASES and set
-//! ROCKLAB_FUZZ_SEED to fuzz longer or elsewhere.
+//! stays quick and deterministic (a fixed seed); raise PROPTEST_CASES (or multiply every
+//! target's cases by ROCKLAB_FUZZ_SCALE) and set ROCKLAB_FUZZ_SEED to fuzz longer or
+//! elsewhere. CI runs them again on a fresh seed, scaled and bounded in time (.ci/run).
 
 use clap::Parser;
 use proptest::prelude::*;
@@ -13,11 +15,16 @@ use rocklab::study::Study;
 use std::time::Duration;
 
 fn config(cases: u32) -> ProptestConfig {
+    // CI's fuzz step (.ci/run) scales every target's cases with ROCKLAB_FUZZ_SCALE.
+    let scale: u32 = std::env::var("ROCKLAB_FUZZ_SCALE")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1);
     ProptestConfig {
         cases: std::env::var("PROPTEST_CASES")
             .ok()
             .and_then(|c| c.parse().ok())
-            .unwrap_or(cases),
+            .unwrap_or(cases.saturating_mul(scale)),
         failure_persistence: None,
         rng_seed: proptest::test_runner::RngSeed::Fixed(
             std::env::var("ROCKLAB_FUZZ_SEED")
@@ -48,11 +55,62 @@ fn number() -> impl Strategy<Value = String> {
     ]
 }
 
+/// AT2 header lines as writers, editors and hostile files spell them: keys in any order and
+/// spacing, a key twice, units words, a huge field.
+fn at2_header() -> impl Strategy<Value = String> {
+    let key = prop_oneof![
+        Just("NPTS"),
+        Just("DT"),
+        Just("npts"),
+        Just("Dt"),
+        Just("SEC"),
+        Just("UNITS OF G"),
+        Just("UNITS OF CM/S2"),
+        Just("VELOCITY"),
+    ];
+    let sep = prop_oneof![Just("="), Just(" = "), Just("= "), Just(""), Just(",")];
+    (
+        proptest::collection::vec((key, sep, number()), 1..5),
+        any::<bool>(),
+    )
+        .prop_map(|(parts, long)| {
+            let mut line: String = parts
+                .iter()
+                .map(|(k, s, v)| format!("{k}{s}{v}"))
+                .collect::<Vec<_>>()
+                .join(", ");
+            if long {
+                line.push_str(&"9".repeat(5_000));
+            }
+            line
+        })
+}
+
+/// Whether an AT2 header line gives `NPTS=` or `DT=` twice (the reader must refuse it).
+fn gives_a_key_twice(text: &str) -> bool {
+    let Some(line) = text
+        .lines()
+        .take(6)
+        .find(|l| !l.trim_start().starts_with('#') && l.to_ascii_uppercase().contains("NPTS"))
+    else {
+        return false;
+    };
+    let upper = line.to_ascii_uppercase().replace(' ', "");
+    ["NPTS=", "DT="].iter().any(|k| {
+        upper
+            .match_indices(k)
+            .filter(|(at, _)| !upper[..*at].ends_with(|c: char| c.is_ascii_alphanumeric()))
+            .count()
+            > 1
+    })
+}
+
 /// A record file: an optional AT2 header (both styles) or comment lines, then data rows.
 fn record_text() -> impl Strategy<Value = String> {
     let header = prop_oneof![
         (number(), number()).prop_map(|(n, dt)| format!("NPTS= {n}, DT= {dt} SEC")),
         (number(), number()).prop_map(|(n, dt)| format!("{n} {dt} NPTS, DT")),
+        at2_header(),
         number().prop_map(|dt| format!("# dt: {dt}")),
         Just("# units: cm/s2".to_string()),
         Just(String::new()),
@@ -85,9 +143,18 @@ proptest! {
     #[test]
     fn the_record_reader_never_panics(text in record_text(), dt in proptest::option::of(number())) {
         let dt = dt.and_then(|d| d.parse::<f64>().ok());
-        if let Ok(series) = reader::parse(&text, "fuzz.at2", dt) {
-            prop_assert!(series.dt() >= reader::MIN_DT && series.dt().is_finite());
-            prop_assert!(series.npts() >= 1);
+        match reader::parse(&text, "fuzz.at2", dt) {
+            Ok(series) => {
+                prop_assert!(series.dt() >= reader::MIN_DT && series.dt().is_finite());
+                prop_assert!(series.npts() >= 1);
+                // Every sample is a plausible ground acceleration (issue 43, F9).
+                let worst = series.samples().iter().fold(0.0f64, |m, a| m.max(a.abs()));
+                prop_assert!(worst <= reader::MAX_ACCELERATION, "{}", worst);
+                // A header that gives a key twice is refused, never read at its first (F8).
+                prop_assert!(!gives_a_key_twice(&text), "accepted:\n{}", text);
+            }
+            // A message is a line or two, whatever the file holds (F5).
+            Err(e) => prop_assert!(e.to_string().len() < 1_000, "{} bytes", e.to_string().len()),
         }
     }
 
@@ -170,6 +237,143 @@ proptest! {
     #[test]
     fn the_study_parser_never_panics_on_arbitrary_text(text in "\\PC{0,200}") {
         let _ = Study::from_ron_str(&text, "fuzz.ron");
+    }
+}
+
+/// The shipped studies with a design, fragility or IDA section: the section fuzz edits them.
+const SECTION_STUDIES: [&str; 4] = [
+    include_str!("../studies/design_sigma_rigid.ron"),
+    include_str!("../studies/design_fragility_rigid.ron"),
+    include_str!("../studies/fragility_ida_far_field.ron"),
+    include_str!("../studies/fragility_far_field.ron"),
+];
+
+/// A field of the design, fragility or IDA sections (or the suite filter they read) and a
+/// value for it, from typical to hostile: what the campaign of issue 43 mutated.
+fn section_edit() -> impl Strategy<Value = (&'static str, String)> {
+    let field = prop_oneof![
+        Just("resolution"),
+        Just("bracket"),
+        Just("verify"),
+        Just("target"),
+        Just("parameter"),
+        Just("bootstrap"),
+        Just("seed"),
+        Just("confidence"),
+        Just("method"),
+        Just("damage_states"),
+        Just("measure"),
+        Just("suite"),
+        Just("scale"),
+        Just("tail"),
+    ];
+    let value = prop_oneof![
+        (-3.0f64..3.0).prop_map(|v| format!("{v}")),
+        (-400i64..400).prop_map(|v| format!("{v}")),
+        prop_oneof![
+            Just(1e-300),
+            Just(1e-17),
+            Just(2.2e-16),
+            Just(8.9e-16),
+            Just(1e308)
+        ]
+        .prop_map(|v| format!("{v:e}")),
+        Just("1.5".to_string()),
+        Just("-1".to_string()),
+        Just("2".to_string()),
+        Just("18446744073709551616".to_string()),
+        Just("nan".to_string()),
+        Just("\"x\"".to_string()),
+        Just("(3.0, 0.0)".to_string()),
+        Just("(0.0, 1e-300)".to_string()),
+        Just("(1e300, 1e308)".to_string()),
+        Just("ida(resolution: 1e-300)".to_string()),
+        Just("ida(resolution: 0.5)".to_string()),
+        Just("stripes".to_string()),
+        Just("levels([])".to_string()),
+        Just("levels([1.0, 0.5])".to_string()),
+        Just("fragility(state: 1.0, median_at_least: 1e-300)".to_string()),
+        Just("limit(quantity: peak_rotation_ratio, max: 0.0)".to_string()),
+        Just("no_overturning".to_string()),
+        Just("(name: \"far_field\", records: [])".to_string()),
+        Just("(name: \"far_field\", records: [0, 99])".to_string()),
+        Just("(name: \"far_field\", component: c)".to_string()),
+        Just("(from: 1.0, to: 1e300, steps: 3, log: true)".to_string()),
+        Just(format!("{}1.0{}", "[".repeat(100), "]".repeat(100))),
+    ];
+    (field, value)
+}
+
+/// `text` with the value of the first `field:` replaced by `value` (the text unchanged if the
+/// field is not written there).
+fn with_field(text: &str, field: &str, value: &str) -> String {
+    let key = format!("{field}:");
+    let Some(at) = text.find(&key) else {
+        return text.to_string();
+    };
+    let start = at + key.len();
+    let mut depth = 0i32;
+    let mut end = text.len();
+    for (i, c) in text[start..].char_indices() {
+        match c {
+            '(' | '[' => depth += 1,
+            ')' | ']' if depth == 0 => {
+                end = start + i;
+                break;
+            }
+            ')' | ']' => depth -= 1,
+            ',' | '\n' if depth == 0 => {
+                end = start + i;
+                break;
+            }
+            _ => {}
+        }
+    }
+    format!("{} {value}{}", &text[..start], &text[end..])
+}
+
+proptest! {
+    #![proptest_config(config(256))]
+
+    /// The design, fragility and IDA sections, field by field: a study reads or is refused
+    /// with a bounded message (no megabytes quoted, no 300-digit number), and what reads keeps
+    /// the bounds the campaign found missing (a resolution f64 can reach, a bootstrap that
+    /// gives an interval, a suite filter that selects).
+    #[test]
+    fn the_design_fragility_and_ida_sections_never_panic(
+        base in 0usize..SECTION_STUDIES.len(),
+        edits in proptest::collection::vec(section_edit(), 1..4),
+        splices in proptest::collection::vec((0.0f64..1.0, 0usize..6, study_token()), 0..2),
+    ) {
+        let mut text = SECTION_STUDIES[base].to_string();
+        for (field, value) in &edits {
+            text = with_field(&text, field, value);
+        }
+        let text = spliced(&text, splices);
+        match Study::from_ron_str(&text, "fuzz.ron") {
+            Ok(study) => {
+                if let Some(design) = &study.design {
+                    prop_assert!(design.resolution >= rocklab::study::design::MIN_RESOLUTION);
+                }
+                if let Some(f) = &study.fragility {
+                    let floor = rocklab::study::fragility::MIN_BOOTSTRAP;
+                    prop_assert!(f.bootstrap == 0 || f.bootstrap >= floor, "{}", f.bootstrap);
+                }
+                let back = Study::from_ron_str(&study.to_ron_string(), "back.ron");
+                prop_assert_eq!(back.ok(), Some(study));
+            }
+            Err(e) => {
+                let shown = e.to_string();
+                prop_assert!(shown.len() < 2_000, "{} bytes: {}", shown.len(), &shown[..200]);
+                let digits = shown
+                    .split(|c: char| !c.is_ascii_digit())
+                    .map(str::len)
+                    .max()
+                    .unwrap_or(0);
+                prop_assert!(digits < 30, "{}", shown);
+                prop_assert!(e.line.is_some(), "no line: {}", shown);
+            }
+        }
     }
 }
 

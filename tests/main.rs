@@ -5,6 +5,7 @@ mod util;
 
 mod adaptive;
 mod angular_acceleration;
+mod campaign;
 mod checkpoint;
 mod cli_simulate;
 mod compare;

@@ -118,10 +118,11 @@ fn a_p_that_gives_no_usable_size_names_p() {
     }
 }
 
-/// Values of 1e300 scaled to a PGA of 0.5 g, baseline corrected: scaled first, so nothing
-/// overflows into "is all zeros".
+/// Values of 1e300 g, even scaled to a PGA of 0.5 g and baseline corrected: no record holds
+/// them, so the reader refuses the file naming its line and value (issue 43, F9), never
+/// "is all zeros" (issue 29) nor a "step size underflow" naming nothing.
 #[test]
-fn a_huge_record_scaled_to_a_pga_and_baseline_corrected_runs() {
+fn a_huge_record_is_refused_naming_its_line_even_scaled_to_a_pga() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("huge.AT2");
     std::fs::write(
@@ -144,7 +145,8 @@ fn a_huge_record_scaled_to_a_pga_and_baseline_corrected_runs() {
         "--json",
     ]);
     let e = stderr(&o);
-    assert!(o.status.success(), "{e}");
+    assert!(!o.status.success(), "{e}");
+    assert!(e.contains("huge.AT2:5: 1e300 g is not a plausible"), "{e}");
     assert!(!e.contains("all zeros"), "{e}");
 }
 

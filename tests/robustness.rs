@@ -111,10 +111,11 @@ fn record_headers_are_checked_before_allocating_and_time_steps_have_a_floor() {
             "0 0.1\n1e-12 0.2\n2e-12 0.1\n",
             "is not a usable time step",
         ),
+        // Overflowed to infinity in m/s²; refused as implausible first (issue 43, F9).
         (
             "inf.txt",
             "# dt: 0.01\n1e308\n0.2\n",
-            "overflows to infinity",
+            "inf.txt:2: 1e308 g is not a plausible ground acceleration",
         ),
     ];
     for (name, text, expect) in cases {
@@ -281,7 +282,7 @@ fn unknown_wrappers_and_fields_are_rejected_with_the_valid_names_and_a_bom_is_to
 }
 
 #[test]
-fn a_study_name_is_one_path_component_under_out() {
+fn a_study_name_that_leaves_out_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let study = dir.path().join("escape.ron");
     std::fs::write(
@@ -296,8 +297,11 @@ fn a_study_name_is_one_path_component_under_out() {
         .current_dir(&work)
         .output()
         .unwrap();
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(work.join("out/escape/results.json").is_file());
+    // Issue 43 (F3): a name that would leave out/ is refused, not renamed, so that `run` and
+    // `slurm` never disagree about it; nothing is written anywhere.
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--out"), "{}", stderr(&o));
+    assert!(!work.join("out").exists());
     assert!(!dir.path().join("escape").exists());
 }
 

@@ -14,7 +14,7 @@
 //! | selectors skip the strict reading (`compare --a 'mechanistic(friction: foo(0.0))'`) | src/report/select.rs `selectors_parse_in_study_syntax` |
 //! | the TUI editor takes `xi(0.5)` for `mass` | `the_editors_parser_refuses_a_wrapper_on_mass` (below; the editor parses with `Study::parse_ron`) |
 //! | AT2 NPTS smaller than its data; an extra value on a line; `VELOCITY` header; two `# dt:`; `# npts: 10` with 3 values | `record_files_that_disagree_with_themselves_are_refused` |
-//! | AT2 of 1e300 with `--scale-pga` "is all zeros" | messages.rs `a_huge_record_scaled_to_a_pga_and_baseline_corrected_runs` |
+//! | AT2 of 1e300 with `--scale-pga` "is all zeros" | messages.rs `a_huge_record_is_refused_naming_its_line_even_scaled_to_a_pga` (issue 43 refuses the file) |
 //! | index.ron: `landers` twice, `units: "furlongs"`, `"cm/s2"` against `# units: g`, `table1` twice | `a_records_index_that_names_twice_or_mislabels_units_is_refused` |
 //! | `ROCKLAB_RECORDS=/nonexist` ignored (records, simulate, the workbench) | `a_records_variable_that_names_no_directory_is_an_error` |
 //! | a journal line edited on disk is reused | checkpoint.rs `an_edited_journal_line_is_recomputed_not_reused` |
@@ -28,7 +28,7 @@
 //! | SIGTERM ignored during post-processing | finalise.rs `a_signal_while_the_results_are_written_stops_at_once_and_loses_no_scene` |
 //! | `slurm --partition $'p\n#SBATCH …'`, `--account 'a b;id'` | slurm.rs `hostile_values_never_reach_a_script_as_code` |
 //! | `simulate --p 1e300` / `--p 1e-300` name `--size` | messages.rs `a_p_that_gives_no_usable_size_names_p` |
-//! | AT2 1e300 under `--scale-pga 0.5 --baseline` "is all zeros" | messages.rs `a_huge_record_scaled_to_a_pga_and_baseline_corrected_runs` |
+//! | AT2 1e300 under `--scale-pga 0.5 --baseline` "is all zeros" | messages.rs `a_huge_record_is_refused_naming_its_line_even_scaled_to_a_pga` (issue 43 refuses the file) |
 //! | `--scene-time-limit 0.0001` prints "limit of 0 s" | messages.rs `a_tiny_scene_time_limit_is_reported_as_given` |
 //! | `table … \| head -1` prints "Broken pipe", exits 1 | messages.rs `table_into_a_pipe_closed_after_one_line_exits_quietly` |
 //! | `nan` in a study: "found a unit value" | messages.rs `nan_and_infinities_in_a_study_name_the_field` |
@@ -51,7 +51,8 @@ fn refused(text: &str) -> (usize, String) {
     }
 }
 
-const AT2: &str = "PEER NGA STRONG MOTION DATABASE RECORD\nLANDERS\n\
+/// A well-formed six-sample AT2 file (also the base of tests/campaign.rs's header mutants).
+pub(crate) const AT2: &str = "PEER NGA STRONG MOTION DATABASE RECORD\nLANDERS\n\
                    ACCELERATION TIME HISTORY IN UNITS OF G\n\
                    NPTS=    6, DT=   .0100 SEC\n\
                    0.1 0.2 0.3\n0.4 0.5 0.6\n";

@@ -159,7 +159,11 @@ fn results_open_from_a_directory_or_file() {
         assert!(data.cancelled);
         assert_eq!(Some(&app.shared.study), data.results.study.as_ref());
         assert_eq!(scene_count(&app), 36, "the study they came from");
-        assert_eq!(app.shared.output_dir(), dir, "a rerun resumes there");
+        assert_eq!(
+            app.shared.output_dir().unwrap(),
+            dir,
+            "a rerun resumes there"
+        );
     }
     let (results, at) = rocklab::tui::app::load_results_at(&dir).unwrap();
     assert_eq!((results.outcomes.len(), at), (24, dir));

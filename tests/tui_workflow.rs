@@ -82,7 +82,7 @@ fn the_d_folder_belongs_to_the_study_it_was_chosen_for() {
         ctrl(app, 'k');
         typed(app, elsewhere.to_str().unwrap());
         key(app, Enter);
-        assert_eq!(app.shared.output_dir(), elsewhere);
+        assert_eq!(app.shared.output_dir().unwrap(), elsewhere);
     };
     choose(&mut app);
     // `o` from the Run screen opens too.
@@ -91,7 +91,7 @@ fn the_d_folder_belongs_to_the_study_it_was_chosen_for() {
     key(&mut app, Enter);
     assert_eq!(app.shared.path.as_deref(), Some(other.as_path()));
     assert_eq!(
-        app.shared.output_dir(),
+        app.shared.output_dir().unwrap(),
         app.shared.options.out_root.join("other")
     );
     let (msg, _) = app.message.clone().unwrap();
@@ -99,7 +99,7 @@ fn the_d_folder_belongs_to_the_study_it_was_chosen_for() {
     choose(&mut app);
     key(&mut app, KeyCode::Char('1'));
     ctrl(&mut app, 'n');
-    assert_ne!(app.shared.output_dir(), elsewhere);
+    assert_ne!(app.shared.output_dir().unwrap(), elsewhere);
     // Ctrl-N starts clean: no description, no header comment of the default's file.
     assert!(app.shared.study.description.is_empty());
     assert!(app.shared.original.is_none());

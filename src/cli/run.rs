@@ -3,7 +3,7 @@
 
 use super::UsageError;
 use crate::report;
-use crate::study::Study;
+use crate::study::{Study, StudyKind};
 use crate::sweep::{self, OpenOptions, Progress, SweepResults};
 use anyhow::Context;
 use clap::Args;
@@ -65,9 +65,21 @@ pub struct MergeArgs {
     pub quiet: bool,
 }
 
+/// `out/<study name>`, as `run` and `slurm` both place a study's results (see
+/// [`sweep::default_out_dir`]); a name that would leave `out/` is a usage error.
+pub(super) fn default_out(study_name: &str) -> Result<std::path::PathBuf, UsageError> {
+    sweep::default_out_dir(Path::new("out"), study_name).map_err(|e| UsageError::new(e.to_string()))
+}
+
 pub(super) fn parse_seconds(s: &str) -> Result<f64, String> {
     match s.trim().parse::<f64>() {
-        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        // Checked here, once: a limit past what a Duration holds (~1.8e19 s) would panic
+        // where the sweep converts it, in a worker thread.
+        Ok(v) if v.is_finite() && v >= 0.0 && Duration::try_from_secs_f64(v).is_ok() => Ok(v),
+        Ok(v) if v.is_finite() && v > 0.0 => Err(format!(
+            "invalid time `{s}`: at most {} s (0 for no limit)",
+            crate::numfmt::fmt_exact(Duration::MAX.as_secs_f64())
+        )),
         _ => Err(format!("invalid time `{s}`: expected seconds ≥ 0")),
     }
 }
@@ -170,7 +182,7 @@ pub use sweep::results_name;
 /// An adaptive map cannot be split into shards (each refinement round needs every verdict of
 /// the round before): refused before anything runs.
 pub fn refuse_adaptive_shards(study: &Study, what: &str) -> anyhow::Result<()> {
-    if study.map.is_some_and(|m| m.refine.is_some()) {
+    if study.kind() == StudyKind::RefinedMap {
         return Err(UsageError::new(format!(
             "study {}: its map is adaptive (map: (…, refine: …)) and cannot run as {what}: each \
              refinement round needs every verdict of the round before. Run it unsharded (it runs \
@@ -185,7 +197,7 @@ pub fn refuse_adaptive_shards(study: &Study, what: &str) -> anyhow::Result<()> {
 /// A design study's search cannot be split into shards either (each probe needs the verdict
 /// of the one before).
 pub fn refuse_design_shards(study: &Study, what: &str) -> anyhow::Result<()> {
-    if study.design.is_some() {
+    if study.kind() == StudyKind::Design {
         return Err(UsageError::new(format!(
             "study {}: it has a design section and cannot run as {what}: each probe of the \
              search needs the verdict of the one before. Run it unsharded (`rocklab design`)",
@@ -193,7 +205,7 @@ pub fn refuse_design_shards(study: &Study, what: &str) -> anyhow::Result<()> {
         ))
         .into());
     }
-    if sweep::is_ida(study) {
+    if study.kind() == StudyKind::Ida {
         return Err(UsageError::new(format!(
             "study {}: it is an incremental dynamic analysis (fragility method ida) and cannot \
              run as {what}: each probe of a record's hunt needs the verdict of the one before. \
@@ -288,11 +300,10 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         }
         return print_out(&text);
     }
-    // The study's name is one path component: "../x" or "/etc" stays inside out/.
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| Path::new("out").join(crate::fsutil::single_component(&study.name)));
+    let out = match &args.out {
+        Some(out) => out.clone(),
+        None => default_out(&study.name)?,
+    };
     let total = points
         .iter()
         .filter(|p| sweep::in_shard(p.index, args.shard))

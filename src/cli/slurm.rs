@@ -246,10 +246,12 @@ impl Plan {
                 let _ = writeln!(out, "#SBATCH --{flag}={name}");
             }
         }
+        // sbatch expands `%j`, `%A`, … in --output: a `%` of the folder's own name is
+        // written `%%`; the log's file name keeps its patterns.
         let _ = writeln!(
             out,
-            "#SBATCH --output={}",
-            self.logs_dir().join(log).display()
+            "#SBATCH --output={}/{log}",
+            self.logs_dir().display().to_string().replace('%', "%%")
         );
         let _ = writeln!(out, "#SBATCH --chdir={}", self.workdir.display());
     }
@@ -416,12 +418,10 @@ pub fn run(args: &SlurmArgs) -> anyhow::Result<()> {
             .display()
             .to_string()
     };
-    let out = absolute(
-        &args
-            .out
-            .clone()
-            .unwrap_or_else(|| Path::new("out").join(&study.name)),
-    )?;
+    let out = absolute(&match &args.out {
+        Some(out) => out.clone(),
+        None => super::run::default_out(&study.name)?,
+    })?;
     let plan = Plan {
         study_name: study.name.clone(),
         study_hash: study.hash(),

@@ -14,7 +14,7 @@ use super::record::Series;
 use super::suite::{self, Set, SuiteRecord, SuiteSelect};
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 use std::sync::{Arc, Mutex, OnceLock};
 
 mod embedded {
@@ -582,6 +582,24 @@ fn check_index(index: &[RecordMeta], text: &str, origin: &str) -> Result<(), Rec
         }
         if let Err(why) = reader::Units::from_word(&meta.units) {
             return Err(error(i, "units", format!("record '{}': {why}", meta.name)));
+        }
+        // Confined to the records folder: an index is data, and must not make rocklab read
+        // (and quote in its errors) a file elsewhere (`/etc/…`, `../…`).
+        let inside = Path::new(&meta.file)
+            .components()
+            .all(|c| matches!(c, Component::Normal(_) | Component::CurDir));
+        if !inside || meta.file.is_empty() {
+            return Err(error(
+                i,
+                "file",
+                format!(
+                    "record '{}': file: \"{}\" is not a file of the records folder; give its \
+                     name relative to the folder (no leading `/`, no `..`), e.g. \
+                     \"RSN879_LANDERS_LCN239_FN.txt\"",
+                    meta.name,
+                    reader::excerpt(&meta.file)
+                ),
+            ));
         }
     }
     Ok(())

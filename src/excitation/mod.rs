@@ -21,8 +21,36 @@ pub use record::{KinkPolicy, RecordMotion, Series};
 
 use crate::solver::search::brent_max;
 
-/// Standard gravity used throughout rocklab (docs/MODEL.md: g = 9.81 m/s²).
+/// Standard gravity used throughout rocklab (docs/MODEL.md: g = 9.81 m/s²): the default of
+/// [`Motion::gravity`], and the unit of accelerations given "in g".
 pub const G: f64 = 9.81;
+
+/// The gravity a structure feels, as its model reads it ([`Motion::gravity`], the one
+/// accessor: `model/` and `sim/` never name [`G`]). Today the constant g; a vertical ground
+/// motion makes it g + ü_v(t), which [`Gravity::at`] will return, while [`Gravity::g`] stays
+/// the constant part (the unit of accelerations in g, the static thresholds a model derives
+/// once). Both are inlined field reads: the right-hand side pays nothing for the indirection.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Gravity {
+    g: f64,
+}
+
+impl Gravity {
+    /// Standard gravity, constant in time.
+    pub const STANDARD: Gravity = Gravity { g: G };
+
+    /// The constant part g (m/s²).
+    #[inline(always)]
+    pub fn g(self) -> f64 {
+        self.g
+    }
+
+    /// Gravity at time t (m/s²): g today, constant.
+    #[inline(always)]
+    pub fn at(self, _t: f64) -> f64 {
+        self.g
+    }
+}
 
 /// A ground acceleration history a_g(t) in m/s², zero after [`Motion::end`].
 #[derive(Clone, Debug)]
@@ -33,6 +61,13 @@ pub enum Motion {
 }
 
 impl Motion {
+    /// The gravity the structure feels under this ground motion: [`Gravity::STANDARD`] for
+    /// every horizontal motion (a vertical component would add its acceleration here).
+    #[inline(always)]
+    pub fn gravity(&self) -> Gravity {
+        Gravity::STANDARD
+    }
+
     /// Ground acceleration (m/s²) at time t.
     #[inline]
     pub fn accel(&self, t: f64) -> f64 {

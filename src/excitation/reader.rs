@@ -79,12 +79,14 @@ impl Units {
             Ok(Units::MPerS2)
         } else if ["cm/s", "m/s", "in/s", "cm", "m", "in"].contains(&w.as_str()) {
             Err(format!(
-                "units '{word}' are a velocity's or a displacement's: rocklab reads ground \
-                 acceleration (g, cm/s2 or m/s2)"
+                "units '{}' are a velocity's or a displacement's: rocklab reads ground \
+                 acceleration (g, cm/s2 or m/s2)",
+                excerpt(word)
             ))
         } else {
             Err(format!(
-                "unknown units '{word}': expected g, cm/s2 (gal) or m/s2"
+                "unknown units '{}': expected g, cm/s2 (gal) or m/s2",
+                excerpt(word)
             ))
         }
     }
@@ -108,6 +110,30 @@ pub const MIN_DT: f64 = 1e-6;
 /// rocking structure responds to, and a huge step (1e308) would make the record's length
 /// infinite (reported as a bad duration the user never gave).
 pub const MAX_DT: f64 = 1.0;
+
+/// The largest ground acceleration a record may hold (m/s², 100 g). The strongest motions
+/// ever recorded peak near 4 g; a value far past that is a file in other units than it says
+/// (cm/s² read as g), a corrupt value, or garbage, and run as given it stalls the integrator
+/// ("step size underflow") with no word of the file.
+pub const MAX_ACCELERATION: f64 = 100.0 * G;
+
+/// A sample of line `line`, in `units`, refused past [`MAX_ACCELERATION`].
+fn plausible(value: f64, units: Units, origin: &str, line: usize) -> Result<(), ParseError> {
+    if (value * units.to_mps2()).abs() <= MAX_ACCELERATION {
+        return Ok(());
+    }
+    Err(err(
+        origin,
+        line,
+        format!(
+            "{} {} is not a plausible ground acceleration: the strongest recorded are near 4 g, \
+             and rocklab reads at most 100 g; check the file's units (cm/s2 read as g?) and \
+             values",
+            fmt_exact(value),
+            units.name()
+        ),
+    ))
+}
 
 /// A time step that is finite, at least [`MIN_DT`] and at most [`MAX_DT`].
 fn checked_dt(dt: f64, origin: &str, line: usize, what: &str) -> Result<f64, ParseError> {
@@ -140,6 +166,19 @@ fn scaled(
                 .ok_or_else(|| err(origin, 0, "an acceleration overflows to infinity in m/s²"))
         })
         .collect()
+}
+
+/// Characters of a file's text a message quotes at most: a bad line may be megabytes long
+/// (a binary file, a line without breaks), and the message must stay a line.
+const EXCERPT_CHARS: usize = 60;
+
+/// `text` trimmed, as a message quotes it: whole if short, else its start, `…` and its length.
+pub fn excerpt(text: &str) -> String {
+    let text = text.trim();
+    match text.char_indices().nth(EXCERPT_CHARS) {
+        None => text.to_string(),
+        Some((cut, _)) => format!("{}… ({} characters)", &text[..cut], text.chars().count()),
+    }
 }
 
 fn err(origin: &str, line: usize, message: impl Into<String>) -> ParseError {
@@ -176,7 +215,11 @@ pub fn numbers_in(line: &str, origin: &str, line_no: usize) -> Result<Vec<f64>, 
                         err(
                             origin,
                             line_no,
-                            format!("'{piece}' is not a number (in '{}')", line.trim()),
+                            format!(
+                                "'{}' is not a number (in '{}')",
+                                excerpt(piece),
+                                excerpt(line)
+                            ),
                         )
                     })?;
                 out.push(value);
@@ -304,7 +347,7 @@ fn parse_at2(
                 format!(
                     "the header says '{}': rocklab reads ground acceleration (an AT2 file), \
                      not velocity (VT2) or displacement (DT2)",
-                    line.trim()
+                    excerpt(line)
                 ),
             ));
         }
@@ -325,6 +368,9 @@ fn parse_at2(
         let nums = numbers_in(line, origin, i + 1)?;
         if nums.is_empty() {
             continue;
+        }
+        for &v in &nums {
+            plausible(v, units, origin, i + 1)?;
         }
         if values.len() >= npts {
             return Err(err(
@@ -406,12 +452,29 @@ fn at2_npts_dt(line: &str, origin: &str, line_no: usize) -> Result<(usize, f64),
             line_no,
             format!(
                 "bad AT2 header '{}': {why}; expected 'NPTS= 1991, DT= .0100 SEC' or '1991 0.0100 NPTS, DT'",
-                line.trim()
+                excerpt(line)
             ),
         )
     };
     let upper = line.to_ascii_uppercase();
     let keyed = upper.contains("NPTS=") || upper.contains("NPTS =");
+    // A key given twice would be read at its first place and the other value ignored.
+    for key in ["NPTS", "DT"] {
+        let given = upper
+            .match_indices(key)
+            .filter(|(at, _)| {
+                let before = upper[..*at].chars().next_back();
+                !before.is_some_and(|c| c.is_ascii_alphanumeric())
+                    && upper[at + key.len()..].trim_start().starts_with('=')
+            })
+            .count();
+        if given > 1 {
+            return Err(bad(&format!(
+                "{key}= is given more than once ({given} times), so which value is meant is \
+                 unclear; give it once"
+            )));
+        }
+    }
     let (npts, dt) = if keyed {
         let value_after = |key: &str| -> Option<f64> {
             let rest = &upper[upper.find(key)? + key.len()..];
@@ -482,7 +545,7 @@ impl ColumnHeader {
                 .parse::<f64>()
                 .ok()
                 .filter(|d| *d > 0.0 && d.is_finite())
-                .ok_or_else(|| err(origin, line, format!("bad '# dt:' value '{v}'")))?;
+                .ok_or_else(|| err(origin, line, format!("bad '# dt:' value '{}'", excerpt(&v))))?;
             self.dt = Some((line, dt));
         } else if let Some(v) = value_of("units") {
             if let Some((first, _)) = self.units {
@@ -499,7 +562,7 @@ impl ColumnHeader {
                 err(
                     origin,
                     line,
-                    format!("bad '# npts:' value '{v}': a count of samples"),
+                    format!("bad '# npts:' value '{}': a count of samples", excerpt(&v)),
                 )
             })?;
             self.npts = Some((line, n));
@@ -563,6 +626,12 @@ fn parse_columns(
                 r.len()
             ),
         ));
+    }
+    if matches!(columns, 1 | 2) {
+        // The acceleration is the last column (a, or t and a).
+        for (line, r) in &rows {
+            plausible(r[columns - 1], units, origin, *line)?;
+        }
     }
     let scale = units.to_mps2();
     match columns {

@@ -151,12 +151,30 @@ pub struct SuiteSelect {
     /// Only this component of every record (default: both).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub component: Option<Component>,
-    /// Only these record ids of the set (1-based, as `index.csv` numbers them).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    /// Only these record ids of the set (1-based, as `index.csv` numbers them); left out, every
+    /// record. Given, the list is not empty.
+    #[serde(
+        default,
+        skip_serializing_if = "Vec::is_empty",
+        deserialize_with = "some_record_ids"
+    )]
     pub records: Vec<u32>,
     /// Only pulse-like (true) or only no-pulse (false) records (near-field sets).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pulse: Option<bool>,
+}
+
+/// A `records` filter as written: `records: []` would select nothing, yet read as left out it
+/// would select every record, so an empty list is refused.
+fn some_record_ids<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<u32>, D::Error> {
+    let ids = Vec::<u32>::deserialize(d)?;
+    if ids.is_empty() {
+        return Err(serde::de::Error::custom(
+            "an empty list selects no record; list record ids, e.g. records: [1, 2], or leave \
+             `records` out for every record of the suite",
+        ));
+    }
+    Ok(ids)
 }
 
 /// Read a set's `index.csv` text; an error gives the line (0: the file as a whole) and what

@@ -6,7 +6,7 @@
 
 use super::clutch::{clutch_force, clutch_potential, friction_force};
 use super::{Counters, Ledger};
-use crate::excitation::G;
+use crate::excitation::Gravity;
 use crate::scene::{ClutchStiffness, Coupling, Damping, Device, ResetRule};
 use crate::solver::Direction;
 
@@ -63,8 +63,9 @@ fn damping_cbar(damping: Damping, k: f64, mr: f64) -> f64 {
 }
 
 impl DeviceModel {
-    /// Convert scene parameters for a structure of mass `m` and frequency parameter `p`.
-    pub fn new(device: &Device, m: f64, p: f64) -> Self {
+    /// Convert scene parameters for a structure of mass `m` and frequency parameter `p`
+    /// under `gravity` (the friction force is a fraction of mr g).
+    pub fn new(device: &Device, m: f64, p: f64, gravity: Gravity) -> Self {
         match device {
             Device::None => DeviceModel::None,
             Device::Inerter { sigma, coupling } => {
@@ -94,7 +95,7 @@ impl DeviceModel {
                     k,
                     eps_hat: c.epsilon / c.rho,
                     cbar: damping_cbar(c.damping, k, mr),
-                    friction: c.friction * mr * G,
+                    friction: c.friction * mr * gravity.g(),
                     eta: c.eta,
                     rho: c.rho,
                     play: c.play,
@@ -104,16 +105,22 @@ impl DeviceModel {
         }
     }
 
-    /// Number of the device's degrees of freedom whose motion is integrated (its flywheels;
-    /// each adds y, ẏ to the state, see [`super::shell::Layout`]).
-    pub fn dofs(&self) -> usize {
+    /// The device's flywheels, whose motion is integrated: the one place its state size is
+    /// decided (each adds y, ẏ to the state, see [`super::shell::Layout`]), so the driver's
+    /// dispatch over state sizes (`sim::run_sampled`) is a total match.
+    pub fn flywheels(&self) -> Flywheels {
         match self {
             DeviceModel::None
             | DeviceModel::RigidInerter { .. }
-            | DeviceModel::Sequential { .. } => 0,
-            DeviceModel::FlywheelInerter { .. } => 1,
-            DeviceModel::Mechanistic(_) => 2,
+            | DeviceModel::Sequential { .. } => Flywheels::Zero,
+            DeviceModel::FlywheelInerter { .. } => Flywheels::One,
+            DeviceModel::Mechanistic(_) => Flywheels::Two,
         }
+    }
+
+    /// Number of the device's degrees of freedom whose motion is integrated.
+    pub fn dofs(&self) -> usize {
+        self.flywheels() as usize
     }
 
     pub fn mr(&self) -> f64 {
@@ -131,7 +138,10 @@ impl DeviceModel {
         match *self {
             DeviceModel::RigidInerter { mr } => mr,
             DeviceModel::Sequential { mr } if engaged => mr,
-            _ => 0.0,
+            DeviceModel::None
+            | DeviceModel::Sequential { .. }
+            | DeviceModel::FlywheelInerter { .. }
+            | DeviceModel::Mechanistic(_) => 0.0,
         }
     }
 
@@ -141,7 +151,9 @@ impl DeviceModel {
         match *self {
             DeviceModel::None => Some(0.0),
             DeviceModel::RigidInerter { mr } => Some(mr),
-            _ => None,
+            DeviceModel::FlywheelInerter { .. }
+            | DeviceModel::Sequential { .. }
+            | DeviceModel::Mechanistic(_) => None,
         }
     }
 
@@ -150,14 +162,22 @@ impl DeviceModel {
         match *self {
             DeviceModel::FlywheelInerter { k, .. } => Some(k),
             DeviceModel::Mechanistic(c) => Some(c.k),
-            _ => None,
+            DeviceModel::None
+            | DeviceModel::RigidInerter { .. }
+            | DeviceModel::Sequential { .. } => None,
         }
     }
 
     /// Whether the device has a switch deciding on the sign of ẋ·ẍ of the bare structure
     /// (the sequential law); the shell locates it and calls [`Self::toggle_switch`].
     pub fn has_switch(&self) -> bool {
-        matches!(self, DeviceModel::Sequential { .. })
+        match self {
+            DeviceModel::Sequential { .. } => true,
+            DeviceModel::None
+            | DeviceModel::RigidInerter { .. }
+            | DeviceModel::FlywheelInerter { .. }
+            | DeviceModel::Mechanistic(_) => false,
+        }
     }
 
     /// Spring forces on the flywheels for structure position x and device states
@@ -201,7 +221,10 @@ impl DeviceModel {
                     fmu * ydot,
                 )
             }
-            _ => (0.0, 0.0, 0.0),
+            // No flywheel ([`Self::dofs`] is 0): never called, and nothing moves.
+            DeviceModel::None
+            | DeviceModel::RigidInerter { .. }
+            | DeviceModel::Sequential { .. } => (0.0, 0.0, 0.0),
         }
     }
 
@@ -284,7 +307,10 @@ impl DeviceModel {
     pub fn event_value(&self, ev: ClutchEvent, x: f64, xdot: f64, states: &[f64]) -> f64 {
         match self {
             DeviceModel::Mechanistic(c) => c.event_value(ev, x, xdot, states),
-            _ => 1.0,
+            DeviceModel::None
+            | DeviceModel::RigidInerter { .. }
+            | DeviceModel::FlywheelInerter { .. }
+            | DeviceModel::Sequential { .. } => 1.0,
         }
     }
 
@@ -299,7 +325,10 @@ impl DeviceModel {
     ) -> f64 {
         match self {
             DeviceModel::Mechanistic(c) => c.event_rate(ev, x, states, rates),
-            _ => 0.0,
+            DeviceModel::None
+            | DeviceModel::RigidInerter { .. }
+            | DeviceModel::FlywheelInerter { .. }
+            | DeviceModel::Sequential { .. } => 0.0,
         }
     }
 
@@ -312,8 +341,12 @@ impl DeviceModel {
         ledger: &mut Ledger,
         counters: &mut Counters,
     ) {
-        if let DeviceModel::Mechanistic(c) = self {
-            c.apply(ev, x, states, ledger, counters);
+        match self {
+            DeviceModel::Mechanistic(c) => c.apply(ev, x, states, ledger, counters),
+            DeviceModel::None
+            | DeviceModel::RigidInerter { .. }
+            | DeviceModel::FlywheelInerter { .. }
+            | DeviceModel::Sequential { .. } => {}
         }
     }
 
@@ -339,6 +372,14 @@ impl DeviceModel {
     ) {
         resync_sequential(self.mr(), xdot, bare_xddot, engaged, ledger, counters);
     }
+}
+
+/// How many flywheels a device integrates (see [`DeviceModel::flywheels`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Flywheels {
+    Zero = 0,
+    One = 1,
+    Two = 2,
 }
 
 /// What the device's equations give the structure: the force Fd on it (not counting a
@@ -437,7 +478,10 @@ impl ClutchEvent {
         match self {
             ClutchEvent::ResetA => Direction::Rising,
             ClutchEvent::ResetB => Direction::Falling,
-            _ => Direction::Either,
+            ClutchEvent::ContactA
+            | ClutchEvent::ContactB
+            | ClutchEvent::GuardA
+            | ClutchEvent::GuardB => Direction::Either,
         }
     }
 }

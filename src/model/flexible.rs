@@ -21,7 +21,7 @@ use super::device::{DeviceModel, Returnable};
 use super::rigid::below_peak;
 use super::shell::{Body, Landing, Mode, OwnLoss, Rocking};
 use super::{Ledger, Measures, Peaks, extremum_of_component, extremum_on_step};
-use crate::excitation::{G, Motion};
+use crate::excitation::{Gravity, Motion};
 use crate::scene::FlexibleStructure;
 use crate::solver::Dense;
 
@@ -41,6 +41,8 @@ pub struct Column {
     pub c: f64,
     pub b: f64,
     pub h: f64,
+    /// The gravity the structure feels ([`Motion::gravity`]).
+    pub gravity: Gravity,
 }
 
 pub struct FlexibleBody {
@@ -72,9 +74,10 @@ impl<'m> FlexibleModel<'m> {
         motion: &'m Motion,
         initial_rotation: f64,
     ) -> Self {
-        let p = (G / structure.r0).sqrt();
+        let gravity = motion.gravity();
+        let p = (gravity.g() / structure.r0).sqrt();
         let body = FlexibleBody {
-            col: Column::new(structure),
+            col: Column::new(structure, gravity),
             scales: scales(structure, motion, p),
             contact: None,
         };
@@ -111,11 +114,12 @@ impl<'m> FlexibleModel<'m> {
 fn scales(structure: &FlexibleStructure, motion: &Motion, p: f64) -> ([f64; 4], [f64; 2]) {
     let wn = structure.omega_n;
     let peak = motion.peak_abs(0.0, motion.end());
+    let g = motion.gravity().g();
     let (reach, w) = if peak > 0.0 {
         let w_ground = peak / peak_ground_velocity(motion).max(f64::MIN_POSITIVE);
-        ((G * structure.alpha.tan()).min(peak), wn.max(w_ground))
+        ((g * structure.alpha.tan()).min(peak), wn.max(w_ground))
     } else {
-        (G * structure.alpha.tan(), wn)
+        (g * structure.alpha.tan(), wn)
     };
     let u = reach / (w * w);
     let a = structure.alpha;
@@ -137,7 +141,7 @@ fn peak_ground_velocity(motion: &Motion) -> f64 {
 }
 
 impl Column {
-    fn new(structure: &FlexibleStructure) -> Self {
+    fn new(structure: &FlexibleStructure, gravity: Gravity) -> Self {
         let m = structure.mass;
         Column {
             m,
@@ -145,13 +149,15 @@ impl Column {
             c: 2.0 * structure.xi * structure.omega_n * m,
             b: structure.r0 * structure.alpha.sin(),
             h: structure.r0 * structure.alpha.cos(),
+            gravity,
         }
     }
 
     /// Uplift test toward side s (Eqs. 37–38): s (k u + c u̇) H − m g (B − s u), positive when
     /// the base lifts off. The device force loads the mass, not the base, and cancels out.
     pub fn uplift_margin(&self, side: f64, u: f64, udot: f64) -> f64 {
-        side * (self.k * u + self.c * udot) * self.h - self.m * G * (self.b - side * u)
+        side * (self.k * u + self.c * udot) * self.h
+            - self.m * self.gravity.g() * (self.b - side * u)
     }
 
     #[inline]
@@ -208,15 +214,15 @@ impl Column {
         if !m.rocking() {
             return ((load - elastic) / (self.m + mc), 0.0);
         }
-        let (mass, h) = (self.m, self.h);
+        let (mass, h, g) = (self.m, self.h, self.gravity.g());
         let kappa = kin.z * thetadot * thetadot - 2.0 * kin.sin * udot * thetadot;
         let m11 = mass + mc * kin.cos * kin.cos;
         let m12 = mass * h + mc * kin.cos * kin.y;
         let m22 = mass * (kin.lever * kin.lever + h * h) + mc * kin.y * kin.y;
         let f = load - mc * kappa;
         let r1 =
-            f * kin.cos - mass * kin.lever * thetadot * thetadot + mass * G * kin.sin - elastic;
-        let r2 = f * kin.y + 2.0 * mass * kin.lever * udot * thetadot - mass * G * kin.z;
+            f * kin.cos - mass * kin.lever * thetadot * thetadot + mass * g * kin.sin - elastic;
+        let r2 = f * kin.y + 2.0 * mass * kin.lever * udot * thetadot - mass * g * kin.z;
         let det = m11 * m22 - m12 * m12;
         ((r1 * m22 - r2 * m12) / det, (m11 * r2 - m12 * r1) / det)
     }
@@ -331,7 +337,7 @@ impl Body for FlexibleBody {
                 + 2.0 * col.h * udot * thetadot
                 + (kin.lever * kin.lever + col.h * col.h) * thetadot * thetadot);
         // V = m g Y + ½ k u², relative to the base flat on the ground (Y = H).
-        let potential = col.m * G * (kin.y - col.h) + 0.5 * col.k * u * u;
+        let potential = col.m * col.gravity.g() * (kin.y - col.h) + 0.5 * col.k * u * u;
         kinetic + potential
     }
 
@@ -350,10 +356,11 @@ impl Body for FlexibleBody {
         let u_max = (2.0 * e / col.k).sqrt();
         let v_max = (2.0 * e / col.m).sqrt();
         let column = col.k * u_max + col.c * v_max;
-        let can_uplift = column * col.h + col.m * G * u_max >= col.m * G * col.b;
+        let g = col.gravity.g();
+        let can_uplift = column * col.h + col.m * g * u_max >= col.m * g * col.b;
         let device_force = device.springs * (2.0 * device.k * e).sqrt() * (1.0 + 1e-6);
         // m ü = −(k u + c u̇) + Fd; a coupled mass only lowers |ü|.
-        let accel_g = (column + device_force) / (col.m * G);
+        let accel_g = (column + device_force) / (col.m * g);
         !can_uplift
             && u_max <= peaks.deformation
             && u_max / col.h <= peaks.drift
@@ -470,11 +477,12 @@ mod tests {
                 let fd = fd_ext - mc * xdd;
                 let (m, k, c, h, l) = (col.m, col.k, col.c, col.h, kin.lever);
                 let (u, ud, thd) = (y[0], y[1], y[3]);
-                let e1 =
-                    m * udd + m * h * thdd + m * l * thd * thd - m * G * kin.sin + k * u + c * ud
-                        - (fd - m * ag) * kin.cos;
+                let e1 = m * udd + m * h * thdd + m * l * thd * thd - m * col.gravity.g() * kin.sin
+                    + k * u
+                    + c * ud
+                    - (fd - m * ag) * kin.cos;
                 let e2 = m * h * udd + m * (l * l + h * h) * thdd - 2.0 * m * l * ud * thd
-                    + m * G * kin.z
+                    + m * col.gravity.g() * kin.z
                     - (fd - m * ag) * kin.y;
                 assert!(e1.abs() < 1e-12 && e2.abs() < 1e-12, "{e1} {e2}");
             }
@@ -509,7 +517,12 @@ mod tests {
     #[test]
     fn vvel_impact_keeps_the_horizontal_velocity_and_books_the_loss() {
         let mo = motion();
-        let dev = DeviceModel::new(&Device::Sequential { sigma: 0.5 }, structure().mass, 1.0);
+        let dev = DeviceModel::new(
+            &Device::Sequential { sigma: 0.5 },
+            structure().mass,
+            1.0,
+            Gravity::STANDARD,
+        );
         for pivot in [1.0, -1.0] {
             let mut model = rocking_model(dev, &mo, pivot);
             model.mode.switch_engaged = true;
@@ -543,7 +556,12 @@ mod tests {
     #[test]
     fn uplift_margin_is_the_sign_of_the_rocking_acceleration() {
         let mo = motion();
-        let dev = DeviceModel::new(&Device::Sequential { sigma: 0.5 }, structure().mass, 1.0);
+        let dev = DeviceModel::new(
+            &Device::Sequential { sigma: 0.5 },
+            structure().mass,
+            1.0,
+            Gravity::STANDARD,
+        );
         for side in [1.0, -1.0] {
             let model = rocking_model(dev, &mo, side);
             let (col, mode) = (&model.body.col, &model.mode);

@@ -197,6 +197,9 @@ pub type StepEnd<'a, const N: usize> = (f64, &'a [f64; N], &'a [f64; N]);
 
 /// What the simulation driver needs from a structure family.
 pub trait SimModel<const N: usize>: OdeSystem<N> {
+    /// Number of state components the model needs (the driver refuses to run it with
+    /// another N).
+    fn state_len(&self) -> usize;
     /// State at t = 0 and the first action (e.g. idle until the ground lifts the block).
     fn start(&mut self, y: &mut [f64; N]) -> Action;
     /// Apply the jump of event `index` located at t.

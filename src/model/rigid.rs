@@ -8,7 +8,7 @@ use super::column::HistoryColumn;
 use super::device::{DeviceModel, Returnable};
 use super::shell::{Body, Landing, Mode, OwnLoss, Rocking};
 use super::{Ledger, Measures, Peaks, extremum_of_component};
-use crate::excitation::{G, Motion};
+use crate::excitation::{Gravity, Motion};
 use crate::scene::{Form, Impact, RigidBlock};
 use crate::solver::{Dense, Direction, no_root_inside};
 use crate::trig;
@@ -50,7 +50,12 @@ pub struct RigidBody {
     alpha: f64,
     m: f64,
     form: Equations,
+    /// p² = 3g/(4R).
     p2: f64,
+    /// The gravity the block feels ([`Motion::gravity`]); p² and 1/g are derived from its
+    /// constant part once (a time-varying g would make them functions of t in the RHS).
+    gravity: Gravity,
+    inv_g: f64,
     i0: f64,
     sin_a: f64,
     cos_a: f64,
@@ -77,7 +82,7 @@ impl<'m> RigidModel<'m> {
         initial_rotation: f64,
     ) -> Self {
         Rocking::with_body(
-            RigidBody::new(block, &device, impact),
+            RigidBody::new(block, &device, impact, motion.gravity()),
             device,
             motion,
             initial_rotation,
@@ -86,9 +91,10 @@ impl<'m> RigidModel<'m> {
 }
 
 impl RigidBody {
-    fn new(block: &RigidBlock, device: &DeviceModel, impact: Impact) -> Self {
+    fn new(block: &RigidBlock, device: &DeviceModel, impact: Impact, gravity: Gravity) -> Self {
         let r = block.size;
-        let p2 = 3.0 * G / (4.0 * r);
+        let g = gravity.g();
+        let p2 = 3.0 * g / (4.0 * r);
         let form = match block.form {
             Form::Slender => Equations::Slender,
             Form::Exact | Form::Auto => Equations::Trigonometric,
@@ -103,7 +109,7 @@ impl RigidBody {
         // drifting by 1% at rtol 1e-6.
         let x = r * block.alpha;
         let deflection = match device.spring_stiffness() {
-            Some(k) => block.mass * G * block.alpha.tan() / k,
+            Some(k) => block.mass * g * block.alpha.tan() / k,
             None => x,
         }
         .min(x);
@@ -113,6 +119,8 @@ impl RigidBody {
             m: block.mass,
             form,
             p2,
+            gravity,
+            inv_g: 1.0 / g,
             i0: 4.0 / 3.0 * block.mass * r * r,
             // From the same function as `sc`, so that X = 0 at θ = 0 exactly: glibc's and
             // libm's differ by an ulp for ~2 % of α, and an X of 1e-16 at uplift gave a
@@ -188,8 +196,10 @@ impl RigidBody {
 
     fn potential(&self, s: f64, c: f64) -> f64 {
         match self.form {
-            Equations::Trigonometric => self.m * G * self.r * (c - self.cos_a),
-            Equations::Slender => 0.5 * self.m * G * self.r * (self.alpha.powi(2) - s * s),
+            Equations::Trigonometric => self.m * self.gravity.g() * self.r * (c - self.cos_a),
+            Equations::Slender => {
+                0.5 * self.m * self.gravity.g() * self.r * (self.alpha.powi(2) - s * s)
+            }
         }
     }
 }
@@ -253,7 +263,7 @@ impl Body for RigidBody {
         let (s, c) = *k;
         let moment = self.dirac_moment(m, theta, thetadot);
         let sigma = mc / self.m;
-        let mut num = -self.p2 * (s + ag * (1.0 / G) * c);
+        let mut num = -self.p2 * (s + ag * self.inv_g * c);
         // Without a device force, a Dirac moment or a coupled mass the two divisions add
         // nothing but ~25 cycles of latency to every stage (the bare block: θ̈ waits on them).
         if fd != 0.0 || moment != 0.0 {
@@ -276,7 +286,7 @@ impl Body for RigidBody {
     fn bare_xddot(&self, m: &Mode, k: &(f64, f64), t: f64, y: &[f64]) -> f64 {
         let (s, c) = *k;
         let ag = m.motion.accel(t);
-        let thdd = -self.p2 * (s + ag * (1.0 / G) * c)
+        let thdd = -self.p2 * (s + ag * self.inv_g * c)
             + self.dirac_moment(m, y[THETA], y[THETA_DOT]) / self.i0;
         self.xddot_of(k, y, thdd)
     }
@@ -285,7 +295,7 @@ impl Body for RigidBody {
     /// the block's weight moment.
     fn uplift_margin(&self, m: &Mode, side: f64, t: f64, y: &[f64]) -> f64 {
         let fd = m.dev.spring_force(0.0, m.layout.device_states(y));
-        side * (fd - self.m * m.motion.accel(t)) - self.m * G * self.uplift_ratio
+        side * (fd - self.m * m.motion.accel(t)) - self.m * self.gravity.at(t) * self.uplift_ratio
     }
 
     /// The centre of mass passes over the pivot: |θ| ≥ α.
@@ -343,7 +353,7 @@ impl Body for RigidBody {
             return false;
         }
         let e = self.energy(m, y) + device.energy;
-        let mgr = self.m * G * self.r;
+        let mgr = self.m * self.gravity.g() * self.r;
         let reach = match self.form {
             Equations::Trigonometric => {
                 let c_min = self.cos_a + e / mgr;
@@ -369,7 +379,7 @@ impl Body for RigidBody {
         let force = 2.0 * (2.0 * device.k * e).sqrt();
         let accel = self.r
             * (self.p2 * s_max + force * self.r / self.i0 + (1.0 + 0.75 * sigma) * s_max * rate2)
-            / G;
+            / self.gravity.g();
         // |θ̈| ≤ p² s_max + |Fd|max R/I0 + ¾σ s_max θ̇²max with the ground at rest.
         let angular = s_max + (force * self.r / self.i0 + 0.75 * sigma * s_max * rate2) / self.p2;
         reach < peaks.rotation
@@ -418,7 +428,7 @@ impl Body for RigidBody {
         ground: f64,
     ) -> (Option<f64>, Option<f64>) {
         if !m.rocking() {
-            return (Some(ground / G), Some(0.0));
+            return (Some(ground / self.gravity.g()), Some(0.0));
         }
         let (theta, w, wdot) = (value(THETA), value(THETA_DOT), rate(THETA_DOT));
         let s_max = match self.form {
@@ -428,7 +438,7 @@ impl Body for RigidBody {
             Equations::Trigonometric => 1.0,
             Equations::Slender => self.alpha + theta,
         };
-        let abs_g = (self.r * (wdot + s_max * w * w) + ground) / G;
+        let abs_g = (self.r * (wdot + s_max * w * w) + ground) / self.gravity.g();
         let mut angular = wdot / self.p2 * (1.0 + ANGULAR_BOUND_MARGIN);
         let springless = m.dev.spring_stiffness().is_none();
         if ground == 0.0 && springless && self.dirac.is_none() {
@@ -499,7 +509,7 @@ impl Body for RigidBody {
     fn idle_until(&self, m: &Mode, t: f64) -> Option<f64> {
         Some(
             m.motion
-                .first_exceedance(t, G * self.uplift_ratio)
+                .first_exceedance(t, self.gravity.g() * self.uplift_ratio)
                 .unwrap_or_else(|| m.motion.end().max(t)),
         )
     }
@@ -522,7 +532,7 @@ impl Body for RigidBody {
 
     fn wake_side(&self, m: &Mode, t: f64) -> Option<f64> {
         let ag = m.motion.accel(t);
-        (ag.abs() > G * self.uplift_ratio).then(|| -ag.signum())
+        (ag.abs() > self.gravity.at(t) * self.uplift_ratio).then(|| -ag.signum())
     }
 
     fn own_events(&self) -> usize {
@@ -590,7 +600,12 @@ mod tests {
                 mass: 1.0,
                 form: Form::Exact,
             };
-            let body = RigidBody::new(&block, &DeviceModel::None, Impact::default());
+            let body = RigidBody::new(
+                &block,
+                &DeviceModel::None,
+                Impact::default(),
+                Gravity::STANDARD,
+            );
             for pivot in [1.0, -1.0] {
                 let (s, c) = body.sc(pivot, 0.0);
                 assert_eq!(

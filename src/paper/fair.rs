@@ -32,11 +32,31 @@ impl Judgement {
         self
     }
 
-    pub fn value(&self, name: &str) -> f64 {
+    /// The value the check reported as `name`; a name it did not report is an error (a
+    /// misspelt name must not read as NaN, which `f64::max` would silently drop).
+    pub fn value(&self, name: &str) -> Result<f64, MissingValue> {
         self.values
             .iter()
             .find(|(k, _)| k == name)
-            .map_or(f64::NAN, |(_, x)| *x)
+            .map(|(_, x)| *x)
+            .ok_or_else(|| MissingValue {
+                name: name.to_string(),
+                check: self.check.clone(),
+            })
+    }
+}
+
+/// A row asked a judgement for a value it did not report.
+#[derive(Debug, thiserror::Error)]
+#[error("internal: the check \"{check}\" reports no value named \"{name}\"")]
+pub struct MissingValue {
+    pub name: String,
+    pub check: String,
+}
+
+impl From<MissingValue> for crate::error::Error {
+    fn from(e: MissingValue) -> Self {
+        crate::error::Error::Other(Box::new(e))
     }
 }
 

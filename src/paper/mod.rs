@@ -92,7 +92,7 @@ impl Row {
 }
 
 /// How one row is measured.
-type Measure = fn() -> anyhow::Result<Row>;
+type Measure = fn() -> crate::error::Result<Row>;
 
 /// Every row, in the paper's order: the claim table's ids paired with their measurements.
 fn measures() -> Vec<Measure> {
@@ -105,14 +105,14 @@ fn measures() -> Vec<Measure> {
 }
 
 /// Run every row (or those whose id or figure contains `only`).
-pub fn rows(only: Option<&str>) -> anyhow::Result<Vec<Row>> {
+pub fn rows(only: Option<&str>) -> crate::error::Result<Vec<Row>> {
     let mut out = Vec::new();
     for (claim, measure) in claims::CLAIMS.iter().zip(measures()) {
         if only.is_some_and(|o| !claim.id.contains(o) && !claim.figure.contains(o)) {
             continue;
         }
         let row = measure()?;
-        anyhow::ensure!(
+        crate::error::ensure!(
             row.id == claim.id,
             "paper: row {} measured for claim {}",
             row.id,
@@ -124,11 +124,11 @@ pub fn rows(only: Option<&str>) -> anyhow::Result<Vec<Row>> {
 }
 
 /// The row with this id.
-pub fn row(id: &str) -> anyhow::Result<Row> {
+pub fn row(id: &str) -> crate::error::Result<Row> {
     let i = claims::CLAIMS
         .iter()
         .position(|c| c.id == id)
-        .ok_or_else(|| anyhow::anyhow!("paper: no claim {id}"))?;
+        .ok_or_else(|| crate::error::error!("paper: no claim {id}"))?;
     measures()[i]()
 }
 
@@ -143,7 +143,7 @@ pub fn claim_ids() -> Vec<&'static str> {
 }
 
 /// The JSON `rocklab paper --json` prints: one object per row.
-pub fn json(rows: &[Row]) -> anyhow::Result<String> {
+pub fn json(rows: &[Row]) -> crate::error::Result<String> {
     Ok(serde_json::to_string_pretty(rows)?)
 }
 
@@ -175,8 +175,8 @@ pub(super) fn explained(
     unstated: &[runs::Unstated],
     id: &'static str,
     finding: &str,
-    check: impl Fn(fn(&mut crate::scene::Clutch)) -> anyhow::Result<fair::Judgement>,
-) -> anyhow::Result<Row> {
+    check: impl Fn(fn(&mut crate::scene::Clutch)) -> crate::error::Result<fair::Judgement>,
+) -> crate::error::Result<Row> {
     let mut j = check(runs::as_is)?;
     if j.verdict == Agreement::Agrees {
         return Ok(judged(id, j, ""));

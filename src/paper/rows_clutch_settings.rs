@@ -21,7 +21,7 @@ pub const ROWS: [RowFn; 5] = [
 ];
 
 /// The largest |input − stored − dissipated| over the history, over the final input.
-fn largest_residual(device: Device) -> anyhow::Result<f64> {
+fn largest_residual(device: Device) -> crate::error::Result<f64> {
     let h = runs::history(&flexible_fig14(device))?;
     let input = runs::column(&h.1, HistoryColumn::EInput)?;
     let mut residual = vec![0.0; input.len()];
@@ -41,7 +41,7 @@ fn largest_residual(device: Device) -> anyhow::Result<f64> {
 /// "Maintains the conservation of energy": the balance's residual a thousandth of the input.
 const CONSERVED: f64 = 1e-3;
 
-fn fig15_conservation() -> anyhow::Result<Row> {
+fn fig15_conservation() -> crate::error::Result<Row> {
     let j = fair::small(
         "largest |energy residual| over the history / input",
         largest_residual(mechanistic_xi_theta(0.02))?,
@@ -53,7 +53,7 @@ fn fig15_conservation() -> anyhow::Result<Row> {
     Ok(judged("fig15-conservation", j, ""))
 }
 
-fn fig16_similar_peaks() -> anyhow::Result<Row> {
+fn fig16_similar_peaks() -> crate::error::Result<Row> {
     let j = fair::immaterial(
         &spectrum(sequential(), Measure::Drift)?,
         &[("mechanistic", &spectrum(mechanistic(), Measure::Drift)?)],
@@ -68,7 +68,7 @@ fn fig16_similar_peaks() -> anyhow::Result<Row> {
 /// its zero crossings) in which a clutch contact event falls (the events are exact; bounces
 /// shorter than the resampled grid leave no row), and the share of them with three contact
 /// events or more (two collisions or more: a series).
-fn collision_series(device: Device) -> anyhow::Result<(f64, f64)> {
+fn collision_series(device: Device) -> crate::error::Result<(f64, f64)> {
     use crate::model::device::ClutchEvent::{ContactA, ContactB};
     let h = runs::history(&flexible_fig14(device))?;
     let t = runs::column(&h.1, col::T)?;
@@ -96,7 +96,7 @@ fn collision_series(device: Device) -> anyhow::Result<(f64, f64)> {
 /// "Whenever the clutch engages": four in five of the engaging half-cycles.
 const WHENEVER: f64 = 0.8;
 
-fn s7_series_of_collisions() -> anyhow::Result<Row> {
+fn s7_series_of_collisions() -> crate::error::Result<Row> {
     let (halves, share) = collision_series(play(0.01))?;
     let (_, without) = collision_series(play(0.0))?;
     let j = fair::at_least(
@@ -124,8 +124,8 @@ fn reduction(undamped: &Series, damped: &Series) -> Series {
         .collect()
 }
 
-fn fig21_similar_to_viscous() -> anyhow::Result<Row> {
-    let per = |m: Measure| -> anyhow::Result<Judgement> {
+fn fig21_similar_to_viscous() -> crate::error::Result<Row> {
+    let per = |m: Measure| -> crate::error::Result<Judgement> {
         let (mut viscous, mut dry) = (Vec::new(), Vec::new());
         // The paper's operational and high levels of each.
         for (x, f) in [(0.02, 0.1), (0.2, 0.2)] {
@@ -155,12 +155,12 @@ fn fig21_similar_to_viscous() -> anyhow::Result<Row> {
 }
 
 /// The largest difference of `m`'s spectrum from `reference`'s, over its peak.
-fn spread(reference: Device, variant: Device, m: Measure) -> anyhow::Result<f64> {
+fn spread(reference: Device, variant: Device, m: Measure) -> crate::error::Result<f64> {
     let j = fair::immaterial(&spectrum(reference, m)?, &[("v", &spectrum(variant, m)?)]);
-    Ok(j.value("v: largest difference / reference peak"))
+    Ok(j.value("v: largest difference / reference peak")?)
 }
 
-fn s9_damping_friction_more_significant() -> anyhow::Result<Row> {
+fn s9_damping_friction_more_significant() -> crate::error::Result<Row> {
     let (mut k, mut other) = (Vec::new(), Vec::new());
     let mut values = Vec::new();
     for (m, name) in [

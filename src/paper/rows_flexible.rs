@@ -11,6 +11,7 @@ use super::{Measure as RowFn, Row, explained, judged};
 use crate::presets::{self, flexible_fig14, mechanistic, mechanistic_xi_theta, sequential};
 use crate::scene::*;
 use crate::sim::SceneResult;
+use crate::study::Param;
 use std::sync::Arc;
 
 pub const ROWS: [RowFn; 28] = [
@@ -47,12 +48,12 @@ pub const ROWS: [RowFn; 28] = [
 pub(super) const FIG14: &str = "Fig. 14 scene (R0 = 10 m, α = 0.2, ξ = 0.02, ωn/p = 8, A/(g tan α) = 1.5, ωg/p = 8, 30 s; σ = 0.5; clutch and dissipative inerter c̄ = 1 s⁻¹)";
 
 /// The Fig. 14 scene's peak `m` with `device`, as a one-point series.
-fn fig14(device: Device, m: Measure) -> anyhow::Result<Series> {
+fn fig14(device: Device, m: Measure) -> crate::error::Result<Series> {
     Ok(vec![m.of(&*runs::result(&flexible_fig14(device))?)])
 }
 
 /// Several devices' one-point series stacked (each claim about "clutches" covers both).
-fn fig14_many(devices: &[Device], m: Measure) -> anyhow::Result<Series> {
+fn fig14_many(devices: &[Device], m: Measure) -> crate::error::Result<Series> {
     let mut v = Vec::new();
     for d in devices {
         v.extend(fig14(d.clone(), m)?);
@@ -65,7 +66,7 @@ pub(super) fn clutches() -> [Device; 2] {
 }
 
 /// The single inerter against the bare structure in the Fig. 14 scene.
-fn inerter_against_bare(relation: Relation, m: Measure) -> anyhow::Result<Judgement> {
+fn inerter_against_bare(relation: Relation, m: Measure) -> crate::error::Result<Judgement> {
     Ok(fair::compare(
         relation,
         &fig14(Device::None, m)?,
@@ -73,14 +74,14 @@ fn inerter_against_bare(relation: Relation, m: Measure) -> anyhow::Result<Judgem
     ))
 }
 
-fn fig14_inerter_uplift() -> anyhow::Result<Row> {
+fn fig14_inerter_uplift() -> crate::error::Result<Row> {
     let j = inerter_against_bare(Relation::MuchLower, Measure::Rotation)?.on(&format!(
         "θmax/α, single inerter (no dissipation) against bare; {FIG14}"
     ));
     Ok(judged("fig14-inerter-uplift", j, ""))
 }
 
-fn fig14_inerter_deformation() -> anyhow::Result<Row> {
+fn fig14_inerter_deformation() -> crate::error::Result<Row> {
     let j = fair::immaterial(
         &fig14(Device::None, Measure::Deformation)?,
         &[("inerter", &fig14(presets::inerter(), Measure::Deformation)?)],
@@ -89,7 +90,7 @@ fn fig14_inerter_deformation() -> anyhow::Result<Row> {
     Ok(judged("fig14-inerter-deformation", j, ""))
 }
 
-fn fig14_inerter_acceleration() -> anyhow::Result<Row> {
+fn fig14_inerter_acceleration() -> crate::error::Result<Row> {
     let j = inerter_against_bare(Relation::Lower, Measure::Acceleration)?.on(&format!(
         "|ẍ + a_g|max/g, single inerter against bare; {FIG14}"
     ));
@@ -97,7 +98,7 @@ fn fig14_inerter_acceleration() -> anyhow::Result<Row> {
 }
 
 /// Each clutch (sequential, mechanistic) against the single inerter in the Fig. 14 scene.
-fn clutches_against_single(relation: Relation, m: Measure) -> anyhow::Result<Judgement> {
+fn clutches_against_single(relation: Relation, m: Measure) -> crate::error::Result<Judgement> {
     let single = [presets::inerter(), presets::inerter()];
     Ok(fair::compare(
         relation,
@@ -106,7 +107,7 @@ fn clutches_against_single(relation: Relation, m: Measure) -> anyhow::Result<Jud
     ))
 }
 
-fn fig14_clutch_further() -> anyhow::Result<Row> {
+fn fig14_clutch_further() -> crate::error::Result<Row> {
     let j = fair::both(
         clutches_against_single(Relation::Lower, Measure::Rotation)?,
         "rotation",
@@ -119,7 +120,7 @@ fn fig14_clutch_further() -> anyhow::Result<Row> {
     Ok(judged("fig14-clutch-further", j, ""))
 }
 
-fn fig14_clutch_deformation() -> anyhow::Result<Row> {
+fn fig14_clutch_deformation() -> crate::error::Result<Row> {
     let j = clutches_against_single(Relation::SlightlyLower, Measure::Deformation)?.on(&format!(
         "peak |u|, sequential and mechanistic each against the single inerter; {FIG14}"
     ));
@@ -127,14 +128,14 @@ fn fig14_clutch_deformation() -> anyhow::Result<Row> {
 }
 
 /// (t, θ) of a flexible scene's history (as `simulate --history` writes it).
-fn theta(scene: &Scene) -> anyhow::Result<(Vec<f64>, Vec<f64>)> {
+fn theta(scene: &Scene) -> crate::error::Result<(Vec<f64>, Vec<f64>)> {
     let h = runs::history(scene)?;
     Ok((runs::column(&h.1, col::T)?, runs::column(&h.1, col::THETA)?))
 }
 
-fn fig14_quick_rest() -> anyhow::Result<Row> {
+fn fig14_quick_rest() -> crate::error::Result<Row> {
     let single = theta(&flexible_fig14(presets::inerter()))?;
-    let decay = |d: Device| -> anyhow::Result<Judgement> {
+    let decay = |d: Device| -> crate::error::Result<Judgement> {
         let c = theta(&flexible_fig14(d))?;
         Ok(fair::faster_decrease((&c.0, &c.1), (&single.0, &single.1)))
     };
@@ -148,18 +149,18 @@ fn fig14_quick_rest() -> anyhow::Result<Row> {
     Ok(judged("fig14-quick-rest", j, ""))
 }
 
-fn fig14_clutch_acceleration() -> anyhow::Result<Row> {
+fn fig14_clutch_acceleration() -> crate::error::Result<Row> {
     let j = clutches_against_single(Relation::Larger, Measure::Acceleration)?.on(&format!(
         "|ẍ + a_g|max/g, sequential and mechanistic each against the single inerter; {FIG14}"
     ));
     Ok(judged("fig14-clutch-acceleration", j, ""))
 }
 
-fn returned(device: Device) -> anyhow::Result<f64> {
+fn returned(device: Device) -> crate::error::Result<f64> {
     runs::returned_fraction(&flexible_fig14(device))
 }
 
-fn fig15_inerter_returns() -> anyhow::Result<Row> {
+fn fig15_inerter_returns() -> crate::error::Result<Row> {
     let j = fair::both(
         fair::energy_back(returned(presets::inerter())?, true),
         "inerter",
@@ -172,7 +173,7 @@ fn fig15_inerter_returns() -> anyhow::Result<Row> {
     Ok(judged("fig15-inerter-returns", j, ""))
 }
 
-fn fig15_clutch_prevents() -> anyhow::Result<Row> {
+fn fig15_clutch_prevents() -> crate::error::Result<Row> {
     let j = fair::both(
         fair::energy_back(returned(sequential())?, false),
         "sequential",
@@ -187,12 +188,12 @@ fn fig15_clutch_prevents() -> anyhow::Result<Row> {
 
 /// Structure energy left at the end over the input, the measure of "energy dissipation" a
 /// reader sees in Fig. 15a.
-fn structure_energy_left(device: Device) -> anyhow::Result<Series> {
+fn structure_energy_left(device: Device) -> crate::error::Result<Series> {
     let r = runs::result(&flexible_fig14(device))?;
     Ok(vec![Some(r.energy.structure / r.energy.input)])
 }
 
-fn fig15_damping_improves() -> anyhow::Result<Row> {
+fn fig15_damping_improves() -> crate::error::Result<Row> {
     let j = fair::compare(
         Relation::Lower,
         &structure_energy_left(presets::inerter())?,
@@ -207,7 +208,7 @@ fn fig15_damping_improves() -> anyhow::Result<Row> {
 }
 
 /// Energy dissipated in the device by the end over the input.
-fn device_share(device: Device) -> anyhow::Result<Series> {
+fn device_share(device: Device) -> crate::error::Result<Series> {
     let r = runs::result(&flexible_fig14(device))?;
     let e = &r.energy;
     Ok(vec![Some(
@@ -215,7 +216,7 @@ fn device_share(device: Device) -> anyhow::Result<Series> {
     )])
 }
 
-fn fig15_xi_similar() -> anyhow::Result<Row> {
+fn fig15_xi_similar() -> crate::error::Result<Row> {
     let j = fair::immaterial(
         &device_share(sequential())?,
         &[("mechanistic ξθ = 0.02", &device_share(mechanistic_xi_theta(0.02))?)],
@@ -230,11 +231,11 @@ fn fig15_xi_similar() -> anyhow::Result<Row> {
 
 pub(super) const SPECTRA: &str = "Fig. 14's structure, ωg/p = 3…20 step 1, 15 s";
 
-pub(super) fn spectrum(device: Device, m: Measure) -> anyhow::Result<Series> {
+pub(super) fn spectrum(device: Device, m: Measure) -> crate::error::Result<Series> {
     Ok(m.series(&runs::flexible_spectrum(device)?))
 }
 
-fn stacked(devices: &[Device], m: Measure) -> anyhow::Result<Series> {
+fn stacked(devices: &[Device], m: Measure) -> crate::error::Result<Series> {
     let mut v = Vec::new();
     for d in devices {
         v.extend(spectrum(d.clone(), m)?);
@@ -242,7 +243,7 @@ fn stacked(devices: &[Device], m: Measure) -> anyhow::Result<Series> {
     Ok(v)
 }
 
-fn fig16_rocking_dominated() -> anyhow::Result<Row> {
+fn fig16_rocking_dominated() -> crate::error::Result<Row> {
     let h = presets::FLEXIBLE_R0 * presets::FLEXIBLE_ALPHA.cos();
     let devices = [Device::None, sequential(), mechanistic()];
     let drift = stacked(&devices, Measure::Drift)?;
@@ -256,7 +257,7 @@ fn fig16_rocking_dominated() -> anyhow::Result<Row> {
     Ok(judged("fig16-rocking-dominated", j, ""))
 }
 
-fn fig16_limited_deformation() -> anyhow::Result<Row> {
+fn fig16_limited_deformation() -> crate::error::Result<Row> {
     let bare = stacked(&[Device::None, Device::None], Measure::Deformation)?;
     let j = fair::compare(
         Relation::SlightlyLower,
@@ -269,7 +270,7 @@ fn fig16_limited_deformation() -> anyhow::Result<Row> {
     Ok(judged("fig16-limited-deformation", j, ""))
 }
 
-fn fig16_acceleration_most() -> anyhow::Result<Row> {
+fn fig16_acceleration_most() -> crate::error::Result<Row> {
     let j = fair::compare(
         Relation::Larger,
         &spectrum(sequential(), Measure::Acceleration)?,
@@ -289,7 +290,7 @@ pub(super) fn stiffness(k: f64) -> Device {
 /// velocity mismatch rms(ẏ − Ẋ) / rms(Ẋ) (juddering: the flywheel not following the
 /// structure while engaged), and the mean disengagement delay, from the contact's force peak
 /// (where the two velocities coincide, Fig. 10 B) to separation (C).
-fn contact_motion(device: Device) -> anyhow::Result<(f64, f64)> {
+fn contact_motion(device: Device) -> crate::error::Result<(f64, f64)> {
     let h = runs::history(&flexible_fig14(device))?;
     let t = runs::column(&h.1, col::T)?;
     let xdot = runs::column(&h.1, col::X_DOT)?;
@@ -321,7 +322,7 @@ const STIFFNESSES: [f64; 3] = [25.0, 50.0, 100.0];
 fn unstated_but_stiffness() -> Vec<runs::Unstated> {
     runs::UNSTATED
         .iter()
-        .filter(|(n, _)| !n.contains("kθ"))
+        .filter(|u| u.param != Some(Param::ClutchFrequencyRatio))
         .copied()
         .collect()
 }
@@ -334,12 +335,12 @@ fn stiffness_row(
     what: &str,
     pick: fn((f64, f64)) -> f64,
     finding: &str,
-) -> anyhow::Result<Row> {
-    let check = |change: fn(&mut Clutch)| -> anyhow::Result<Judgement> {
+) -> crate::error::Result<Row> {
+    let check = |change: fn(&mut Clutch)| -> crate::error::Result<Judgement> {
         let at: Vec<f64> = STIFFNESSES
             .iter()
             .map(|&k| Ok(pick(contact_motion(runs::changed(&stiffness(k), change))?)))
-            .collect::<anyhow::Result<_>>()?;
+            .collect::<crate::error::Result<_>>()?;
         let mut j = fair::compare(relation, &vec![Some(at[0])], &vec![Some(at[2])]).on(&format!(
             "{what}, √(kθ/J) = 100 p against 25 p (the paper gives no kθ); {FIG14}; histories as `simulate --history` writes them"
         ));
@@ -351,7 +352,7 @@ fn stiffness_row(
     explained(&unstated_but_stiffness(), id, finding, check)
 }
 
-fn fig17_judder() -> anyhow::Result<Row> {
+fn fig17_judder() -> crate::error::Result<Row> {
     stiffness_row(
         "fig17-judder",
         Relation::Lower,
@@ -361,7 +362,7 @@ fn fig17_judder() -> anyhow::Result<Row> {
     )
 }
 
-fn fig17_soft_delay() -> anyhow::Result<Row> {
+fn fig17_soft_delay() -> crate::error::Result<Row> {
     stiffness_row(
         "fig17-soft-delay",
         Relation::Lower,
@@ -371,14 +372,14 @@ fn fig17_soft_delay() -> anyhow::Result<Row> {
     )
 }
 
-fn fig18_not_determinant() -> anyhow::Result<Row> {
+fn fig18_not_determinant() -> crate::error::Result<Row> {
     let at = |k: f64, m: Measure| {
         spectrum(
             clutch_with(|c| c.stiffness = ClutchStiffness::FrequencyRatio(k)),
             m,
         )
     };
-    let per = |m: Measure| -> anyhow::Result<Judgement> {
+    let per = |m: Measure| -> crate::error::Result<Judgement> {
         Ok(fair::immaterial(
             &at(25.0, m)?,
             &[("50 p", &at(50.0, m)?), ("100 p", &at(100.0, m)?)],
@@ -396,11 +397,11 @@ fn fig18_not_determinant() -> anyhow::Result<Row> {
     Ok(judged("fig18-not-determinant", j, ""))
 }
 
-pub(super) fn xi(x: f64, m: Measure) -> anyhow::Result<Series> {
+pub(super) fn xi(x: f64, m: Measure) -> crate::error::Result<Series> {
     spectrum(mechanistic_xi_theta(x), m)
 }
 
-fn fig19_operational_immaterial() -> anyhow::Result<Row> {
+fn fig19_operational_immaterial() -> crate::error::Result<Row> {
     let xs = runs::flexible_axis();
     let (a, b) = (xi(0.0, Measure::Rotation)?, xi(0.02, Measure::Rotation)?);
     let worst = (0..xs.len())
@@ -416,7 +417,7 @@ fn fig19_operational_immaterial() -> anyhow::Result<Row> {
         |change| {
             let at =
                 |x: f64, m: Measure| spectrum(runs::changed(&mechanistic_xi_theta(x), change), m);
-            let per = |m: Measure| -> anyhow::Result<Judgement> {
+            let per = |m: Measure| -> crate::error::Result<Judgement> {
                 Ok(fair::immaterial(
                     &at(0.0, m)?,
                     &[("ξθ = 0.02", &at(0.02, m)?)],
@@ -434,7 +435,7 @@ fn fig19_operational_immaterial() -> anyhow::Result<Row> {
     )
 }
 
-fn fig19_halves() -> anyhow::Result<Row> {
+fn fig19_halves() -> crate::error::Result<Row> {
     let xs = runs::flexible_axis();
     let near5: Vec<usize> = (0..xs.len())
         .filter(|&i| (4.0..=6.0).contains(&xs[i]))
@@ -451,10 +452,10 @@ fn fig19_halves() -> anyhow::Result<Row> {
     Ok(judged("fig19-halves", j, ""))
 }
 
-fn fig19_overturning_stiffer() -> anyhow::Result<Row> {
+fn fig19_overturning_stiffer() -> crate::error::Result<Row> {
     // Overturning needs long pulses: this row's axis is ωg/p = 1…3 (step 0.5).
     let xs = runs::grid(1.0, 3.0, 0.5);
-    let overturned = |x: f64, wn: f64| -> anyhow::Result<f64> {
+    let overturned = |x: f64, wn: f64| -> crate::error::Result<f64> {
         Ok(
             runs::flexible_spectrum_on(mechanistic_xi_theta(x), wn, &xs)?
                 .iter()
@@ -485,7 +486,7 @@ fn fig19_overturning_stiffer() -> anyhow::Result<Row> {
     Ok(judged("fig19-overturning-stiffer", j, reason))
 }
 
-fn fig19_deformation_less() -> anyhow::Result<Row> {
+fn fig19_deformation_less() -> crate::error::Result<Row> {
     let rot = fair::ratios(&xi(0.02, Measure::Rotation)?, &xi(0.2, Measure::Rotation)?);
     let def = fair::ratios(
         &xi(0.02, Measure::Deformation)?,
@@ -509,8 +510,8 @@ fn fig19_deformation_less() -> anyhow::Result<Row> {
     Ok(judged("fig19-deformation-less", j, ""))
 }
 
-fn fig19_full_range() -> anyhow::Result<Row> {
-    let per = |m: Measure| -> anyhow::Result<Judgement> {
+fn fig19_full_range() -> crate::error::Result<Row> {
+    let per = |m: Measure| -> crate::error::Result<Judgement> {
         Ok(fair::compare(
             Relation::LowerEverywhere,
             &xi(0.02, m)?,
@@ -538,8 +539,8 @@ pub(super) fn friction(f: f64, eta: f64) -> Device {
     })
 }
 
-fn negligible(f: f64, eta: f64) -> anyhow::Result<Judgement> {
-    let per = |m: Measure| -> anyhow::Result<Judgement> {
+fn negligible(f: f64, eta: f64) -> crate::error::Result<Judgement> {
+    let per = |m: Measure| -> crate::error::Result<Judgement> {
         Ok(fair::immaterial(
             &spectrum(friction(0.0, eta), m)?,
             &[("friction", &spectrum(friction(f, eta), m)?)],
@@ -553,7 +554,7 @@ fn negligible(f: f64, eta: f64) -> anyhow::Result<Judgement> {
     ))
 }
 
-fn fig21_operational_negligible() -> anyhow::Result<Row> {
+fn fig21_operational_negligible() -> crate::error::Result<Row> {
     let mut j = negligible(0.1, 100.0)?.on(&format!(
         "fμ = 0.1 mr g (the paper's lower, 'operational' level) against fμ = 0, no viscous damping, η = 100 s/rad (not stated by the paper); {SPECTRA}"
     ));
@@ -575,8 +576,8 @@ fn fig21_operational_negligible() -> anyhow::Result<Row> {
     Ok(judged("fig21-operational-negligible", j, reason))
 }
 
-fn fig21_strong_reduces() -> anyhow::Result<Row> {
-    let per = |m: Measure| -> anyhow::Result<Judgement> {
+fn fig21_strong_reduces() -> crate::error::Result<Row> {
+    let per = |m: Measure| -> crate::error::Result<Judgement> {
         Ok(fair::compare(
             Relation::MuchLower,
             &spectrum(friction(0.0, 100.0), m)?,
@@ -601,7 +602,7 @@ fn rocks(rs: &[Arc<SceneResult>]) -> Series {
         .collect()
 }
 
-fn fig21_eliminates_rocking() -> anyhow::Result<Row> {
+fn fig21_eliminates_rocking() -> crate::error::Result<Row> {
     let xs = runs::flexible_axis();
     let free = rocks(&runs::flexible_spectrum(friction(0.0, 100.0))?);
     let strong = rocks(&runs::flexible_spectrum(friction(0.2, 100.0))?);
@@ -638,7 +639,7 @@ fn flywheel_acceleration(t: &[f64], w: &[f64], t0: f64, t1: f64) -> f64 {
 
 /// Of the Fig. 14 scene with `device`: the first clutch contact's time, the largest flywheel
 /// |dω/dt| in [`FIRST_ENGAGEMENT_WINDOW`] after it, and the largest over the whole run.
-fn first_engagement(device: Device) -> anyhow::Result<(f64, f64, f64)> {
+fn first_engagement(device: Device) -> crate::error::Result<(f64, f64, f64)> {
     let h = runs::history(&flexible_fig14(device))?;
     let (at, flywheel) =
         h.1.events
@@ -650,7 +651,9 @@ fn first_engagement(device: Device) -> anyhow::Result<(f64, f64, f64)> {
                     .find(|(e, _)| e.name() == *n)
                     .map(|(_, c)| (*t, c))
             })
-            .ok_or_else(|| anyhow::anyhow!("paper: the clutch never engages in Fig. 22's scene"))?;
+            .ok_or_else(|| {
+                crate::error::error!("paper: the clutch never engages in Fig. 22's scene")
+            })?;
     let t = runs::column(&h.1, col::T)?;
     let w = runs::column(&h.1, flywheel)?;
     Ok((
@@ -660,7 +663,7 @@ fn first_engagement(device: Device) -> anyhow::Result<(f64, f64, f64)> {
     ))
 }
 
-fn fig22_first_engagement() -> anyhow::Result<Row> {
+fn fig22_first_engagement() -> crate::error::Result<Row> {
     let (t_smooth, smooth, smooth_all) = first_engagement(play(0.0))?;
     let (t_play, spike, spike_all) = first_engagement(play(0.01))?;
     let j = fair::compare(Relation::MarkedlyLarger, &vec![Some(smooth)], &vec![Some(spike)])
@@ -676,8 +679,8 @@ fn fig22_first_engagement() -> anyhow::Result<Row> {
     Ok(judged("fig22-first-engagement", j, ""))
 }
 
-fn fig23_play_unnoticeable() -> anyhow::Result<Row> {
-    let per = |m: Measure| -> anyhow::Result<Judgement> {
+fn fig23_play_unnoticeable() -> crate::error::Result<Row> {
+    let per = |m: Measure| -> crate::error::Result<Judgement> {
         Ok(fair::immaterial(
             &spectrum(play(0.0), m)?,
             &[("up = 1 cm", &spectrum(play(0.01), m)?)],
@@ -695,7 +698,7 @@ fn fig23_play_unnoticeable() -> anyhow::Result<Row> {
     Ok(judged("fig23-play-unnoticeable", j, ""))
 }
 
-fn s9_play_acceleration() -> anyhow::Result<Row> {
+fn s9_play_acceleration() -> crate::error::Result<Row> {
     let j = fair::compare(
         Relation::MarkedlyLarger,
         &spectrum(play(0.0), Measure::Acceleration)?,

@@ -23,13 +23,13 @@ pub const ROWS: [RowFn; 7] = [
 ];
 
 /// The Fig. 5 block's history with Housner's impact (None) or a Dirac impact of width n.
-fn fig5_history(width: Option<f64>) -> anyhow::Result<Arc<(SceneResult, History)>> {
+fn fig5_history(width: Option<f64>) -> crate::error::Result<Arc<(SceneResult, History)>> {
     let impact = width.map_or(Impact::default(), |width| Impact::Dirac { width });
     runs::history(&fig5(impact))
 }
 
 /// The θ zero crossings (impacts) of the Fig. 5 block.
-fn fig5_crossings(width: Option<f64>) -> anyhow::Result<Vec<f64>> {
+fn fig5_crossings(width: Option<f64>) -> crate::error::Result<Vec<f64>> {
     let h = fig5_history(width)?;
     Ok(histories::crossings(
         &runs::column(&h.1, col::T)?,
@@ -39,7 +39,7 @@ fn fig5_crossings(width: Option<f64>) -> anyhow::Result<Vec<f64>> {
 
 /// The largest shift of the k-th impact time from Housner's, as a share of Housner's
 /// half-cycle there (the time to its next impact).
-fn phase_shift(width: f64) -> anyhow::Result<f64> {
+fn phase_shift(width: f64) -> crate::error::Result<f64> {
     let (h, d) = (fig5_crossings(None)?, fig5_crossings(Some(width))?);
     Ok((0..h.len().min(d.len()).saturating_sub(1))
         .map(|k| (d[k] - h[k]).abs() / (h[k + 1] - h[k]))
@@ -49,7 +49,7 @@ fn phase_shift(width: f64) -> anyhow::Result<f64> {
 /// A phase shift a reader sees on Fig. 5's plot: a tenth of a half-cycle.
 const VISIBLE_SHIFT: f64 = 0.10;
 
-fn fig5_phase_shift() -> anyhow::Result<Row> {
+fn fig5_phase_shift() -> crate::error::Result<Row> {
     let wide = phase_shift(0.005)?;
     let j = fair::at_least(
         "largest impact-time shift / half-cycle, n = 0.005",
@@ -68,7 +68,7 @@ fn fig5_phase_shift() -> anyhow::Result<Row> {
 /// The energy lost in the block's first impact after the pulse, as a share of the energy
 /// before it: the structure energy at the extremes (θ̇ = 0) either side of that impact, with
 /// no input and no damping between them.
-fn impact_loss(width: Option<f64>) -> anyhow::Result<f64> {
+fn impact_loss(width: Option<f64>) -> crate::error::Result<f64> {
     let h = fig5_history(width)?;
     let t = runs::column(&h.1, col::T)?;
     let e = runs::column(&h.1, col::E_STRUCTURE)?;
@@ -76,18 +76,18 @@ fn impact_loss(width: Option<f64>) -> anyhow::Result<f64> {
     let impact = histories::crossings(&t, &runs::column(&h.1, col::THETA)?)
         .into_iter()
         .find(|&x| x > pulse_end)
-        .ok_or_else(|| anyhow::anyhow!("paper: Fig. 5's block has no free impact"))?;
+        .ok_or_else(|| crate::error::error!("paper: Fig. 5's block has no free impact"))?;
     let extremes = histories::crossings(&t, &runs::column(&h.1, col::THETA_DOT)?);
     let before = extremes.iter().rev().find(|&&x| x < impact);
     let after = extremes.iter().find(|&&x| x > impact);
     let (Some(&before), Some(&after)) = (before, after) else {
-        anyhow::bail!("paper: no rocking extreme either side of Fig. 5's free impact");
+        crate::error::bail!("paper: no rocking extreme either side of Fig. 5's free impact");
     };
     let at = |x: f64| e[t.partition_point(|s| *s < x).min(t.len() - 1)];
     Ok(1.0 - at(after) / at(before))
 }
 
-fn fig5_equivalent_dissipation() -> anyhow::Result<Row> {
+fn fig5_equivalent_dissipation() -> crate::error::Result<Row> {
     let housner = impact_loss(None)?;
     let (sharp, wide) = (impact_loss(Some(1e-4))?, impact_loss(Some(0.005))?);
     let alpha = 10f64.to_radians();
@@ -118,7 +118,7 @@ fn distortion(epsilon: f64) -> f64 {
         / epsilon
 }
 
-fn fig6_epsilon_distortion() -> anyhow::Result<Row> {
+fn fig6_epsilon_distortion() -> crate::error::Result<Row> {
     let eps = [1e4, 1e5, 1e6];
     let d: Vec<f64> = eps.iter().map(|&e| distortion(e)).collect();
     let mut j = fair::compare(
@@ -133,8 +133,8 @@ fn fig6_epsilon_distortion() -> anyhow::Result<Row> {
     Ok(judged("fig6-epsilon-distortion", j, ""))
 }
 
-fn s4_reset_needed() -> anyhow::Result<Row> {
-    let count = |change: fn(&mut Clutch)| -> anyhow::Result<f64> {
+fn s4_reset_needed() -> crate::error::Result<Row> {
+    let count = |change: fn(&mut Clutch)| -> crate::error::Result<f64> {
         let device = runs::changed(&mechanistic(), change);
         Ok(runs::result(&rigid_fig8(device))?.counters.engagements as f64)
     };
@@ -151,7 +151,7 @@ fn s4_reset_needed() -> anyhow::Result<Row> {
 
 /// The share of the fall of the flywheels' energy (kinetic + clutch spring) that happens at
 /// instants (an event's jump) in the Fig. 8 scene with `device`.
-fn sudden_share(device: Device) -> anyhow::Result<f64> {
+fn sudden_share(device: Device) -> crate::error::Result<f64> {
     let h = runs::history(&rigid_fig8(device))?;
     Ok(histories::sudden_share(
         &runs::column(&h.1, col::T)?,
@@ -159,7 +159,7 @@ fn sudden_share(device: Device) -> anyhow::Result<f64> {
     ))
 }
 
-fn fig9_sudden_loss() -> anyhow::Result<Row> {
+fn fig9_sudden_loss() -> crate::error::Result<Row> {
     let (seq, mech) = (sudden_share(sequential())?, sudden_share(mechanistic())?);
     let j = fair::compare(Relation::MuchLower, &one(seq), &one(mech))
         .on(&format!(
@@ -172,7 +172,7 @@ fn fig9_sudden_loss() -> anyhow::Result<Row> {
 
 /// Mean time between the block's impacts (a rocking half-cycle) before and after t = 3 s,
 /// mechanistic clutch.
-fn half_cycles() -> anyhow::Result<(f64, f64)> {
+fn half_cycles() -> crate::error::Result<(f64, f64)> {
     let h = runs::history(&rigid_fig8(mechanistic()))?;
     let impacts: Vec<f64> =
         h.1.events
@@ -191,7 +191,7 @@ fn half_cycles() -> anyhow::Result<(f64, f64)> {
     Ok((mean_between(false), mean_between(true)))
 }
 
-fn fig9_limited_time() -> anyhow::Result<Row> {
+fn fig9_limited_time() -> crate::error::Result<Row> {
     let (before, after) = half_cycles()?;
     // The disengaged flywheel decelerates as e^{−c̄ t}: c̄ = 1 s⁻¹ (Fig. 8), time constant 1 s.
     let decay_time = 1.0;
@@ -216,7 +216,7 @@ fn fig9_limited_time() -> anyhow::Result<Row> {
 /// Over every contact of the Fig. 8 mechanistic clutch: the time from the velocities'
 /// coincidence (ẏ − Ẋ crossing zero, interpolated) to the force peak, as a share of the
 /// contact's duration.
-fn peak_after_coincidence() -> anyhow::Result<(f64, usize)> {
+fn peak_after_coincidence() -> crate::error::Result<(f64, usize)> {
     let h = runs::history(&rigid_fig8(mechanistic()))?;
     let t = runs::column(&h.1, col::T)?;
     let xdot = runs::column(&h.1, col::X_DOT)?;
@@ -248,7 +248,7 @@ fn peak_after_coincidence() -> anyhow::Result<(f64, usize)> {
 /// Velocities that "coincide" at the force peak: within a tenth of the contact's duration.
 const COINCIDE: f64 = 0.10;
 
-fn fig10_coincide() -> anyhow::Result<Row> {
+fn fig10_coincide() -> crate::error::Result<Row> {
     let (share, contacts) = peak_after_coincidence()?;
     let j = fair::small(
         "mean over contacts of |t(force peak) − t(ẏ = Ẋ)| / contact duration",

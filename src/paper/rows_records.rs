@@ -34,11 +34,11 @@ const SEQ: usize = 1;
 const MECH: usize = 2;
 
 /// `m` per record (real ones, or the stand-ins) for device index `d`.
-fn per_record(d: usize, m: Measure, real: bool) -> anyhow::Result<Vec<Series>> {
+fn per_record(d: usize, m: Measure, real: bool) -> crate::error::Result<Vec<Series>> {
     per_record_of(&devices()[d], m, real)
 }
 
-fn per_record_of(device: &Device, m: Measure, real: bool) -> anyhow::Result<Vec<Series>> {
+fn per_record_of(device: &Device, m: Measure, real: bool) -> crate::error::Result<Vec<Series>> {
     RECORDS
         .iter()
         .filter(|(_, r)| *r == real)
@@ -52,7 +52,7 @@ fn mech(change: fn(&mut crate::scene::Clutch)) -> Device {
 }
 
 /// The real records' series of device `d` end to end.
-fn flat(d: usize, m: Measure) -> anyhow::Result<Series> {
+fn flat(d: usize, m: Measure) -> crate::error::Result<Series> {
     Ok(per_record(d, m, true)?.concat())
 }
 
@@ -63,23 +63,23 @@ fn beside(
     a: usize,
     b: usize,
     m: Measure,
-) -> anyhow::Result<Judgement> {
+) -> crate::error::Result<Judgement> {
     let s = fair::compare(
         relation,
         &per_record(a, m, false)?.concat(),
         &per_record(b, m, false)?.concat(),
     );
-    Ok(j.with("beside: stand-ins' mean ratio", s.value("mean ratio")))
+    Ok(j.with("beside: stand-ins' mean ratio", s.value("mean ratio")?))
 }
 
-fn overturned(d: usize, real: bool) -> anyhow::Result<f64> {
+fn overturned(d: usize, real: bool) -> crate::error::Result<f64> {
     Ok(per_record(d, Measure::Rotation, real)?
         .iter()
         .map(|s| s.iter().filter(|x| x.is_none()).count())
         .sum::<usize>() as f64)
 }
 
-fn fig24_overturning() -> anyhow::Result<Row> {
+fn fig24_overturning() -> crate::error::Result<Row> {
     let bare = overturned(BARE, true)?;
     let j = fair::compare(
         Relation::MuchLower,
@@ -104,7 +104,7 @@ fn fig24_overturning() -> anyhow::Result<Row> {
 }
 
 /// Per ωn, the coefficient of variation of θmax/α over the real records (where all survive).
-fn dispersion(d: usize) -> anyhow::Result<Series> {
+fn dispersion(d: usize) -> crate::error::Result<Series> {
     let recs = per_record(d, Measure::Rotation, true)?;
     Ok((0..runs::record_axis().len())
         .map(|i| {
@@ -117,7 +117,7 @@ fn dispersion(d: usize) -> anyhow::Result<Series> {
         .collect())
 }
 
-fn fig24_dispersion() -> anyhow::Result<Row> {
+fn fig24_dispersion() -> crate::error::Result<Row> {
     let bare = dispersion(BARE)?;
     let mut a = bare.clone();
     a.extend(bare);
@@ -129,7 +129,7 @@ fn fig24_dispersion() -> anyhow::Result<Row> {
     Ok(judged("fig24-dispersion", j, ""))
 }
 
-fn clutched(m: Measure) -> anyhow::Result<(Series, Series)> {
+fn clutched(m: Measure) -> crate::error::Result<(Series, Series)> {
     let bare = flat(BARE, m)?;
     let mut a = bare.clone();
     a.extend(bare);
@@ -138,7 +138,7 @@ fn clutched(m: Measure) -> anyhow::Result<(Series, Series)> {
     Ok((a, b))
 }
 
-fn fig24_rotation_deformation() -> anyhow::Result<Row> {
+fn fig24_rotation_deformation() -> crate::error::Result<Row> {
     let (ra, rb) = clutched(Measure::Rotation)?;
     let (da, db) = clutched(Measure::Deformation)?;
     let j = fair::both(
@@ -159,7 +159,7 @@ fn record_pairs(
     m: Measure,
     mech: &Device,
     skip: Option<&str>,
-) -> anyhow::Result<(Vec<Series>, Vec<Series>)> {
+) -> crate::error::Result<(Vec<Series>, Vec<Series>)> {
     let keep: Vec<usize> = RECORDS
         .iter()
         .filter(|(_, real)| *real)
@@ -175,13 +175,13 @@ fn record_pairs(
     ))
 }
 
-fn offset(m: Measure, mech: &Device, skip: Option<&str>) -> anyhow::Result<Judgement> {
+fn offset(m: Measure, mech: &Device, skip: Option<&str>) -> crate::error::Result<Judgement> {
     let (seq, mech) = record_pairs(m, mech, skip)?;
     let pairs: Vec<(&Series, &Series)> = seq.iter().zip(&mech).collect();
     Ok(fair::constant_offset(&runs::record_axis(), &pairs, 0.08))
 }
 
-fn offsets(d: &Device, skip: Option<&str>) -> anyhow::Result<Judgement> {
+fn offsets(d: &Device, skip: Option<&str>) -> crate::error::Result<Judgement> {
     Ok(fair::both(
         offset(Measure::Rotation, d, skip)?,
         "rotation",
@@ -193,7 +193,7 @@ fn offsets(d: &Device, skip: Option<&str>) -> anyhow::Result<Judgement> {
 /// Per third of the axis, the median pointwise ratio and the ratio of the records' mean
 /// spectra (mechanistic over sequential): the readings that a single noisy record cannot
 /// carry.
-fn robust_ratios(m: Measure, name: &str) -> anyhow::Result<Vec<(String, f64)>> {
+fn robust_ratios(m: Measure, name: &str) -> crate::error::Result<Vec<(String, f64)>> {
     let (seq, mech) = record_pairs(m, &devices()[MECH], None)?;
     let xs = runs::record_axis();
     let mut out = Vec::new();
@@ -233,7 +233,7 @@ fn robust_ratios(m: Measure, name: &str) -> anyhow::Result<Vec<(String, f64)>> {
     Ok(out)
 }
 
-fn fig24_8pct() -> anyhow::Result<Row> {
+fn fig24_8pct() -> crate::error::Result<Row> {
     let mut beside = robust_ratios(Measure::Rotation, "rotation")?;
     beside.extend(robust_ratios(Measure::Deformation, "deformation")?);
     let mut j = offsets(&devices()[MECH], None)?.on(&format!(
@@ -260,18 +260,18 @@ fn fig24_8pct() -> anyhow::Result<Row> {
     j.values.extend(values);
     let reason = format!(
         "the rotation's last-third mean ratio {:.3} comes from a few large ratios at high ωn, where θ/α is small and ratios are noisy: its median is {:.3} and the ratio of the mean spectra {:.3} (by third {:.3}, {:.3}, {:.3}), below 1 throughout but nearer 0.94 than 0.92 above the first third; {records}; {sens}",
-        j.value("rotation: mean ratio, third 3 (x 20–29)"),
-        j.value("beside: rotation median ratio, third 3"),
-        j.value("beside: rotation ratio of mean spectra, third 3"),
-        j.value("beside: rotation ratio of mean spectra, third 1"),
-        j.value("beside: rotation ratio of mean spectra, third 2"),
-        j.value("beside: rotation ratio of mean spectra, third 3"),
+        j.value("rotation: mean ratio, third 3 (x 20–29)")?,
+        j.value("beside: rotation median ratio, third 3")?,
+        j.value("beside: rotation ratio of mean spectra, third 3")?,
+        j.value("beside: rotation ratio of mean spectra, third 1")?,
+        j.value("beside: rotation ratio of mean spectra, third 2")?,
+        j.value("beside: rotation ratio of mean spectra, third 3")?,
     );
     Ok(judged("fig24-8pct", j, reason))
 }
 
-fn fig24_more_engagements() -> anyhow::Result<Row> {
-    let count = |d: usize| -> anyhow::Result<Series> {
+fn fig24_more_engagements() -> crate::error::Result<Row> {
+    let count = |d: usize| -> crate::error::Result<Series> {
         let mut v = Vec::new();
         for (name, real) in RECORDS {
             if real {
@@ -296,7 +296,7 @@ fn acceleration_band(
     device: &Device,
     real: bool,
     keep: impl Fn(f64) -> bool,
-) -> anyhow::Result<f64> {
+) -> crate::error::Result<f64> {
     let xs = runs::record_axis();
     let bare = per_record(BARE, Measure::Acceleration, real)?;
     let c = per_record_of(device, Measure::Acceleration, real)?;
@@ -310,10 +310,10 @@ fn acceleration_band(
     Ok(fair::mean(&fair::ratios(&a, &b)))
 }
 
-fn fig24_acceleration_hardest() -> anyhow::Result<Row> {
+fn fig24_acceleration_hardest() -> crate::error::Result<Row> {
     let xs = runs::record_axis();
     let inside = |w: f64| 12.0 < w && w < 18.0;
-    let hardest = |device: &Device, real: bool| -> anyhow::Result<Judgement> {
+    let hardest = |device: &Device, real: bool| -> crate::error::Result<Judgement> {
         let i = acceleration_band(device, real, inside)?;
         let o = acceleration_band(device, real, |w| !inside(w))?;
         Ok(fair::compare(
@@ -345,7 +345,7 @@ fn fig24_acceleration_hardest() -> anyhow::Result<Row> {
     let stand_ins = hardest(&devices()[MECH], false)?;
     j = j.with(
         "beside: stand-ins, mechanistic inside/outside",
-        stand_ins.value("mean ratio"),
+        stand_ins.value("mean ratio")?,
     );
     let reason = if j.verdict == super::Agreement::Agrees {
         String::new()
@@ -360,7 +360,7 @@ fn fig24_acceleration_hardest() -> anyhow::Result<Row> {
     Ok(judged("fig24-acceleration-hardest", j, reason))
 }
 
-fn fig24_mechanistic_acceleration() -> anyhow::Result<Row> {
+fn fig24_mechanistic_acceleration() -> crate::error::Result<Row> {
     let j = fair::compare(
         Relation::Larger,
         &flat(SEQ, Measure::Acceleration)?,
@@ -373,7 +373,7 @@ fn fig24_mechanistic_acceleration() -> anyhow::Result<Row> {
     Ok(judged("fig24-mechanistic-acceleration", j, ""))
 }
 
-fn fig24_el_centro() -> anyhow::Result<Row> {
+fn fig24_el_centro() -> crate::error::Result<Row> {
     let bare =
         Measure::Acceleration.series(&runs::record_spectrum("imperial_valley", Device::None)?);
     let mech = Measure::Acceleration.series(&runs::record_spectrum(
@@ -387,11 +387,11 @@ fn fig24_el_centro() -> anyhow::Result<Row> {
     j.values = vec![
         (
             "beside: stand-in, share of ωn with mechanistic above bare".into(),
-            stand_in.value("share above"),
+            stand_in.value("share above")?,
         ),
         (
             "beside: stand-in, mean ratio mechanistic/bare".into(),
-            stand_in.value("mean ratio"),
+            stand_in.value("mean ratio")?,
         ),
     ];
     j.check = format!(
@@ -401,7 +401,7 @@ fn fig24_el_centro() -> anyhow::Result<Row> {
     Ok(judged("fig24-el-centro", j, ""))
 }
 
-fn s9_clutch_increases_acceleration() -> anyhow::Result<Row> {
+fn s9_clutch_increases_acceleration() -> crate::error::Result<Row> {
     let (a, b) = clutched(Measure::Acceleration)?;
     let j = fair::both(
         fair::compare(

@@ -9,13 +9,14 @@ use super::fair::Series;
 use crate::presets::{self, flexible_fig14, rigid_fig8};
 use crate::scene::*;
 use crate::sim::{self, History, HistoryColumn, SceneResult};
+use crate::study::Param;
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
 /// The process's record library (embedded records, or `--records-dir`).
-fn library() -> anyhow::Result<&'static crate::excitation::Library> {
-    crate::excitation::library::global().map_err(|e| anyhow::anyhow!("{e}"))
+fn library() -> crate::error::Result<&'static crate::excitation::Library> {
+    crate::excitation::library::global().map_err(|e| crate::error::error!("{e}"))
 }
 
 fn key(scene: &Scene) -> String {
@@ -27,8 +28,8 @@ type Cache<T> = OnceLock<Mutex<HashMap<String, Arc<T>>>>;
 fn cached<T>(
     cache: &'static Cache<T>,
     k: String,
-    f: impl FnOnce() -> anyhow::Result<T>,
-) -> anyhow::Result<Arc<T>> {
+    f: impl FnOnce() -> crate::error::Result<T>,
+) -> crate::error::Result<Arc<T>> {
     let map = cache.get_or_init(Default::default);
     if let Some(v) = map.lock().expect("paper cache").get(&k) {
         return Ok(Arc::clone(v));
@@ -39,30 +40,30 @@ fn cached<T>(
 }
 
 /// Run scenes (in parallel, in order), each at most once per process.
-pub fn results(scenes: &[Scene]) -> anyhow::Result<Vec<Arc<SceneResult>>> {
+pub fn results(scenes: &[Scene]) -> crate::error::Result<Vec<Arc<SceneResult>>> {
     static CACHE: Cache<SceneResult> = OnceLock::new();
     let lib = library()?;
     scenes
         .par_iter()
         .map(|s| {
             cached(&CACHE, key(s), || {
-                sim::run(s, lib).map_err(|e| anyhow::anyhow!("paper: {e}"))
+                sim::run(s, lib).map_err(|e| crate::error::error!("paper: {e}"))
             })
         })
         .collect()
 }
 
-pub fn result(scene: &Scene) -> anyhow::Result<Arc<SceneResult>> {
+pub fn result(scene: &Scene) -> crate::error::Result<Arc<SceneResult>> {
     Ok(results(std::slice::from_ref(scene))?.remove(0))
 }
 
 /// The scene's history as `simulate --history` writes it (whole duration, automatic grid).
-pub fn history(scene: &Scene) -> anyhow::Result<Arc<(SceneResult, History)>> {
+pub fn history(scene: &Scene) -> crate::error::Result<Arc<(SceneResult, History)>> {
     static CACHE: Cache<(SceneResult, History)> = OnceLock::new();
     let lib = library()?;
     cached(&CACHE, key(scene), || {
         sim::run_history(&sim::history_scene(scene), lib, &sim::Sampling::Auto)
-            .map_err(|e| anyhow::anyhow!("paper: {e}"))
+            .map_err(|e| crate::error::error!("paper: {e}"))
     })
 }
 
@@ -96,9 +97,9 @@ pub const IMPACT: &str = "impact";
 /// The sequential law's engagement switch event.
 pub const SEQUENTIAL_SWITCH: &str = "sequential_switch";
 
-pub fn column(h: &History, column: HistoryColumn) -> anyhow::Result<Vec<f64>> {
+pub fn column(h: &History, column: HistoryColumn) -> crate::error::Result<Vec<f64>> {
     h.column(column)
-        .ok_or_else(|| anyhow::anyhow!("paper: history has no column {column}"))
+        .ok_or_else(|| crate::error::error!("paper: history has no column {column}"))
 }
 
 /// What a row reads from a scene's result; None where the structure overturned.
@@ -172,7 +173,7 @@ pub fn record_axis() -> Vec<f64> {
 }
 
 /// The Fig. 12 spectrum (α = 10°, A/(gα) = 1.5, 15 s) of `device`.
-pub fn rigid_spectrum(device: Device) -> anyhow::Result<Vec<Arc<SceneResult>>> {
+pub fn rigid_spectrum(device: Device) -> crate::error::Result<Vec<Arc<SceneResult>>> {
     let scene = Scene {
         duration: 15.0,
         ..rigid_fig8(device)
@@ -181,7 +182,7 @@ pub fn rigid_spectrum(device: Device) -> anyhow::Result<Vec<Arc<SceneResult>>> {
 }
 
 /// The §7 spectrum (Fig. 14's structure, 15 s) of `device`.
-pub fn flexible_spectrum(device: Device) -> anyhow::Result<Vec<Arc<SceneResult>>> {
+pub fn flexible_spectrum(device: Device) -> crate::error::Result<Vec<Arc<SceneResult>>> {
     flexible_spectrum_at(device, 8.0)
 }
 
@@ -189,7 +190,7 @@ pub fn flexible_spectrum(device: Device) -> anyhow::Result<Vec<Arc<SceneResult>>
 pub fn flexible_spectrum_at(
     device: Device,
     omega_n_p: f64,
-) -> anyhow::Result<Vec<Arc<SceneResult>>> {
+) -> crate::error::Result<Vec<Arc<SceneResult>>> {
     let scene = Scene {
         duration: 15.0,
         structure: presets::flexible_structure(omega_n_p * presets::flexible_p()),
@@ -203,7 +204,7 @@ pub fn flexible_spectrum_on(
     device: Device,
     omega_n_p: f64,
     xs: &[f64],
-) -> anyhow::Result<Vec<Arc<SceneResult>>> {
+) -> crate::error::Result<Vec<Arc<SceneResult>>> {
     let scene = Scene {
         duration: 15.0,
         structure: presets::flexible_structure(omega_n_p * presets::flexible_p()),
@@ -223,7 +224,10 @@ pub const RECORDS: [(&str, bool); 5] = [
 ];
 
 /// Fig. 24's spectrum of `device` under `record` (60 s).
-pub fn record_spectrum(record: &str, device: Device) -> anyhow::Result<Vec<Arc<SceneResult>>> {
+pub fn record_spectrum(
+    record: &str,
+    device: Device,
+) -> crate::error::Result<Vec<Arc<SceneResult>>> {
     let scenes: Vec<Scene> = record_axis()
         .into_iter()
         .map(|w| presets::flexible_record(record, w, device.clone(), 60.0))
@@ -238,27 +242,51 @@ pub fn clutch_with(f: impl FnOnce(&mut Clutch)) -> Device {
     Device::Mechanistic(c)
 }
 
-/// A change of one setting the paper does not state.
-pub type Unstated = (&'static str, fn(&mut Clutch));
+/// A change of one setting the paper does not state: the parameter it changes (None for the
+/// reset rule, which is no grid parameter), how the paper's rows name the change, the change.
+#[derive(Clone, Copy)]
+pub struct Unstated {
+    pub param: Option<Param>,
+    pub name: &'static str,
+    pub change: fn(&mut Clutch),
+}
+
+const fn unstated(param: Option<Param>, name: &'static str, change: fn(&mut Clutch)) -> Unstated {
+    Unstated {
+        param,
+        name,
+        change,
+    }
+}
 
 /// The plausible values of the clutch settings the paper leaves unstated, for the sensitivity
 /// runs behind each disagreement: c̄ (rigid block; §5.2 chose 1 s⁻¹ "to obtain comparable
 /// responses"), kθ, ρ, η and the reset rule.
 pub const UNSTATED: [Unstated; 8] = [
-    ("c̄ = 0.5 s⁻¹", |c| c.damping = Damping::CBar(0.5)),
-    ("c̄ = 2 s⁻¹", |c| c.damping = Damping::CBar(2.0)),
-    ("√(kθ/J) = 10 p", |c| {
-        c.stiffness = ClutchStiffness::FrequencyRatio(10.0)
+    unstated(Some(Param::Cbar), "c̄ = 0.5 s⁻¹", |c| {
+        c.damping = Damping::CBar(0.5)
     }),
-    ("√(kθ/J) = 50 p", |c| {
-        c.stiffness = ClutchStiffness::FrequencyRatio(50.0)
+    unstated(Some(Param::Cbar), "c̄ = 2 s⁻¹", |c| {
+        c.damping = Damping::CBar(2.0)
     }),
-    ("√(kθ/J) = 100 p", |c| {
-        c.stiffness = ClutchStiffness::FrequencyRatio(100.0)
-    }),
-    ("ρ = 0.1 m", |c| c.rho = 0.1),
-    ("η = 1000 s/rad", |c| c.eta = 1000.0),
-    ("strict reset rule", |c| c.reset = ResetRule::Strict),
+    unstated(
+        Some(Param::ClutchFrequencyRatio),
+        "√(kθ/J) = 10 p",
+        |c| c.stiffness = ClutchStiffness::FrequencyRatio(10.0),
+    ),
+    unstated(
+        Some(Param::ClutchFrequencyRatio),
+        "√(kθ/J) = 50 p",
+        |c| c.stiffness = ClutchStiffness::FrequencyRatio(50.0),
+    ),
+    unstated(
+        Some(Param::ClutchFrequencyRatio),
+        "√(kθ/J) = 100 p",
+        |c| c.stiffness = ClutchStiffness::FrequencyRatio(100.0),
+    ),
+    unstated(Some(Param::Rho), "ρ = 0.1 m", |c| c.rho = 0.1),
+    unstated(Some(Param::Eta), "η = 1000 s/rad", |c| c.eta = 1000.0),
+    unstated(None, "strict reset rule", |c| c.reset = ResetRule::Strict),
 ];
 
 /// [`UNSTATED`] without the device damping c̄, for rows whose damping the paper states (ξθ)
@@ -266,7 +294,7 @@ pub const UNSTATED: [Unstated; 8] = [
 pub fn unstated_but_damping() -> Vec<Unstated> {
     UNSTATED
         .iter()
-        .filter(|(n, _)| !n.starts_with("c̄"))
+        .filter(|u| u.param != Some(Param::Cbar))
         .copied()
         .collect()
 }
@@ -287,12 +315,12 @@ pub fn changed(device: &Device, change: fn(&mut Clutch)) -> Device {
 /// check runs: the reason line ("agrees for …; disagrees for …") and its values.
 pub fn sensitivity(
     unstated: &[Unstated],
-    check: impl Fn(fn(&mut Clutch)) -> anyhow::Result<super::fair::Judgement>,
-) -> anyhow::Result<(String, Vec<(String, f64)>)> {
+    check: impl Fn(fn(&mut Clutch)) -> crate::error::Result<super::fair::Judgement>,
+) -> crate::error::Result<(String, Vec<(String, f64)>)> {
     let variants: Vec<(String, super::fair::Judgement)> = unstated
         .iter()
-        .map(|(name, change)| Ok((name.to_string(), check(*change)?)))
-        .collect::<anyhow::Result<_>>()?;
+        .map(|u| Ok((u.name.to_string(), check(u.change)?)))
+        .collect::<crate::error::Result<_>>()?;
     Ok(super::fair::sensitivity("unstated settings", &variants))
 }
 
@@ -310,12 +338,12 @@ pub fn device_share(r: &SceneResult) -> Option<f64> {
 
 /// Energy the device hands back to the structure over what it took, from the history's
 /// device-side energy D (a drop of D is energy flowing back).
-pub fn returned_fraction(scene: &Scene) -> anyhow::Result<f64> {
+pub fn returned_fraction(scene: &Scene) -> crate::error::Result<f64> {
     let h = history(scene)?;
     let parts: Vec<Vec<f64>> = col::DEVICE_ENERGY
         .iter()
         .map(|c| column(&h.1, *c))
-        .collect::<anyhow::Result<_>>()?;
+        .collect::<crate::error::Result<_>>()?;
     let d: Vec<f64> = (0..parts[0].len())
         .map(|i| parts.iter().map(|p| p[i]).sum())
         .collect();

@@ -82,7 +82,7 @@ fn num(v: Option<f64>) -> String {
 
 /// design.csv: `device`, the design points' axes, `record` when a record is off the
 /// excitation axes, then [`DESIGN_COLUMNS`].
-pub fn design_csv(study: &Study, rows: &[DesignRow]) -> anyhow::Result<Vec<u8>> {
+pub fn design_csv(study: &Study, rows: &[DesignRow]) -> crate::error::Result<Vec<u8>> {
     let axes = axis_columns(rows);
     let mut w = csv::Writer::from_writer(Vec::new());
     let mut header = vec!["device".to_string()];

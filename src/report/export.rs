@@ -3,6 +3,7 @@
 
 use super::aggregate::{OverturningMap, Spectrum, maps, quantities, sparkline, spectra};
 use crate::numfmt::{fmt_num, fmt_sig};
+use crate::study::{Param, StudyKind};
 use crate::sweep::SweepResults;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -18,7 +19,7 @@ struct Derived {
     stand_in_records: Vec<String>,
 }
 
-pub fn results_json(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
+pub fn results_json(results: &SweepResults) -> crate::error::Result<Vec<u8>> {
     let derived = Derived {
         spectra: spectra(results),
         maps: maps(results),
@@ -27,7 +28,7 @@ pub fn results_json(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
     crate::sweep::results_file_json(results, &derived)
 }
 
-pub fn save_results(path: &Path, results: &SweepResults) -> anyhow::Result<()> {
+pub fn save_results(path: &Path, results: &SweepResults) -> crate::error::Result<()> {
     super::write_atomic(path, &results_json(results)?)
 }
 
@@ -37,14 +38,14 @@ pub fn write_tables(
     out: &Path,
     study: &crate::study::Study,
     results: &SweepResults,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     super::write_atomic(&out.join("results.csv"), &results_csv(results)?)?;
     super::write_atomic(
         &out.join("results.columns.csv"),
         &results_columns_csv(results)?,
     )?;
     let mut text = summary(results);
-    if crate::sweep::is_ida(study) {
+    if study.kind() == StudyKind::Ida {
         text.push_str(&super::ida::scenes_line(&super::ida::ida(study, results)?));
     }
     super::write_atomic(&out.join("summary.txt"), text.as_bytes())?;
@@ -59,13 +60,13 @@ pub fn write_tables(
     }
     // A fragility study's stripes.csv, and its fit once every scene has run.
     super::stripes::write(out, study, results)?;
-    study.save(&out.join("study.ron"))
+    Ok(study.save(&out.join("study.ron"))?)
 }
 
 /// The overturning boundary of every map: one row per pair of neighbouring grid cells where
 /// one overturned and the other survived, at the midpoint of the pair (`between` says along
 /// which axis the pair lies). Inferred cells of an adaptive map count like run ones.
-pub fn boundary_csv(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
+pub fn boundary_csv(results: &SweepResults) -> crate::error::Result<Vec<u8>> {
     let maps = maps(results);
     let mut w = csv::Writer::from_writer(Vec::new());
     let names = |m: &OverturningMap| (parameter(&m.x_axis).name, parameter(&m.y_axis).name);
@@ -95,45 +96,24 @@ pub struct Parameter {
     pub unit: &'static str,
 }
 
-/// The ASCII name, study field and unit of a coordinate label (`ωg/p`, `kθ`, `up`, …).
+/// The ASCII name, study field and unit of a coordinate label (`ωg/p`, `kθ`, `up`, …), from
+/// the parameter table ([`Param::info`]). A label that names no parameter (a derived axis
+/// such as `θ0/α`) has no field or unit and gets an ASCII identifier spelt from it.
 pub fn parameter(label: &str) -> Parameter {
-    let (name, field, unit) = match label {
-        "ωg/p" => ("omega_g_over_p", "frequency", ""),
-        "ωg" => ("omega_g", "frequency", "rad/s"),
-        "A/g" => ("a_over_g", "amplitude", ""),
-        "A/(g·tanα)" => ("a_over_g_tan_alpha", "amplitude", ""),
-        "A/(g·α)" => ("a_over_g_alpha", "amplitude", ""),
-        "scale" => ("scale", "scale", ""),
-        "R" => ("size", "size", "m"),
-        "p" => ("p", "p", "rad/s"),
-        "α" => ("alpha", "alpha", "rad"),
-        "m" => ("mass", "mass", "kg"),
-        "R0" => ("r0", "r0", "m"),
-        "ξ" => ("xi", "xi", ""),
-        "ωn" => ("omega_n", "omega_n", "rad/s"),
-        "ωn/p" => ("omega_n_over_p", "omega_ratio", ""),
-        "σ" => ("sigma", "sigma", ""),
-        "kθ" => ("k_theta", "k_theta", "N·m/rad"),
-        "ωc/p" => ("omega_c_over_p", "clutch_frequency_ratio", ""),
-        "ξθ" => ("xi_theta", "xi_theta", ""),
-        "c̄" => ("cbar", "cbar", "1/s"),
-        "fμ" => ("f_mu", "friction", "mr·g"),
-        "η" => ("eta", "eta", "s/rad"),
-        "up" => ("play", "play", "m"),
-        "ε" => ("epsilon", "epsilon", ""),
-        "ρ" => ("rho", "rho", "m"),
-        _ => {
-            return Parameter {
-                name: ascii_identifier(label),
-                field: "",
-                unit: "",
-            };
+    match Param::from_label(label) {
+        Some(param) => {
+            let info = param.info();
+            Parameter {
+                name: info.name.into(),
+                field: info.field,
+                unit: info.unit,
+            }
         }
-    };
-    Parameter {
-        name: name.into(),
-        field,
-        unit,
+        None => Parameter {
+            name: ascii_identifier(label),
+            field: "",
+            unit: "",
+        },
     }
 }
 
@@ -230,11 +210,14 @@ const STATUS_COLUMNS: [(&str, &str, &str); 2] = [
 /// The results CSV: ASCII identifier column names only (a MATLAB `readtable`, pandas
 /// `read_csv` or R `read.csv` reads it with no option or renaming); the paper's Unicode
 /// labels and units are in [`results_columns_csv`].
-pub fn results_csv(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
+pub fn results_csv(results: &SweepResults) -> crate::error::Result<Vec<u8>> {
     results_csv_layout(results, CsvLayout::Long)
 }
 
-pub fn results_csv_layout(results: &SweepResults, layout: CsvLayout) -> anyhow::Result<Vec<u8>> {
+pub fn results_csv_layout(
+    results: &SweepResults,
+    layout: CsvLayout,
+) -> crate::error::Result<Vec<u8>> {
     let axes = axes_of(results);
     let quantities = quantities(results);
     let mut w = csv::Writer::from_writer(Vec::new());
@@ -294,7 +277,7 @@ pub fn results_csv_layout(results: &SweepResults, layout: CsvLayout) -> anyhow::
 
 /// The metadata of the results CSV's columns, itself a CSV any tool reads: `name` (the column
 /// in results.csv), `label` (the paper's notation), `unit`, `description`.
-pub fn results_columns_csv(results: &SweepResults) -> anyhow::Result<Vec<u8>> {
+pub fn results_columns_csv(results: &SweepResults) -> crate::error::Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(["name", "label", "unit", "description"])?;
     for (name, description, unit) in ID_COLUMNS {

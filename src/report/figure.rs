@@ -3,8 +3,8 @@
 //! greyscale printing, clean tick labels, light major grid, and a legend drawn outside the
 //! panels (so it never hides data). Plotters draws; this module decides how it looks.
 
+use crate::error::Context;
 use crate::numfmt::fmt_digits;
-use anyhow::{Context, anyhow};
 use plotters::coord::Shift;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
@@ -118,14 +118,14 @@ impl FigureOptions {
     /// Pixel size of the figure `what` (whose panels suit `default`) and the scale from
     /// typographic points to pixels. Refused before anything is allocated: a `--size` under
     /// [`MIN_SIZE_FRACTION`] of the default, and a PNG over [`Self::max_megapixels`].
-    pub fn canvas(&self, default: FigureSize, what: &str) -> anyhow::Result<Canvas> {
+    pub fn canvas(&self, default: FigureSize, what: &str) -> crate::error::Result<Canvas> {
         let size = self.size.unwrap_or(default);
         let (min_w, min_h) = (
             (default.width_mm * MIN_SIZE_FRACTION).ceil(),
             (default.height_mm * MIN_SIZE_FRACTION).ceil(),
         );
         if size.width_mm < min_w || size.height_mm < min_h {
-            anyhow::bail!(
+            crate::error::bail!(
                 "--size {}x{}mm is too small for {what}: its panels and labels need at least \
                  {min_w}x{min_h}mm (its own size is {}x{}mm); give a larger --size, or leave \
                  --size out",
@@ -146,7 +146,7 @@ impl FigureOptions {
         let megapixels = f64::from(w) * f64::from(h) / 1e6;
         let cap = self.max_megapixels.min(MEGAPIXELS_CEILING);
         if self.format == ImageFormat::Png && megapixels > cap {
-            anyhow::bail!(
+            crate::error::bail!(
                 "{what} at {}x{}mm and --dpi {} is a {w}×{h} px PNG ({} megapixels), over the \
                  limit of {} megapixels; lower --size or --dpi, or raise --max-megapixels (at \
                  most {MEGAPIXELS_CEILING})",
@@ -196,8 +196,8 @@ pub fn register_font() {
     });
 }
 
-pub fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
-    anyhow!("drawing failed: {e:?}")
+pub fn err<E: std::fmt::Debug>(e: E) -> crate::error::Error {
+    crate::error::error!("drawing failed: {e:?}")
 }
 
 /// Draw with `draw` into `path` (atomically: a temporary file in the same directory, then
@@ -206,9 +206,9 @@ pub fn render(
     path: &Path,
     options: &FigureOptions,
     canvas: Canvas,
-    draw_svg: impl Fn(DrawingArea<SVGBackend, Shift>) -> anyhow::Result<()>,
-    draw_png: impl Fn(DrawingArea<BitMapBackend, Shift>) -> anyhow::Result<()>,
-) -> anyhow::Result<()> {
+    draw_svg: impl Fn(DrawingArea<SVGBackend, Shift>) -> crate::error::Result<()>,
+    draw_png: impl Fn(DrawingArea<BitMapBackend, Shift>) -> crate::error::Result<()>,
+) -> crate::error::Result<()> {
     register_font();
     match options.format {
         ImageFormat::Svg => {
@@ -228,15 +228,48 @@ pub fn render(
                 .suffix(".png")
                 .tempfile_in(dir)
                 .with_context(|| format!("cannot create a file in {}", dir.display()))?;
+            let mut pixels = pixel_buffer(canvas.pixels)?;
             {
-                let root = BitMapBackend::new(tmp.path(), canvas.pixels).into_drawing_area();
+                let root =
+                    BitMapBackend::with_buffer(&mut pixels, canvas.pixels).into_drawing_area();
                 draw_png(root)?;
             }
+            let (w, h) = canvas.pixels;
+            image::save_buffer(tmp.path(), &pixels, w, h, image::ColorType::Rgb8)
+                .with_context(|| format!("cannot write {}", tmp.path().display()))?;
             super::readable_by_all(tmp.as_file())?;
             tmp.persist(path)
                 .with_context(|| format!("cannot write {}", path.display()))?;
             Ok(())
         }
+    }
+}
+
+/// A PNG's RGB pixels, zeroed, or an error if memory cannot hold them. Plotters' own
+/// `BitMapBackend::new` allocates them infallibly, and a large figure on a machine short of
+/// memory then aborts the process ("memory allocation of 5832842508 bytes failed"); drawn
+/// into this buffer and encoded with `image` (as plotters does), it is a message instead.
+fn pixel_buffer((w, h): (u32, u32)) -> crate::error::Result<Vec<u8>> {
+    let bytes = 3 * w as usize * h as usize;
+    let mut pixels = Vec::new();
+    pixels.try_reserve_exact(bytes).map_err(|_| {
+        crate::error::error!(
+            "a {w}×{h} px PNG needs {} of memory for its pixels, more than this machine can \
+             give now; lower --size or --dpi, or write an SVG",
+            fmt_bytes(bytes)
+        )
+    })?;
+    pixels.resize(bytes, 0);
+    Ok(pixels)
+}
+
+/// `5.8 GB`, `350 MB`: a byte count as a message gives it.
+fn fmt_bytes(bytes: usize) -> String {
+    let b = bytes as f64;
+    if b >= 1e9 {
+        format!("{:.1} GB", b / 1e9)
+    } else {
+        format!("{:.0} MB", (b / 1e6).max(1.0))
     }
 }
 
@@ -342,7 +375,7 @@ pub fn draw_line<DB: DrawingBackend>(
     points: &[(f64, f64)],
     style: SeriesStyle,
     width_pt: f64,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let line = canvas.line(style.color, width_pt);
     match style.dash.pattern() {
         None => {
@@ -372,7 +405,7 @@ pub fn draw_markers<DB: DrawingBackend>(
     points: &[(f64, f64)],
     marker: Marker,
     color: RGBColor,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let r = canvas.px(MARKER_PT) as i32;
     let fill = color.filled();
     let stroke = canvas.line(color, 0.8);
@@ -462,7 +495,7 @@ pub fn build_chart<'a, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, Shift>,
     canvas: Canvas,
     axes: &Axes,
-) -> anyhow::Result<Chart<'a, DB>> {
+) -> crate::error::Result<Chart<'a, DB>> {
     let (w, h) = area.dim_in_pixel();
     let mut builder = ChartBuilder::on(area);
     builder
@@ -511,7 +544,7 @@ pub fn split_figure<DB: DrawingBackend>(
     canvas: Canvas,
     title: &str,
     legend: &[LegendEntry],
-) -> anyhow::Result<(DrawingArea<DB, Shift>, DrawingArea<DB, Shift>)> {
+) -> crate::error::Result<(DrawingArea<DB, Shift>, DrawingArea<DB, Shift>)> {
     root.fill(&WHITE).map_err(err)?;
     let (w, h) = root.dim_in_pixel();
     let body = if title.is_empty() {

@@ -51,8 +51,8 @@ pub struct Ida {
 }
 
 /// The IDA rows of a study's results (the hunts replayed on its scenes).
-pub fn ida(study: &Study, results: &SweepResults) -> anyhow::Result<Ida> {
-    let search = replay(study, &results.outcomes).map_err(|e| anyhow::anyhow!("{e}"))?;
+pub fn ida(study: &Study, results: &SweepResults) -> crate::error::Result<Ida> {
+    let search = replay(study, &results.outcomes).map_err(|e| crate::error::error!("{e}"))?;
     let layout = study.layout()?;
     let library = library::global().ok();
     let on_grid: Vec<&ScenePoint> = Vec::new();
@@ -113,7 +113,7 @@ pub fn analyse(f: &Fragility, study: &Study, rows: &[IdaRow]) -> FragilityReport
 /// ida.csv: device, the varying parameters, record, component, damage_state, the IM's name,
 /// capacity (empty if censored), the final bracket, probes, resurrections (count and the
 /// intensities that held, `;`-separated), censored, status.
-pub fn ida_csv(study: &Study, rows: &[IdaRow]) -> anyhow::Result<Vec<u8>> {
+pub fn ida_csv(study: &Study, rows: &[IdaRow]) -> crate::error::Result<Vec<u8>> {
     let (params, im) = csv_axes(study, rows.iter().map(|r| &r.variant));
     let mut w = csv::Writer::from_writer(Vec::new());
     let mut header = vec!["device".to_string()];
@@ -184,7 +184,7 @@ pub fn write(
     f: &Fragility,
     study: &Study,
     results: &SweepResults,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let ida = ida(study, results)?;
     super::write_atomic(&out.join(IDA_CSV), &ida_csv(study, &ida.rows)?)?;
     if results.cancelled || !ida.complete {

@@ -63,7 +63,7 @@ pub fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     canvas: Canvas,
     entries: &[LegendEntry],
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let (width, _) = area.dim_in_pixel();
     let row_h = canvas.px(11.0) as i32;
     let sample = canvas.px(LEGEND_SAMPLE_PT) as i32;
@@ -134,7 +134,7 @@ fn draw_marker_px<DB: DrawingBackend>(
     at: (i32, i32),
     marker: Marker,
     color: RGBColor,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let r = canvas.px(MARKER_PT) as i32;
     let (x, y) = at;
     let fill = color.filled();

@@ -15,7 +15,12 @@ mod plot_design;
 pub mod select;
 pub mod stripes;
 
-pub use crate::fsutil::{readable_by_all, write_atomic};
+pub use crate::fsutil::readable_by_all;
+
+/// [`crate::fsutil::write_atomic`], its error as the report's.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> crate::error::Result<()> {
+    Ok(crate::fsutil::write_atomic(path, bytes)?)
+}
 pub use crate::study::Quantity;
 pub use crate::sweep::load_results;
 pub use aggregate::{
@@ -43,7 +48,7 @@ pub const WRITERS: crate::sweep::Writers<'static> = crate::sweep::Writers {
 };
 
 /// A history as CSV: one header line, then one row per sample (see [`crate::sim::Sampling`]).
-pub fn history_csv(history: &History) -> anyhow::Result<Vec<u8>> {
+pub fn history_csv(history: &History) -> crate::error::Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(history.columns.iter().map(|c| c.name()))?;
     for row in &history.rows {
@@ -52,6 +57,6 @@ pub fn history_csv(history: &History) -> anyhow::Result<Vec<u8>> {
     Ok(w.into_inner()?)
 }
 
-pub fn write_history_csv(path: &Path, history: &History) -> anyhow::Result<()> {
+pub fn write_history_csv(path: &Path, history: &History) -> crate::error::Result<()> {
     write_atomic(path, &history_csv(history)?)
 }

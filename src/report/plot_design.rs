@@ -34,7 +34,7 @@ pub fn plot_design(
     dir: &Path,
     options: &FigureOptions,
     results: &SweepResults,
-) -> anyhow::Result<Option<PathBuf>> {
+) -> crate::error::Result<Option<PathBuf>> {
     let (Some(study), Some(rows)) = (&results.study, design_rows(results)) else {
         return Ok(None);
     };
@@ -206,7 +206,7 @@ fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     canvas: Canvas,
     c: &Chart,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let (body, _) = split_figure(&root, canvas, c.title, c.legend)?;
     let mut chart = build_chart(&body, canvas, &c.axes)?;
     for (i, line) in c.lines.iter().enumerate() {

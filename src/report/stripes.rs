@@ -11,7 +11,7 @@ use super::fragility::{
 use crate::excitation::library::{self, Library};
 use crate::scene::Excitation;
 use crate::study::fragility::{Fragility, im_name};
-use crate::study::{DeviceKind, ExcitationFamily, Layout, Quantity, ScenePoint, Study};
+use crate::study::{DeviceKind, ExcitationFamily, Layout, Param, Quantity, ScenePoint, Study};
 use crate::sweep::{SceneOutcome, SweepResults};
 use std::path::Path;
 
@@ -70,7 +70,7 @@ pub(super) fn variant_of(layout: &Layout, point: &ScenePoint, on_grid: &[&SceneP
     let params = point
         .coords
         .iter()
-        .filter(|(label, _)| label != "scale")
+        .filter(|(label, _)| label != Param::Scale.label())
         .map(|(label, v)| (super::export::parameter(label).name, *v))
         .collect();
     Variant { device, params }
@@ -110,7 +110,7 @@ fn scale_of(library: Option<&Library>, o: &SceneOutcome) -> f64 {
 }
 
 /// The stripes.csv rows of a fragility study's results, in expansion order.
-pub fn rows(study: &Study, results: &SweepResults) -> anyhow::Result<Vec<StripeRow>> {
+pub fn rows(study: &Study, results: &SweepResults) -> crate::error::Result<Vec<StripeRow>> {
     let layout = study.layout()?;
     let library = library::global().ok();
     let on_grid: Vec<&ScenePoint> = results
@@ -172,7 +172,7 @@ pub(super) fn csv_axes<'a>(
 
 /// stripes.csv: device, the varying parameters, record, component, the IM (named by its
 /// measure, e.g. `pga_star`), scale, the study's quantities, overturned, status.
-pub fn stripes_csv(study: &Study, rows: &[StripeRow]) -> anyhow::Result<Vec<u8>> {
+pub fn stripes_csv(study: &Study, rows: &[StripeRow]) -> crate::error::Result<Vec<u8>> {
     let (params, im) = csv_axes(study, rows.iter().map(|r| &r.variant));
     let mut w = csv::Writer::from_writer(Vec::new());
     let mut header = vec!["device".to_string()];
@@ -271,7 +271,7 @@ fn im_label(scale_to: crate::study::RecordScaling) -> &'static str {
 }
 
 /// stripes.csv, fragility.csv and fragility.json of a fragility study, in `out`.
-pub fn write(out: &Path, study: &Study, results: &SweepResults) -> anyhow::Result<()> {
+pub fn write(out: &Path, study: &Study, results: &SweepResults) -> crate::error::Result<()> {
     let Some(f) = &study.fragility else {
         return Ok(());
     };

@@ -3,7 +3,7 @@
 
 use crate::excitation::{Library, Motion, Pulse, RecordMotion};
 pub use crate::model::column::{ColumnInfo, EnergyRole, HistoryColumn};
-use crate::model::device::DeviceModel;
+use crate::model::device::{DeviceModel, Flywheels};
 use crate::model::flexible::FlexibleModel;
 use crate::model::rigid::RigidModel;
 use crate::model::{Action, ClosedFormEnd, Counters, EndReason, Energy, SimModel};
@@ -334,7 +334,12 @@ pub fn run_sampled(
     let ledger = bounds.measures.energy || sampling.is_some();
     let mut result = match &scene.structure {
         Structure::Rigid(block) => {
-            let device = DeviceModel::new(&scene.device, block.mass, scene.structure.p());
+            let device = DeviceModel::new(
+                &scene.device,
+                block.mass,
+                scene.structure.p(),
+                motion.gravity(),
+            );
             let block = &RigidBlock {
                 form: block.form.resolve(block.alpha, scene.rtol),
                 ..block.clone()
@@ -345,13 +350,14 @@ pub fn run_sampled(
                     .with_ledger(ledger);
             model.set_measures(bounds.measures);
             let h = history.as_mut();
-            match model.state_len() {
-                2 => drive::<2, _>(&mut model, &motion, scene, h, watch),
-                4 => drive::<4, _>(&mut model, &motion, scene, h, watch),
-                6 => drive::<6, _>(&mut model, &motion, scene, h, watch),
-                8 => drive::<8, _>(&mut model, &motion, scene, h, watch),
-                10 => drive::<10, _>(&mut model, &motion, scene, h, watch),
-                n => Err(no_instance("rigid", n)),
+            // Two coordinates (θ, θ̇), two per flywheel, four accumulators with the ledger.
+            match (device.flywheels(), ledger) {
+                (Flywheels::Zero, false) => drive::<2, _>(&mut model, &motion, scene, h, watch),
+                (Flywheels::One, false) => drive::<4, _>(&mut model, &motion, scene, h, watch),
+                (Flywheels::Two, false) => drive::<6, _>(&mut model, &motion, scene, h, watch),
+                (Flywheels::Zero, true) => drive::<6, _>(&mut model, &motion, scene, h, watch),
+                (Flywheels::One, true) => drive::<8, _>(&mut model, &motion, scene, h, watch),
+                (Flywheels::Two, true) => drive::<10, _>(&mut model, &motion, scene, h, watch),
             }?
         }
         Structure::Flexible(flex) => {
@@ -363,19 +369,20 @@ pub fn run_sampled(
                 ));
             }
             let p = scene.structure.p();
-            let device = DeviceModel::new(&scene.device, flex.mass, p);
+            let device = DeviceModel::new(&scene.device, flex.mass, p, motion.gravity());
             let mut model = FlexibleModel::new(flex, device, &motion, scene.initial_rotation)
                 .with_ledger(ledger)
                 .with_closed_form_contact(scene.closed_form_contact);
             model.set_measures(bounds.measures);
             let h = history.as_mut();
-            match model.state_len() {
-                4 => drive::<4, _>(&mut model, &motion, scene, h, watch),
-                6 => drive::<6, _>(&mut model, &motion, scene, h, watch),
-                8 => drive::<8, _>(&mut model, &motion, scene, h, watch),
-                10 => drive::<10, _>(&mut model, &motion, scene, h, watch),
-                12 => drive::<12, _>(&mut model, &motion, scene, h, watch),
-                n => Err(no_instance("flexible", n)),
+            // Four coordinates (u, θ and their rates), two per flywheel, four accumulators.
+            match (device.flywheels(), ledger) {
+                (Flywheels::Zero, false) => drive::<4, _>(&mut model, &motion, scene, h, watch),
+                (Flywheels::One, false) => drive::<6, _>(&mut model, &motion, scene, h, watch),
+                (Flywheels::Two, false) => drive::<8, _>(&mut model, &motion, scene, h, watch),
+                (Flywheels::Zero, true) => drive::<8, _>(&mut model, &motion, scene, h, watch),
+                (Flywheels::One, true) => drive::<10, _>(&mut model, &motion, scene, h, watch),
+                (Flywheels::Two, true) => drive::<12, _>(&mut model, &motion, scene, h, watch),
             }?
         }
     };
@@ -387,13 +394,14 @@ pub fn run_sampled(
 }
 
 /// The integrator is instantiated for the state sizes the models have (structure coordinates,
-/// two per flywheel, four accumulators with the energy ledger). A model of another size (a new device, say) must get
-/// its instance in [`run_sampled`]'s dispatch; until then it is refused here, loudly, instead of
-/// running with a wrong N.
-fn no_instance(structure: &str, n: usize) -> SimError {
+/// two per flywheel, four accumulators with the energy ledger): [`run_sampled`]'s dispatch
+/// matches every (flywheels, ledger) pair, so a device with a new state size does not compile
+/// until it has its instance. A dispatch arm with the wrong N is refused here, loudly,
+/// instead of running.
+fn no_instance(n: usize, model_len: usize) -> SimError {
     SimError::Invalid(format!(
-        "internal: no integrator instance for a {structure} model with {n} state components \
-         (add `drive::<{n}>` to sim::run_sampled's dispatch)"
+        "internal: a model with {model_len} state components dispatched to the integrator \
+         instance for {n} (fix sim::run_sampled's dispatch)"
     ))
 }
 
@@ -411,6 +419,9 @@ fn drive<const N: usize, M: SimModel<N>>(
     mut history: Option<&mut Recorder>,
     watch: &Watch,
 ) -> Result<SceneResult, SimError> {
+    if model.state_len() != N {
+        return Err(no_instance(N, model.state_len()));
+    }
     let duration = scene.duration;
     let state_scales = model.tolerance_scales();
     let controlled = state_scales.len();

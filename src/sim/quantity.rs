@@ -24,6 +24,7 @@ pub struct QuantityInfo {
     pub help: &'static str,
 }
 
+all_variants! {
 /// A response quantity reported per scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -42,17 +43,9 @@ pub enum Quantity {
     /// acceleration, §3 and Figs. 5, 8, 12).
     PeakAngularAcceleration,
 }
+}
 
 impl Quantity {
-    pub const ALL: [Quantity; 6] = [
-        Quantity::PeakRotation,
-        Quantity::PeakRotationRatio,
-        Quantity::PeakDeformation,
-        Quantity::PeakDrift,
-        Quantity::PeakAbsAcceleration,
-        Quantity::PeakAngularAcceleration,
-    ];
-
     /// Everything the program says about this quantity: its row of [`Quantity::info`]'s
     /// table, the one place these names, keys, labels and units are written.
     pub fn info(self) -> &'static QuantityInfo {

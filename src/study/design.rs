@@ -24,7 +24,8 @@
 //! ```
 
 use super::fragility::Method;
-use super::{DeviceVariant, ExcitationFamily, Layout, Quantity, Study, StudyError};
+use super::{DeviceVariant, ExcitationFamily, Layout, Param, Quantity, Study, StudyError};
+use crate::numfmt::fmt_exact;
 use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -50,6 +51,11 @@ pub struct Design {
     pub verify: usize,
 }
 
+/// The finest `resolution` a search can reach: four spacings of f64 at the answer (its
+/// relative spacing is at most `f64::EPSILON` anywhere in a bracket). Below it the bracket
+/// stops narrowing before it is narrow enough, so the search could never stop.
+pub const MIN_RESOLUTION: f64 = 4.0 * f64::EPSILON;
+
 pub(crate) fn default_resolution() -> f64 {
     0.01
 }
@@ -58,6 +64,7 @@ pub(crate) fn default_verify() -> usize {
     4
 }
 
+all_variants! {
 /// A sizable device parameter, named as the study's device fields.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -75,39 +82,29 @@ pub enum DesignParameter {
     /// Clutch frequency ratio √(kθ/J)/p, mechanistic clutch.
     ClutchFrequencyRatio,
 }
+}
 
 impl DesignParameter {
-    pub const ALL: [DesignParameter; 6] = [
-        DesignParameter::Sigma,
-        DesignParameter::Cbar,
-        DesignParameter::XiTheta,
-        DesignParameter::Friction,
-        DesignParameter::KTheta,
-        DesignParameter::ClutchFrequencyRatio,
-    ];
+    /// The grid parameter it sizes.
+    pub fn param(self) -> Param {
+        match self {
+            DesignParameter::Sigma => Param::Sigma,
+            DesignParameter::Cbar => Param::Cbar,
+            DesignParameter::XiTheta => Param::XiTheta,
+            DesignParameter::Friction => Param::Friction,
+            DesignParameter::KTheta => Param::KTheta,
+            DesignParameter::ClutchFrequencyRatio => Param::ClutchFrequencyRatio,
+        }
+    }
 
     /// The study field (and expansion parameter id) it sizes.
     pub fn id(self) -> &'static str {
-        match self {
-            DesignParameter::Sigma => "sigma",
-            DesignParameter::Cbar => "cbar",
-            DesignParameter::XiTheta => "xi_theta",
-            DesignParameter::Friction => "friction",
-            DesignParameter::KTheta => "k_theta",
-            DesignParameter::ClutchFrequencyRatio => "clutch_frequency_ratio",
-        }
+        self.param().field()
     }
 
     /// Paper notation (as coordinates label it).
     pub fn label(self) -> &'static str {
-        match self {
-            DesignParameter::Sigma => "σ",
-            DesignParameter::Cbar => "c̄",
-            DesignParameter::XiTheta => "ξθ",
-            DesignParameter::Friction => "fμ",
-            DesignParameter::KTheta => "kθ",
-            DesignParameter::ClutchFrequencyRatio => "ωc/p",
-        }
+        self.param().label()
     }
 
     /// Whether a device variant has this parameter (the others are evaluated once, as a
@@ -284,8 +281,23 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
     if !(design.resolution.is_finite() && design.resolution > 0.0 && design.resolution < 0.5) {
         return Err(StudyError::field(
             "design.resolution",
-            format!("{} is out of range", design.resolution),
+            format!("{} is out of range", fmt_exact(design.resolution)),
             "a relative resolution in (0, 0.5), e.g. 0.01 for 1 % of the answer",
+        ));
+    }
+    if design.resolution < MIN_RESOLUTION {
+        return Err(StudyError::field(
+            "design.resolution",
+            format!(
+                "{} is finer than f64 can resolve: neighbouring numbers are up to {} apart \
+                 (relative), so the bracket would stop narrowing before it got there",
+                fmt_exact(design.resolution),
+                fmt_exact(f64::EPSILON)
+            ),
+            &format!(
+                "at least {} (4 spacings of f64); 0.01 finds the answer to 1 %",
+                fmt_exact(MIN_RESOLUTION)
+            ),
         ));
     }
     if design.verify > 20 {
@@ -299,7 +311,7 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
         if !(max.is_finite() && max > 0.0) {
             return Err(StudyError::field(
                 "design.target.max",
-                format!("{max} is not a response limit"),
+                format!("{} is not a response limit", fmt_exact(max)),
                 "a finite limit > 0, e.g. limit(quantity: peak_rotation_ratio, max: 0.5)",
             ));
         }
@@ -408,7 +420,10 @@ fn validate_fragility_target(study: &Study, design: &Design) -> Result<(), Study
         let list: Vec<String> = levels.iter().map(|l| format!("{l:?}")).collect();
         return Err(StudyError::field(
             "design.target.state",
-            format!("{state} is not one of the study's damage states"),
+            format!(
+                "{} is not one of the study's damage states",
+                fmt_exact(state)
+            ),
             &format!(
                 "a threshold of fragility.damage_states: one of {} (1.0 = overturning for θmax/α)",
                 list.join(", ")
@@ -456,7 +471,7 @@ fn validate_fragility_target(study: &Study, design: &Design) -> Result<(), Study
     let im = |name: &str, v: Option<f64>| match v {
         Some(v) if !(v.is_finite() && v > 0.0) => Err(StudyError::field(
             format!("design.target.{name}"),
-            format!("{v} is not an intensity"),
+            format!("{} is not an intensity", fmt_exact(v)),
             "a finite intensity > 0 in the study's measure (scale_to), e.g. 4.0 for PGA* = 4",
         )),
         _ => Ok(()),
@@ -468,7 +483,10 @@ fn validate_fragility_target(study: &Study, design: &Design) -> Result<(), Study
     {
         return Err(StudyError::field(
             "design.target.exceedance_at_most",
-            format!("{p} is not a probability strictly between 0 and 1"),
+            format!(
+                "{} is not a probability strictly between 0 and 1",
+                fmt_exact(p)
+            ),
             "e.g. exceedance_at_most: 0.1 (at most a 10 % chance of reaching the state at `at`)",
         ));
     }

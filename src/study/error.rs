@@ -48,7 +48,8 @@ impl StudyError {
         }
     }
 
-    pub fn from_ron(e: ron::error::SpannedError, origin: &str) -> Self {
+    /// A RON error of study `text` (as RON read it), with the field it falls in.
+    pub fn from_ron(e: ron::error::SpannedError, text: &str, origin: &str) -> Self {
         use ron::error::Error as E;
         let (field, hint) = match &e.code {
             E::NoSuchStructField { found, .. } => (
@@ -74,14 +75,23 @@ impl StudyError {
                 Some("see studies/default.ron for a complete example".into()),
             ),
         };
-        StudyError {
+        let mut error = StudyError {
             origin: origin.to_string(),
             line: Some(e.span.start.line),
             column: Some(e.span.start.col),
             field,
             message: e.code.to_string(),
             hint,
+        };
+        // RON's own words name no field (`seed: 1.5` is "Expected comma"): the field whose
+        // value holds the position, and what the error means there.
+        if error.field.is_none()
+            && let Some(place) = super::strict::place_of(text, e.span.start.line, e.span.start.col)
+        {
+            let (message, hint) = super::strict::explain_ron_error(&e.code, &place);
+            (error.field, error.message, error.hint) = (Some(place.field), message, Some(hint));
         }
+        error
     }
 
     /// Fill in the file and the position of the field's key in `text`: the first occurrence of

@@ -73,43 +73,16 @@ const FIELD_HELP: &[(&str, &str)] = &[
         "structure",
         "rigid(p or size, alpha, mass, form) or flexible(r0, alpha, xi, omega_n or omega_ratio, mass)",
     ),
-    ("p", "frequency parameter p (rad/s), instead of size"),
-    ("size", "half-diagonal R (m), instead of p"),
-    ("alpha", "slenderness α (rad), or in degrees as deg(10)"),
-    ("mass", "structure mass (kg)"),
     ("form", "exact or slender (small-α) equations"),
-    ("r0", "R0 = √(B² + H²) (m)"),
-    ("xi", "column damping ratio ξ"),
-    ("omega_n", "column natural frequency ωn (rad/s)"),
-    ("omega_ratio", "column frequency as ωn/p"),
     (
         "devices",
         "variants: none, inerter(sigma, coupling), sequential(sigma), mechanistic(sigma, …); a: duplicate",
     ),
-    ("sigma", "inerter mass ratio σ = mr/m"),
     (
         "coupling",
         "how the single inerter is attached: rigid, or flywheel(cbar: 1.0, …), a flywheel \
          behind a spring (k_theta or clutch_frequency_ratio; cbar or xi_theta; rho)",
     ),
-    (
-        "k_theta",
-        "clutch stiffness kθ (N·m/rad), instead of clutch_frequency_ratio",
-    ),
-    (
-        "clutch_frequency_ratio",
-        "clutch frequency √(k/mr) as a multiple of p",
-    ),
-    (
-        "cbar",
-        "flywheel damping c̄ = c/J (1/s), instead of xi_theta",
-    ),
-    ("xi_theta", "flywheel damping ratio ξθ, instead of cbar"),
-    ("friction", "dry friction fμ / (mr·g)"),
-    ("eta", "friction transition η (s/rad)"),
-    ("play", "gear play up (m)"),
-    ("epsilon", "clutch tanh smoothing ε (per rad)"),
-    ("rho", "pinion radius ρ (m)"),
     (
         "reset",
         "re-engagement reset with play: paper or strict (never: no reset, the paper's §4 counterfactual)",
@@ -168,7 +141,7 @@ const FIELD_HELP: &[(&str, &str)] = &[
     ),
     (
         "bootstrap",
-        "bootstrap resamples over records for the confidence intervals (0: none)",
+        "bootstrap resamples over records for the confidence intervals: 0 (none) or at least 200",
     ),
     ("seed", "bootstrap seed (reruns agree)"),
     (
@@ -395,7 +368,7 @@ pub const FIELD_DEFAULTS: &[FieldDefault] = &[
 ];
 
 /// The defaults of a field, by name: `X`, or `X in owner, Y in other` where its owners differ.
-fn default_note(field: &str) -> Option<String> {
+pub(super) fn default_note(field: &str) -> Option<String> {
     let found: Vec<(&str, String)> = FIELD_DEFAULTS
         .iter()
         .filter(|d| d.field == field)
@@ -415,10 +388,13 @@ pub fn field_help(field: &str) -> Option<String> {
     let help = if field == "quantities" {
         QUANTITIES_HELP.as_str()
     } else {
+        // A grid parameter's help is its row of the parameter table.
         FIELD_HELP
             .iter()
             .find(|(f, _)| *f == field)
-            .map(|(_, h)| *h)?
+            .map(|(_, h)| *h)
+            .or_else(|| super::Param::from_field(field).map(|p| p.info().help))
+            .filter(|h| !h.is_empty())?
     };
     Some(match default_note(field) {
         Some(note) => format!("{help} (default {note})"),

@@ -12,6 +12,7 @@
 //! r (IM units); report::ida writes ida.csv and fits the capacities (censored at the top).
 
 use super::{Axis, ExcitationFamily, Quantity, RecordScaling, StructureFamily, Study, StudyError};
+use crate::numfmt::fmt_exact;
 use serde::{Deserialize, Serialize};
 
 /// Fragility analysis of a study's scenes.
@@ -148,6 +149,12 @@ pub(crate) fn default_confidence() -> f64 {
 /// Most bootstrap resamples a study may ask for (each refits every curve).
 const MAX_BOOTSTRAP: usize = 100_000;
 
+/// Fewest bootstrap resamples a study may ask for (0 asks for none). A 90 % interval is read
+/// off the 5th and 95th percentiles of the resamples: with a handful of them those are
+/// single draws, and the "interval" need not even contain the median it is about (2 gave
+/// one that did not); 200 puts ten resamples beyond each end.
+pub const MIN_BOOTSTRAP: usize = 200;
+
 /// The intensity measure of a fragility study's stripes, as `stripes.csv` and the fit name it.
 pub fn im_name(scale_to: RecordScaling) -> Option<&'static str> {
     match scale_to {
@@ -197,7 +204,7 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
     if let Some(bad) = levels.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
         return Err(StudyError::field(
             "fragility.damage_states",
-            format!("{bad} is not a damage-state threshold"),
+            format!("{} is not a damage-state threshold", fmt_exact(*bad)),
             "thresholds of the damage measure are finite and > 0 (1 = overturning for θmax/α)",
         ));
     }
@@ -240,6 +247,16 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
     if let Some(resolution) = f.method.ida_resolution() {
         validate_ida(study, resolution)?;
     }
+    if (1..MIN_BOOTSTRAP).contains(&f.bootstrap) {
+        return Err(StudyError::field(
+            "fragility.bootstrap",
+            format!(
+                "{} resamples are too few for a confidence interval",
+                f.bootstrap
+            ),
+            &format!("at least {MIN_BOOTSTRAP} (1000 is the default), or 0 for no intervals"),
+        ));
+    }
     if f.bootstrap > MAX_BOOTSTRAP {
         return Err(StudyError::field(
             "fragility.bootstrap",
@@ -250,7 +267,7 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
     if !(f.confidence > 0.0 && f.confidence < 1.0) {
         return Err(StudyError::field(
             "fragility.confidence",
-            format!("{} is not a confidence level", f.confidence),
+            format!("{} is not a confidence level", fmt_exact(f.confidence)),
             "between 0 and 1, e.g. 0.9 for 5th–95th percentile intervals",
         ));
     }
@@ -277,10 +294,14 @@ fn validate_ida(study: &Study, resolution: f64) -> Result<(), StudyError> {
     if !(resolution.is_finite() && resolution >= finest) {
         return Err(StudyError::field(
             "fragility.method",
-            format!("resolution {resolution} is not an IM interval of at least {finest:.3e}"),
+            format!(
+                "resolution {} is not an IM interval of at least {finest:.3e}",
+                fmt_exact(resolution)
+            ),
             &format!(
                 "ida(resolution: r): the widest final bracket in IM units, ≥ the ladder's top \
-                 ({top}) / 2^{MAX_BISECTIONS}, e.g. ida(resolution: {})",
+                 ({}) / 2^{MAX_BISECTIONS}, e.g. ida(resolution: {})",
+                fmt_exact(top),
                 crate::numfmt::fmt_sig(top / 100.0)
             ),
         ));

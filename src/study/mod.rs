@@ -12,6 +12,7 @@ mod error;
 mod expand;
 pub mod fields;
 pub mod fragility;
+mod param;
 mod strict;
 mod suites;
 mod values;
@@ -20,6 +21,7 @@ pub mod writer;
 pub use crate::sim::{Quantity, QuantityInfo};
 pub use error::StudyError;
 pub use expand::{DeviceKind, Layout, MAX_SCENES, Parameter, Part, VariantLayout, device_label};
+pub use param::{Param, ParamInfo};
 pub use strict::{ANGLE_FIELDS, parse_angle};
 pub use values::Values;
 
@@ -313,6 +315,41 @@ pub enum FrequencyAxis {
     Ratio(Values),
 }
 
+impl AmplitudeAxis {
+    /// The parameter its values are.
+    pub fn param(&self) -> Param {
+        match self {
+            AmplitudeAxis::G(_) => Param::AmplitudeG,
+            AmplitudeAxis::TanAlphaRatio(_) => Param::AmplitudeTanAlphaRatio,
+            AmplitudeAxis::AlphaRatio(_) => Param::AmplitudeAlphaRatio,
+        }
+    }
+
+    pub fn values(&self) -> &Values {
+        match self {
+            AmplitudeAxis::G(v)
+            | AmplitudeAxis::TanAlphaRatio(v)
+            | AmplitudeAxis::AlphaRatio(v) => v,
+        }
+    }
+}
+
+impl FrequencyAxis {
+    /// The parameter its values are.
+    pub fn param(&self) -> Param {
+        match self {
+            FrequencyAxis::RadPerSec(_) => Param::Frequency,
+            FrequencyAxis::Ratio(_) => Param::FrequencyRatio,
+        }
+    }
+
+    pub fn values(&self) -> &Values {
+        match self {
+            FrequencyAxis::RadPerSec(v) | FrequencyAxis::Ratio(v) => v,
+        }
+    }
+}
+
 /// A study parameter that can serve as a spectrum or map axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -380,8 +417,14 @@ pub struct ScenePoint {
 }
 
 impl ScenePoint {
+    /// The coordinate labelled `name` (a parameter's label, or an axis label from a file).
     pub fn coord(&self, name: &str) -> Option<f64> {
         self.coords.iter().find(|(n, _)| n == name).map(|(_, v)| *v)
+    }
+
+    /// The value of parameter `param`, if it is one of the point's coordinates.
+    pub fn param(&self, param: Param) -> Option<f64> {
+        self.coord(param.label())
     }
 }
 
@@ -430,12 +473,13 @@ impl Study {
     pub fn parse_ron(text: &str, origin: &str) -> Result<Study, StudyError> {
         // A byte-order mark (some Windows editors write one) is no part of the study.
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+        strict::check_nesting(text, origin)?;
         strict::check_names(text, origin)?;
         strict::check_not_numbers(text, origin)?;
         let resolved = strict::resolve_degrees(text, origin)?;
         let study = ron_options()
             .from_str(&resolved)
-            .map_err(|e| StudyError::from_ron(e, origin))?;
+            .map_err(|e| StudyError::from_ron(e, &resolved, origin))?;
         strict::check_meaning(text, &study, origin)?;
         Ok(study)
     }
@@ -465,7 +509,7 @@ impl Study {
 
     /// Write the study laid out for reading (lists on one line where they fit), every field
     /// spelled out: what `rocklab run` keeps beside its results.
-    pub fn save(&self, path: &Path) -> anyhow::Result<()> {
+    pub fn save(&self, path: &Path) -> Result<(), crate::fsutil::FsError> {
         crate::fsutil::write_atomic(path, writer::write(self, None).text.as_bytes())
     }
 
@@ -502,31 +546,76 @@ fn ron_options() -> ron::Options {
     ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
 }
 
+/// What a study computes, decided once from its sections ([`Study::kind`]); the sweep picks
+/// its run by it, so no caller re-derives it from the sections.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StudyKind {
+    /// Response spectra over the spectrum axis: every scene of the grid.
+    Spectra,
+    /// An overturning map over two axes, every cell run.
+    Map,
+    /// An overturning map by boundary refinement (`map.refine`): rounds of scenes.
+    RefinedMap,
+    /// A fragility study on stripes: every scene of the grid, fitted per damage state.
+    Stripes,
+    /// An incremental dynamic analysis (`fragility.method: ida`): a hunt per record.
+    Ida,
+    /// A design search (`design`): a bisection per design point.
+    Design,
+}
+
+impl StudyKind {
+    /// Whether its scenes come from a search in rounds (each round needs the verdicts of the
+    /// one before), which cannot be split into shards.
+    pub fn searches(self) -> bool {
+        match self {
+            StudyKind::RefinedMap | StudyKind::Ida | StudyKind::Design => true,
+            StudyKind::Spectra | StudyKind::Map | StudyKind::Stripes => false,
+        }
+    }
+}
+
 impl Study {
+    /// What the study computes. A refined map, a design and an IDA are searches and exclude
+    /// one another (validation refuses a design with a map; a design's fragility target
+    /// needs stripes); a map beside a fragility section is a map.
+    pub fn kind(&self) -> StudyKind {
+        let ida = self
+            .fragility
+            .as_ref()
+            .is_some_and(|f| f.method.ida_resolution().is_some());
+        match (&self.map, &self.design, &self.fragility) {
+            (Some(m), ..) if m.refine.is_some() => StudyKind::RefinedMap,
+            (_, Some(_), _) => StudyKind::Design,
+            _ if ida => StudyKind::Ida,
+            (Some(_), ..) => StudyKind::Map,
+            (None, None, Some(_)) => StudyKind::Stripes,
+            (None, None, None) => StudyKind::Spectra,
+        }
+    }
+
     /// The coordinate label of an axis in this study (e.g. `ωg/p`, `A/(g·α)`, `ωn`).
     pub fn axis_label(&self, axis: Axis) -> String {
-        let label = match (axis, &self.excitation) {
-            (Axis::Frequency, ExcitationFamily::Pulse { frequency, .. }) => match frequency {
-                FrequencyAxis::RadPerSec(_) => "ωg",
-                FrequencyAxis::Ratio(_) => "ωg/p",
-            },
-            (Axis::Amplitude, ExcitationFamily::Pulse { amplitude, .. }) => match amplitude {
-                AmplitudeAxis::G(_) => "A/g",
-                AmplitudeAxis::TanAlphaRatio(_) => "A/(g·tanα)",
-                AmplitudeAxis::AlphaRatio(_) => "A/(g·α)",
-            },
-            (Axis::Frequency, _) => "ωg",
-            (Axis::Amplitude, _) => "A/g",
-            (Axis::Scale, _) => "scale",
-            (Axis::Alpha, _) => "α",
-            (Axis::Size, _) => "R",
-            (Axis::P, _) => "p",
-            (Axis::R0, _) => "R0",
-            (Axis::Xi, _) => "ξ",
-            (Axis::OmegaN, _) => "ωn",
-            (Axis::OmegaRatio, _) => "ωn/p",
-        };
-        label.to_string()
+        self.axis_param(axis).label().to_string()
+    }
+
+    /// The parameter an axis is in this study (the pulse's frequency and amplitude as the
+    /// study gives them).
+    pub fn axis_param(&self, axis: Axis) -> Param {
+        match (axis, &self.excitation) {
+            (Axis::Frequency, ExcitationFamily::Pulse { frequency, .. }) => frequency.param(),
+            (Axis::Amplitude, ExcitationFamily::Pulse { amplitude, .. }) => amplitude.param(),
+            (Axis::Frequency, _) => Param::Frequency,
+            (Axis::Amplitude, _) => Param::AmplitudeG,
+            (Axis::Scale, _) => Param::Scale,
+            (Axis::Alpha, _) => Param::Alpha,
+            (Axis::Size, _) => Param::Size,
+            (Axis::P, _) => Param::P,
+            (Axis::R0, _) => Param::R0,
+            (Axis::Xi, _) => Param::Xi,
+            (Axis::OmegaN, _) => Param::OmegaN,
+            (Axis::OmegaRatio, _) => Param::OmegaRatio,
+        }
     }
 }
 
@@ -542,10 +631,30 @@ mod tests {
         assert_eq!(back, study, "{text}");
         let points = study.expand().unwrap();
         assert_eq!(points.len(), 3 * 12);
-        assert_eq!(points[0].coords[0].0, "ωg/p");
+        assert_eq!(points[0].coords[0].0, Param::FrequencyRatio.label());
         assert_eq!(points[0].group, "bare");
         assert_eq!(points[12].group, "sequential");
+        assert_eq!(study.kind(), StudyKind::Spectra);
         // The frequency axis varies fastest.
         assert_eq!(points[1].coords[0].1, 2.0);
+    }
+
+    /// The kind follows the sections: a map, refined or not, and a fragility section beside
+    /// it (the map wins: it is what the run computes).
+    #[test]
+    fn the_kind_is_decided_by_the_sections() {
+        let mut study = Study::builtin_default();
+        let mut axes = MapAxes {
+            x: Axis::Frequency,
+            y: Axis::Amplitude,
+            refine: None,
+        };
+        study.map = Some(axes);
+        assert_eq!(study.kind(), StudyKind::Map);
+        assert!(!study.kind().searches());
+        axes.refine = Some(Refine { levels: 2 });
+        study.map = Some(axes);
+        assert_eq!(study.kind(), StudyKind::RefinedMap);
+        assert!(study.kind().searches());
     }
 }

@@ -111,6 +111,22 @@ fn syntax_error(e: SyntaxError, origin: &str) -> StudyError {
     }
 }
 
+/// Brackets nested past [`syntax::MAX_DEPTH`], as a located error: checked before anything
+/// recurses over the text.
+pub fn check_nesting(text: &str, origin: &str) -> Result<(), StudyError> {
+    match syntax::too_deep(&tokens(text)) {
+        Some(e) => Err(StudyError {
+            hint: Some(format!(
+                "a study nests a few levels (a list in a range in a device); remove the \
+                 extra brackets (at most {} levels)",
+                syntax::MAX_DEPTH
+            )),
+            ..syntax_error(e, origin)
+        }),
+        None => Ok(()),
+    }
+}
+
 /// The first `name(` in `text` that is not a variant of the schema (or `deg`, see
 /// [`resolve_degrees`]), as a located error.
 pub fn check_names(text: &str, origin: &str) -> Result<(), StudyError> {
@@ -133,6 +149,101 @@ pub fn check_names(text: &str, origin: &str) -> Result<(), StudyError> {
         }
     }
     Ok(())
+}
+
+/// Where a RON error of the study's text falls: the field being given there (a dotted path,
+/// `devices[1].sigma`) and the value written at that place, if one is.
+pub struct ErrorPlace {
+    pub field: String,
+    pub value: Option<String>,
+}
+
+/// The field whose value holds 1-based (`line`, `column`) of `text`: the keys given at each
+/// enclosing level, in a walk over the tokens before the position (a list's items by index).
+pub fn place_of(text: &str, line: usize, column: usize) -> Option<ErrorPlace> {
+    // At each nesting level: the key being given, and for a list the item's index.
+    let mut levels: Vec<(Option<&str>, Option<usize>)> = vec![(None, None)];
+    let mut value = None;
+    let tokens = tokens(text);
+    for (i, t) in tokens.iter().enumerate() {
+        if (t.span.line, t.span.column) > (line, column) {
+            break;
+        }
+        let next = tokens.get(i + 1).map(|n| &n.kind);
+        match t.kind {
+            Kind::Atom if next == Some(&Kind::Punct(':')) => {
+                if let Some(top) = levels.last_mut() {
+                    top.0 = Some(t.text(text));
+                }
+                value = None;
+            }
+            Kind::Punct('[') => levels.push((None, Some(0))),
+            Kind::Punct('(' | '{') => levels.push((None, None)),
+            Kind::Punct(')' | ']' | '}') if levels.len() > 1 => {
+                levels.pop();
+            }
+            Kind::Punct(',') => {
+                if let Some((key, index)) = levels.last_mut() {
+                    match index {
+                        Some(n) => *n += 1,
+                        None => *key = None,
+                    }
+                }
+                value = None;
+            }
+            Kind::Atom | Kind::Text => value = Some(t.text(text)),
+            _ => {}
+        }
+    }
+    let mut path = String::new();
+    for (key, index) in &levels {
+        if let Some(key) = key {
+            if !path.is_empty() {
+                path.push('.');
+            }
+            path.push_str(key);
+        }
+        if let (Some(n), false) = (index, path.is_empty()) {
+            path.push_str(&format!("[{n}]"));
+        }
+    }
+    // An error inside a list names the list's field (`records`, not `records[0]`).
+    let field = match path.rsplit_once('[') {
+        Some((list, rest)) if rest.ends_with(']') && !rest.contains('.') => list,
+        _ => path.as_str(),
+    };
+    (!field.is_empty()).then(|| ErrorPlace {
+        field: field.to_string(),
+        value: value.map(crate::excitation::reader::excerpt),
+    })
+}
+
+/// What a RON error means at `place`: the message and a hint, the field's own help when the
+/// schema has one. `seed: 1.5` is "not a whole number", not RON's "Expected comma".
+pub fn explain_ron_error(code: &ron::error::Error, place: &ErrorPlace) -> (String, String) {
+    use ron::error::Error as E;
+    let found = place.value.as_deref();
+    let number = found.and_then(|v| v.parse::<f64>().ok());
+    let message = match (code, found, number) {
+        (E::IntegerOutOfBounds, Some(v), _) => {
+            format!("`{v}` is out of range: this field takes a whole number ≥ 0")
+        }
+        (E::ExpectedComma, Some(v), Some(n)) if n.fract() != 0.0 || v.contains(['e', 'E']) => {
+            format!("`{v}` is not a whole number, which this field takes")
+        }
+        (E::ExpectedComma, Some(v), None) if v.starts_with(|c: char| c.is_ascii_digit()) => {
+            format!("`{v}` is not a number")
+        }
+        (_, Some(v), _) => format!("{code} (at `{v}`)"),
+        (_, None, _) => code.to_string(),
+    };
+    let last = place.field.rsplit('.').next().unwrap_or(&place.field);
+    let last = last.split('[').next().unwrap_or(last);
+    let hint = match super::fields::field_help(last) {
+        Some(help) => format!("`{last}`: {help}"),
+        None => "see studies/default.ron for a complete example".to_string(),
+    };
+    (message, hint)
 }
 
 /// Words RON reads as a unit value, or as a float no study field takes, where a number is

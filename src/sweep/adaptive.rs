@@ -351,7 +351,7 @@ pub fn run_refined(
     checkpoint: Checkpoint,
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
-) -> anyhow::Result<SweepResults> {
+) -> crate::error::Result<SweepResults> {
     rounds::refuse_shards(
         study,
         opts,
@@ -359,7 +359,7 @@ pub fn run_refined(
         "each refinement round needs every verdict of the round before; run it unsharded (it runs only the boundary), or remove `refine` to shard the full grid",
     )?;
     let Some(levels) = study.map.and_then(|m| m.refine_levels()) else {
-        anyhow::bail!("study {}: its map is not adaptive", study.name);
+        crate::error::bail!("study {}: its map is not adaptive", study.name);
     };
     let mut rounds = MapRounds {
         refinement: Refinement::new(map_grids(study)?, levels),

@@ -373,11 +373,16 @@ impl Search {
             // A floor for an answer at (or next to) zero: 1e-3 of the resolution of the
             // bracket's width, so the search always ends.
             let floor = self.design.resolution * 1e-3 * (top - bottom);
-            if hi - lo <= (self.design.resolution * hi).max(floor) {
+            let mid = 0.5 * (lo + hi);
+            // A midpoint that is an end (no f64 between them) would probe it again, and the
+            // search would loop on a bracket that never narrows: there hi is the answer to
+            // f64's resolution (validation keeps `resolution` above that, this is the proof).
+            let unsplittable = !(lo < mid && mid < hi);
+            if hi - lo <= (self.design.resolution * hi).max(floor) || unsplittable {
                 state.phase = Phase::Verify;
                 next = verify_values(&self.design, hi);
             } else {
-                next = vec![0.5 * (lo + hi)];
+                next = vec![mid];
             }
         }
         let mut state = std::mem::replace(
@@ -749,14 +754,14 @@ pub fn run_design(
     checkpoint: Checkpoint,
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
-) -> anyhow::Result<SweepResults> {
+) -> crate::error::Result<SweepResults> {
     rounds::refuse_shards(
         study,
         opts,
         "a design study",
         "each probe of its search needs the verdict of the one before; run it unsharded",
     )?;
-    let mut search = Search::new(study).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let mut search = Search::new(study).map_err(|e| crate::error::error!("{e}"))?;
     let run = rounds::run_journalled(&mut search, opts, library, checkpoint, cancel, progress);
     Ok(SweepResults {
         study_hash: study.hash(),
@@ -772,26 +777,4 @@ pub fn run_design(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn sigma_zero_is_the_bare_structure_and_clutch_fields_are_set() {
-        let study = Study::builtin_default();
-        let points = study.expand().unwrap();
-        let mech = points
-            .iter()
-            .find(|p| p.scene.device.name() == "mechanistic")
-            .unwrap();
-        let bare = with_parameter(&mech.scene, DesignParameter::Sigma, 0.0);
-        assert_eq!(bare.device, Device::None);
-        let s = with_parameter(&mech.scene, DesignParameter::Sigma, 0.7);
-        assert_eq!(s.device.sigma(), 0.7);
-        let f = with_parameter(&mech.scene, DesignParameter::Friction, 0.3);
-        let Device::Mechanistic(c) = &f.device else {
-            panic!("mechanistic stays mechanistic")
-        };
-        assert_eq!(c.friction, 0.3);
-        assert_eq!(c.sigma, mech.scene.device.sigma());
-    }
-}
+mod tests;

@@ -8,7 +8,7 @@ use super::journal::{count_journal, results_from_journal};
 use super::output::{OpenOptions, Output, OutputLock, journal_path, open_output};
 use super::{Progress, SweepOptions, SweepResults, in_shard, load_results, run_into};
 use crate::excitation::Library;
-use crate::study::{ScenePoint, Study};
+use crate::study::{ScenePoint, Study, StudyKind};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
@@ -31,9 +31,9 @@ pub struct DirRun {
 #[derive(Clone, Copy)]
 pub struct Writers<'a> {
     /// The results file at a path.
-    pub results: &'a (dyn Fn(&Path, &SweepResults) -> anyhow::Result<()> + Sync),
+    pub results: &'a (dyn Fn(&Path, &SweepResults) -> crate::error::Result<()> + Sync),
     /// The tables in a directory, for a whole study (not a shard).
-    pub tables: &'a (dyn Fn(&Path, &Study, &SweepResults) -> anyhow::Result<()> + Sync),
+    pub tables: &'a (dyn Fn(&Path, &Study, &SweepResults) -> crate::error::Result<()> + Sync),
 }
 
 impl DirRun {
@@ -45,7 +45,7 @@ impl DirRun {
         study: &Study,
         total: usize,
         opts: OpenOptions,
-    ) -> anyhow::Result<DirRun> {
+    ) -> crate::error::Result<DirRun> {
         Ok(DirRun {
             output: open_output(dir, shard, study, total, opts)?,
             dir: dir.to_path_buf(),
@@ -82,7 +82,7 @@ impl DirRun {
         cancel: &AtomicBool,
         progress: &(dyn Fn(Progress) + Sync),
         writers: Writers,
-    ) -> anyhow::Result<Finished> {
+    ) -> crate::error::Result<Finished> {
         let opts = SweepOptions {
             jobs,
             shard: self.shard,
@@ -101,7 +101,7 @@ impl DirRun {
         )?;
         let journal = output.journal.path().display().to_string();
         if results.cancelled && output.keep_previous_results {
-            let kept = anyhow::anyhow!(
+            let kept = crate::error::error!(
                 "cancelled: the previous complete results in {} are kept; this --fresh run's {} \
                  finished scenes are in {journal}: run the same command without --fresh to \
                  continue it",
@@ -149,7 +149,7 @@ pub struct Finished {
     pub results: SweepResults,
     /// Ok once the results file (and tables) are written; otherwise why not, saying where
     /// the finished scenes are kept.
-    pub written: anyhow::Result<()>,
+    pub written: crate::error::Result<()>,
     /// Scenes reused (from the journal, or adopted from an edited study's results) instead of
     /// computed.
     pub reused: usize,
@@ -159,7 +159,7 @@ pub struct Finished {
 /// `results.json` — from whichever of the results file and its journal holds more (a run
 /// stopped by SIGKILL after an earlier partial write has more in its journal). None when
 /// there is neither; the results file's path with them.
-pub fn load_fullest(path: &Path) -> anyhow::Result<Option<(SweepResults, PathBuf)>> {
+pub fn load_fullest(path: &Path) -> crate::error::Result<Option<(SweepResults, PathBuf)>> {
     let (results_path, journal) = if path.is_dir() {
         let file = path.join(super::results_name(None));
         let journal = journal_path(&file);
@@ -183,7 +183,7 @@ pub fn load_fullest(path: &Path) -> anyhow::Result<Option<(SweepResults, PathBuf
 
 /// Lock the results set at `path` (a results file) for writing, as a run does; the lock is
 /// held until the guard is dropped.
-pub fn lock_results(path: &Path) -> anyhow::Result<OutputLock> {
+pub fn lock_results(path: &Path) -> crate::error::Result<OutputLock> {
     OutputLock::acquire(path)
 }
 
@@ -262,7 +262,7 @@ pub fn set_status(results_path: &Path, shard: Option<(usize, usize)>) -> SetStat
         // (replayed from the journal), and what is missing is unknown until then.
         if header
             .study
-            .is_some_and(|s| s.map.is_some_and(|m| m.refine.is_some()))
+            .is_some_and(|s| s.kind() == StudyKind::RefinedMap)
         {
             let complete = results_from_journal(&journal).is_ok_and(|r| !r.cancelled);
             status.total = complete.then_some(status.ok + status.failed);
@@ -282,7 +282,7 @@ pub fn set_status(results_path: &Path, shard: Option<(usize, usize)>) -> SetStat
         if results
             .study
             .as_ref()
-            .is_some_and(|s| s.map.is_some_and(|m| m.refine.is_some()))
+            .is_some_and(|s| s.kind() == StudyKind::RefinedMap)
         {
             status.total = (!results.cancelled).then_some(status.ok + status.failed);
         }
@@ -299,7 +299,11 @@ fn design_status(status: &mut SetStatus, results_path: &Path) {
     let Ok(Some((results, _))) = load_fullest(results_path) else {
         return;
     };
-    let Some(study) = results.study.as_ref().filter(|s| s.design.is_some()) else {
+    let Some(study) = results
+        .study
+        .as_ref()
+        .filter(|s| s.kind() == StudyKind::Design)
+    else {
         return;
     };
     let finished = (results.outcomes.iter())

@@ -17,7 +17,7 @@ use crate::excitation::Library;
 use crate::scene::{Excitation, RecordScale, Scene};
 use crate::sim::{Quantity, SceneResult};
 use crate::study::fragility::MAX_BISECTIONS;
-use crate::study::{Layout, ScenePoint, Study, StudyError, scene_key};
+use crate::study::{Layout, Param, ScenePoint, Study, StudyError, scene_key};
 use std::collections::{HashMap, HashSet};
 use std::sync::atomic::AtomicBool;
 
@@ -86,7 +86,7 @@ impl IdaSearch {
             if let Some(s) = layout.variants[v]
                 .params
                 .iter()
-                .position(|p| p.id == "scale")
+                .position(|p| p.param == Param::Scale)
             {
                 at[s] = usize::MAX;
             }
@@ -133,7 +133,7 @@ impl IdaSearch {
         let scene = at_intensity(&nominal.scene, im);
         let mut coords = nominal.coords.clone();
         for (label, v) in &mut coords {
-            if label == "scale" {
+            if label == Param::Scale.label() {
                 *v = im;
             }
         }
@@ -282,14 +282,14 @@ pub fn run_ida(
     checkpoint: Checkpoint,
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
-) -> anyhow::Result<SweepResults> {
+) -> crate::error::Result<SweepResults> {
     rounds::refuse_shards(
         study,
         opts,
         "an incremental dynamic analysis",
         "each probe of a record's hunt needs the verdict of the one before; run it unsharded",
     )?;
-    let mut search = IdaSearch::new(study).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let mut search = IdaSearch::new(study).map_err(|e| crate::error::error!("{e}"))?;
     let run = rounds::run_journalled(&mut search, opts, library, checkpoint, cancel, progress);
     Ok(SweepResults {
         study_hash: study.hash(),

@@ -21,9 +21,9 @@
 //! flush per scene.
 
 use super::{SceneOutcome, SweepResults};
+use crate::error::Context;
 use crate::sim::SceneResult;
-use crate::study::Study;
-use anyhow::Context;
+use crate::study::{Study, StudyKind};
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::fs::File;
@@ -121,7 +121,7 @@ struct Appender {
 
 impl Journal {
     /// Start a new journal at `path` (replacing any file there) with its header.
-    pub fn create(path: &Path, header: &JournalHeader) -> anyhow::Result<Journal> {
+    pub fn create(path: &Path, header: &JournalHeader) -> crate::error::Result<Journal> {
         let mut line = serde_json::to_vec(header)?;
         line.push(b'\n');
         let mut file = File::create(path)
@@ -134,7 +134,7 @@ impl Journal {
     }
 
     /// Continue an existing journal (after [`read_journal`] checked it and cut a torn tail).
-    pub fn append_to(path: &Path) -> anyhow::Result<Journal> {
+    pub fn append_to(path: &Path) -> crate::error::Result<Journal> {
         let file = std::fs::OpenOptions::new()
             .append(true)
             .open(path)
@@ -183,7 +183,7 @@ impl Journal {
     }
 
     /// Make everything appended so far durable.
-    pub fn sync(&self) -> anyhow::Result<()> {
+    pub fn sync(&self) -> crate::error::Result<()> {
         if let Ok(appender) = self.file.lock() {
             appender
                 .file
@@ -210,7 +210,7 @@ pub struct JournalContents {
 }
 
 /// Only the header line, for a quick look (`status`, deciding whether to resume).
-pub fn read_header(path: &Path) -> anyhow::Result<JournalHeader> {
+pub fn read_header(path: &Path) -> crate::error::Result<JournalHeader> {
     let file =
         File::open(path).with_context(|| format!("cannot read the journal {}", path.display()))?;
     let mut first = Vec::new();
@@ -220,7 +220,7 @@ pub fn read_header(path: &Path) -> anyhow::Result<JournalHeader> {
     let header: JournalHeader = serde_json::from_slice(&first)
         .with_context(|| format!("{} is not a rocklab journal (bad header)", path.display()))?;
     if header.journal != JOURNAL_FORMAT {
-        anyhow::bail!(
+        crate::error::bail!(
             "{}: journal format {} is not supported (this build reads {JOURNAL_FORMAT})",
             path.display(),
             header.journal
@@ -232,7 +232,7 @@ pub fn read_header(path: &Path) -> anyhow::Result<JournalHeader> {
 /// Read a whole journal, one line at a time (memory: the typed results, nothing more). With
 /// `repair`, a torn last line (no newline: the writer was stopped mid-line) is cut off so
 /// appends continue on a line of their own.
-pub fn read_journal(path: &Path, repair: bool) -> anyhow::Result<JournalContents> {
+pub fn read_journal(path: &Path, repair: bool) -> crate::error::Result<JournalContents> {
     let header = read_header(path)?;
     let file =
         File::open(path).with_context(|| format!("cannot read the journal {}", path.display()))?;
@@ -283,7 +283,7 @@ pub struct JournalCounts {
     pub failed: usize,
 }
 
-pub fn count_journal(path: &Path) -> anyhow::Result<(JournalHeader, JournalCounts)> {
+pub fn count_journal(path: &Path) -> crate::error::Result<(JournalHeader, JournalCounts)> {
     /// The result's variant only; the payload is skipped unread.
     #[derive(Deserialize)]
     struct Light {
@@ -311,20 +311,21 @@ pub fn count_journal(path: &Path) -> anyhow::Result<(JournalHeader, JournalCount
 
 /// The results a journal holds, in expansion order, with its study (for `merge` of a shard
 /// whose final write never happened). Points come from re-expanding the header's study.
-pub fn results_from_journal(path: &Path) -> anyhow::Result<SweepResults> {
+pub fn results_from_journal(path: &Path) -> crate::error::Result<SweepResults> {
     let contents = read_journal(path, false)?;
     let header = contents.header;
     let Some(study) = header.study.clone() else {
-        anyhow::bail!("{}: the journal names no study", path.display());
+        crate::error::bail!("{}: the journal names no study", path.display());
     };
-    if study.design.is_some() {
+    if study.kind() == StudyKind::Design {
         // A design search's scenes are its probes, off the expansion: the search replayed on
         // the journalled scenes gives them back (design studies are never sharded).
         let finished = (contents.entries.into_iter())
             .map(|(key, entry)| (key, entry.result))
             .collect();
-        let progress = super::design::progress(&study, &finished)
-            .map_err(|e| anyhow::anyhow!("{}: its study no longer expands: {e}", path.display()))?;
+        let progress = super::design::progress(&study, &finished).map_err(|e| {
+            crate::error::error!("{}: its study no longer expands: {e}", path.display())
+        })?;
         return Ok(SweepResults {
             study_hash: header.study_hash,
             cancelled: !progress.complete,
@@ -335,9 +336,9 @@ pub fn results_from_journal(path: &Path) -> anyhow::Result<SweepResults> {
             inferred: Vec::new(),
         });
     }
-    let points = study
-        .expand()
-        .map_err(|e| anyhow::anyhow!("{}: its study no longer expands: {e}", path.display()))?;
+    let points = study.expand().map_err(|e| {
+        crate::error::error!("{}: its study no longer expands: {e}", path.display())
+    })?;
     let mut entries = contents.entries;
     let mut total = 0;
     let mut outcomes = Vec::new();
@@ -356,7 +357,7 @@ pub fn results_from_journal(path: &Path) -> anyhow::Result<SweepResults> {
         }
     }
     // An adaptive map runs only part of its grid: it is complete when its refinement is.
-    let adaptive = study.map.is_some_and(|m| m.refine.is_some());
+    let adaptive = study.kind() == StudyKind::RefinedMap;
     let inferred = super::adaptive::replay(&study, &outcomes);
     Ok(SweepResults {
         study_hash: header.study_hash,

@@ -4,7 +4,7 @@
 
 use crate::excitation::Library;
 use crate::sim::{self, Quantity, SceneResult};
-use crate::study::{ScenePoint, Study, StudyError};
+use crate::study::{ScenePoint, Study, StudyError, StudyKind};
 pub mod adaptive;
 pub mod design;
 mod facade;
@@ -19,7 +19,7 @@ pub use facade::{
     DirRun, Finished, SCENE_TIME_LIMIT, SetStatus, Writers, load_fullest, lock_results,
     seconds_per_scene, set_status,
 };
-pub use output::{OpenOptions, OutputError, OutputLock, results_name};
+pub use output::{OpenOptions, OutputError, OutputLock, default_out_dir, results_name};
 
 use journal::Journal;
 use output::Output;
@@ -137,31 +137,31 @@ pub fn run_study(
         measures: crate::study::Quantity::measures(&study.quantities),
         ..Default::default()
     };
-    if study.map.is_some_and(|m| m.refine.is_some()) {
-        return adaptive::run_refined(study, &points, opts, library, checkpoint, cancel, progress)
-            .map_err(|e| StudyError::field("map.refine", e.to_string(), "run it without --shard"));
+    let searched = |field: &str, e: crate::error::Error| {
+        StudyError::field(field, e.to_string(), "run it without --shard")
+    };
+    match study.kind() {
+        StudyKind::RefinedMap => {
+            adaptive::run_refined(study, &points, opts, library, checkpoint, cancel, progress)
+                .map_err(|e| searched("map.refine", e))
+        }
+        StudyKind::Design => design::run_design(study, opts, library, checkpoint, cancel, progress)
+            .map_err(|e| searched("design", e)),
+        StudyKind::Ida => ida::run_ida(study, opts, library, checkpoint, cancel, progress)
+            .map_err(|e| searched("fragility.method", e)),
+        StudyKind::Spectra | StudyKind::Map | StudyKind::Stripes => {
+            let mut results =
+                run_checkpointed(&points, opts, library, checkpoint, cancel, progress);
+            results.study_hash = study.hash();
+            results.study = Some(study.clone());
+            Ok(results)
+        }
     }
-    if study.design.is_some() {
-        return design::run_design(study, opts, library, checkpoint, cancel, progress)
-            .map_err(|e| StudyError::field("design", e.to_string(), "run it without --shard"));
-    }
-    if is_ida(study) {
-        return ida::run_ida(study, opts, library, checkpoint, cancel, progress).map_err(|e| {
-            StudyError::field("fragility.method", e.to_string(), "run it without --shard")
-        });
-    }
-    let mut results = run_checkpointed(&points, opts, library, checkpoint, cancel, progress);
-    results.study_hash = study.hash();
-    results.study = Some(study.clone());
-    Ok(results)
 }
 
 /// Whether a study is an incremental dynamic analysis (its scenes come from hunts).
 pub fn is_ida(study: &Study) -> bool {
-    study
-        .fragility
-        .as_ref()
-        .is_some_and(|f| f.method.ida_resolution().is_some())
+    study.kind() == StudyKind::Ida
 }
 
 /// Run `points` (or the shard's slice of them). Never panics on a bad scene: failures are
@@ -322,7 +322,7 @@ fn run_into(
     scene_time_limit: Option<std::time::Duration>,
     cancel: &AtomicBool,
     progress: &(dyn Fn(Progress) + Sync),
-) -> anyhow::Result<SweepResults> {
+) -> crate::error::Result<SweepResults> {
     let measures = crate::study::Quantity::measures(&study.quantities);
     // Another study's finished scenes that this one still has (it was edited): into the
     // journal first, which is from now on their record, then reused like the journal's own.
@@ -353,14 +353,17 @@ fn run_into(
         scene_time_limit,
         measures,
     };
-    let mut results = if study.map.is_some_and(|m| m.refine.is_some()) {
-        adaptive::run_refined(study, points, opts, library, checkpoint, cancel, progress)?
-    } else if study.design.is_some() {
-        design::run_design(study, opts, library, checkpoint, cancel, progress)?
-    } else if is_ida(study) {
-        ida::run_ida(study, opts, library, checkpoint, cancel, progress)?
-    } else {
-        run_checkpointed(points, opts, library, checkpoint, cancel, progress)
+    let mut results = match study.kind() {
+        StudyKind::RefinedMap => {
+            adaptive::run_refined(study, points, opts, library, checkpoint, cancel, progress)?
+        }
+        StudyKind::Design => {
+            design::run_design(study, opts, library, checkpoint, cancel, progress)?
+        }
+        StudyKind::Ida => ida::run_ida(study, opts, library, checkpoint, cancel, progress)?,
+        StudyKind::Spectra | StudyKind::Map | StudyKind::Stripes => {
+            run_checkpointed(points, opts, library, checkpoint, cancel, progress)
+        }
     };
     results.study_hash = study.hash();
     results.study = Some(study.clone());
@@ -368,7 +371,7 @@ fn run_into(
     let journal = output.journal.path().display().to_string();
     let synced = output.journal.sync();
     if let Some(why) = output.journal.failure() {
-        anyhow::bail!(
+        crate::error::bail!(
             "cannot append to the journal {journal}: {why}; the scenes journalled before are \
              kept: free some space and run the same command again"
         );
@@ -453,9 +456,9 @@ fn cache_by_key(results: SweepResults) -> HashMap<String, Result<SceneResult, St
 /// Combine shard results of one study into one, in expansion order. Errors if the shards
 /// come from different studies or builds (unless `force`: the merged results then carry no
 /// build and are never reused as current), or overlap inconsistently.
-pub fn merge(parts: Vec<SweepResults>, force: bool) -> anyhow::Result<SweepResults> {
+pub fn merge(parts: Vec<SweepResults>, force: bool) -> crate::error::Result<SweepResults> {
     let Some(first) = parts.first() else {
-        anyhow::bail!("nothing to merge");
+        crate::error::bail!("nothing to merge");
     };
     let hash = first.study_hash.clone();
     let study = first.study.clone();
@@ -464,7 +467,7 @@ pub fn merge(parts: Vec<SweepResults>, force: bool) -> anyhow::Result<SweepResul
     let mut cancelled = false;
     for part in parts {
         if part.study_hash != hash {
-            anyhow::bail!(
+            crate::error::bail!(
                 "results of different studies (hash {} and {}) cannot be merged",
                 hash,
                 part.study_hash
@@ -472,7 +475,7 @@ pub fn merge(parts: Vec<SweepResults>, force: bool) -> anyhow::Result<SweepResul
         }
         if part.build != build {
             if !force {
-                anyhow::bail!(
+                crate::error::bail!(
                     "shards computed by different builds of rocklab ({} and {}) are not merged: \
                      rerun the stale shards, or pass --force to merge them anyway (the merged \
                      results are then never reused as current)",
@@ -487,7 +490,7 @@ pub fn merge(parts: Vec<SweepResults>, force: bool) -> anyhow::Result<SweepResul
             if let Some(prev) = by_index.get(&o.point.index)
                 && prev.point.key != o.point.key
             {
-                anyhow::bail!("two results for scene {} disagree", o.point.index);
+                crate::error::bail!("two results for scene {} disagree", o.point.index);
             }
             by_index.insert(o.point.index, o);
         }
@@ -500,7 +503,7 @@ pub fn merge(parts: Vec<SweepResults>, force: bool) -> anyhow::Result<SweepResul
     // An adaptive map is complete when its refinement is, not when every cell ran.
     let inferred = study.as_ref().and_then(|s| adaptive::replay(s, &outcomes));
     let complete = match (&study, &inferred) {
-        (Some(s), _) if s.map.is_some_and(|m| m.refine.is_some()) => inferred.is_some(),
+        (Some(s), _) if s.kind() == StudyKind::RefinedMap => inferred.is_some(),
         _ => outcomes.len() >= total,
     };
     Ok(SweepResults {

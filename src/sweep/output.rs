@@ -10,8 +10,8 @@
 
 use super::journal::{self, Journal, JournalHeader};
 use super::{SceneResult, build_id};
+use crate::error::Context;
 use crate::study::Study;
-use anyhow::Context;
 use std::collections::HashMap;
 use std::fs::File;
 use std::io::{Read, Write};
@@ -30,6 +30,35 @@ pub enum OutputError {
     },
     #[error("cannot write in the output directory {dir}: {reason}; nothing was run")]
     NotWritable { dir: String, reason: String },
+    #[error(
+        "the study's name {name:?} would put its results outside {root} (an absolute path or \
+         `..`); give the study a plain name, or choose the directory with --out"
+    )]
+    NameLeavesRoot { name: String, root: String },
+}
+
+/// Where a study's results go when no `--out` is given: `root/<name>`, the name made one path
+/// component (`a/b` is `a_b`). A name that is absolute or climbs with `..` is refused rather
+/// than renamed, so that `run`, `slurm` (and so its `status` and `merge` lines) and the
+/// workbench never disagree about it and never write outside `root`.
+pub fn default_out_dir(root: &Path, study_name: &str) -> Result<PathBuf, OutputError> {
+    let climbs = study_name
+        .split(['/', '\\'])
+        .any(|part| part.trim() == "..");
+    let absolute = Path::new(study_name).has_root() || study_name.starts_with(['/', '\\']);
+    if climbs || absolute {
+        return Err(OutputError::NameLeavesRoot {
+            name: study_name.to_string(),
+            root: root.display().to_string(),
+        });
+    }
+    Ok(root.join(crate::fsutil::single_component(study_name)))
+}
+
+impl From<OutputError> for crate::error::Error {
+    fn from(e: OutputError) -> Self {
+        crate::error::Error::Other(Box::new(e))
+    }
 }
 
 pub fn results_name(shard: Option<(usize, usize)>) -> String {
@@ -60,7 +89,7 @@ pub struct OutputLock {
 }
 
 impl OutputLock {
-    pub fn acquire(results: &Path) -> anyhow::Result<OutputLock> {
+    pub fn acquire(results: &Path) -> crate::error::Result<OutputLock> {
         let path = lock_path(results);
         let mut file = std::fs::OpenOptions::new()
             .read(true)
@@ -148,7 +177,7 @@ pub fn open_output(
     study: &Study,
     total: usize,
     opts: OpenOptions,
-) -> anyhow::Result<Output> {
+) -> crate::error::Result<Output> {
     let not_writable = |reason: String| OutputError::NotWritable {
         dir: dir.display().to_string(),
         reason,

@@ -127,9 +127,9 @@ pub fn refuse_shards(
     opts: &SweepOptions,
     what: &str,
     why: &str,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     match opts.shard {
-        Some((i, n)) => anyhow::bail!(
+        Some((i, n)) => crate::error::bail!(
             "study {}: {what} cannot run as shard {i}/{n}: {why}",
             study.name
         ),
@@ -188,7 +188,11 @@ pub fn run_journalled(
             cancel,
             &round_progress,
         );
-        stopped = part.cancelled || journal.is_some_and(|j| j.failure().is_some());
+        // A stop asked for while a round had nothing left to run (every scene reused) is
+        // honoured here too: no round is ever started after it.
+        stopped = part.cancelled
+            || cancel.load(Ordering::Relaxed)
+            || journal.is_some_and(|j| j.failure().is_some());
         RoundEnd {
             outcomes: part.outcomes,
             go_on: !stopped,

@@ -3,8 +3,8 @@
 //! the report only adds derived tables (spectra, maps) through [`results_file_json`].
 
 use super::{SceneOutcome, SweepResults};
+use crate::error::Context;
 use crate::study::Study;
-use anyhow::Context;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -26,7 +26,7 @@ struct ResultsFile<'a, D: Serialize> {
 pub fn results_file_json<D: Serialize>(
     results: &SweepResults,
     derived: &D,
-) -> anyhow::Result<Vec<u8>> {
+) -> crate::error::Result<Vec<u8>> {
     let file = ResultsFile {
         format: RESULTS_FORMAT,
         results,
@@ -62,7 +62,7 @@ struct FormatOnly {
 }
 
 /// Read a results file written by [`results_file_json`].
-pub fn load_results(path: &Path) -> anyhow::Result<SweepResults> {
+pub fn load_results(path: &Path) -> crate::error::Result<SweepResults> {
     let bytes = std::fs::read(path)
         .with_context(|| format!("cannot read results file {}", path.display()))?;
     let stored: StoredResults = match serde_json::from_slice(&bytes) {
@@ -70,12 +70,14 @@ pub fn load_results(path: &Path) -> anyhow::Result<SweepResults> {
         Err(e) => {
             let format = serde_json::from_slice::<FormatOnly>(&bytes).map(|f| f.format);
             return Err(match format {
-                Ok(Some(f)) if f != RESULTS_FORMAT as u64 => anyhow::anyhow!(
+                Ok(Some(f)) if f != RESULTS_FORMAT as u64 => crate::error::error!(
                     "{}: results format {f} is not supported (this build reads format {RESULTS_FORMAT})",
                     path.display()
                 ),
-                Ok(_) => anyhow::anyhow!("{} is not a rocklab results file: {e}", path.display()),
-                Err(_) => anyhow::anyhow!(
+                Ok(_) => {
+                    crate::error::error!("{} is not a rocklab results file: {e}", path.display())
+                }
+                Err(_) => crate::error::error!(
                     "{} is not a rocklab results file (bad JSON: {e})",
                     path.display()
                 ),
@@ -83,7 +85,7 @@ pub fn load_results(path: &Path) -> anyhow::Result<SweepResults> {
         }
     };
     if stored.format != RESULTS_FORMAT {
-        anyhow::bail!(
+        crate::error::bail!(
             "{}: results format {} is not supported (this build reads format {RESULTS_FORMAT})",
             path.display(),
             stored.format
@@ -101,7 +103,7 @@ pub fn load_results(path: &Path) -> anyhow::Result<SweepResults> {
 }
 
 /// The study hash and name of a results file, read without building its results.
-pub fn results_identity(path: &Path) -> anyhow::Result<(String, Option<String>)> {
+pub fn results_identity(path: &Path) -> crate::error::Result<(String, Option<String>)> {
     #[derive(Deserialize)]
     struct Named {
         name: String,

@@ -36,6 +36,7 @@ pub use super::components::{Check, Shared};
 
 mod background;
 
+all_variants! {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Screen {
     Study,
@@ -43,10 +44,9 @@ pub enum Screen {
     Results,
     Scene,
 }
+}
 
 impl Screen {
-    pub const ALL: [Screen; 4] = [Screen::Study, Screen::Run, Screen::Results, Screen::Scene];
-
     pub fn title(self) -> &'static str {
         match self {
             Screen::Study => "Study",
@@ -577,7 +577,7 @@ impl App {
                     } else {
                         self.shared.out_dir = Some(PathBuf::from(dir));
                     }
-                    let shown = self.shared.output_dir().display().to_string();
+                    let shown = self.shared.output_dir_shown();
                     self.say(format!("results of the next run go to {shown}/"));
                 }
             },
@@ -628,7 +628,7 @@ impl App {
             .filter(|d| !d.as_os_str().is_empty())
             .map_or(Ok(()), std::fs::create_dir_all)
             .map_err(anyhow::Error::from)
-            .and_then(|()| report::save_results(&path, &data.results));
+            .and_then(|()| report::save_results(&path, &data.results).map_err(Into::into));
         match written {
             Ok(()) => self.say(format!("results written to {}", path.display())),
             Err(e) => self.complain(format!("cannot write {}: {e:#}", path.display())),

@@ -4,6 +4,7 @@
 //! saying so (what is cut, and to enlarge it), and below 40×10 only a notice.
 
 use super::app::{App, Screen};
+use super::components::help::EVERYWHERE;
 use super::theme::Theme;
 use super::widgets::{Hint, hint_spans_fit, truncate_left};
 use ratatui::Frame;
@@ -53,7 +54,9 @@ pub fn draw(app: &App, theme: Theme, frame: &mut Frame) {
         );
     }
     draw_status(app, theme, frame, status);
-    app.help.draw(theme, frame, area);
+    let mut sections: Vec<(&str, &[_])> = vec![("everywhere", EVERYWHERE)];
+    sections.extend(Screen::ALL.map(|screen| (screen.title(), app.component(screen).commands())));
+    app.help.draw(theme, frame, area, &sections);
 }
 
 /// Below 80×24 (and from 40×10): the size, the remedy and what the size cuts, most important

@@ -23,7 +23,7 @@ pub use layout::{Accumulator, Layout, Phase};
 
 use super::device::{ClutchEvent, DeviceModel, Returnable};
 use super::{Action, Counters, EndReason, Energy, Ledger, Measures, Peaks};
-use crate::excitation::{G, Motion};
+use crate::excitation::Motion;
 use crate::solver::MAX_EVENTS;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -359,7 +359,9 @@ impl<'m, B: Body> Rocking<'m, B> {
         angular: bool,
     ) -> (f64, f64) {
         let k = self.body.kin(&self.mode, y);
-        let abs_g = dy.map_or(0.0, |dy| self.absolute_acceleration(t, &k, y, dy).abs() / G);
+        let abs_g = dy.map_or(0.0, |dy| {
+            self.absolute_acceleration(t, &k, y, dy).abs() / self.mode.motion.gravity().g()
+        });
         let theta_dd = match self.body.angular_acceleration_scale() {
             Some(p2) if angular && self.mode.rocking() => {
                 let mut d = [0.0; N];

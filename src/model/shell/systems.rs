@@ -1,7 +1,6 @@
 //! The rocking model as the solver's [`OdeSystem`] and the simulation driver's [`SimModel`].
 
 use super::{Body, Ev, Phase, Rocking};
-use crate::excitation::G;
 use crate::model::column::HistoryColumn;
 use crate::model::device::DeviceRates;
 use crate::model::rigid::below_peak;
@@ -178,6 +177,10 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
 }
 
 impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
+    fn state_len(&self) -> usize {
+        self.mode.layout.state_len()
+    }
+
     fn start(&mut self, y: &mut [f64; N]) -> Action {
         let action = if self.initial_rotation != 0.0 {
             self.mode.phase = Phase::Rocking;
@@ -372,7 +375,10 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
         self.rhs_kin(t, y, &k, &mut dy);
         if self.measures.abs_acceleration {
             let a = self.absolute_acceleration(t, &k, y, &dy);
-            self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a.abs() / G);
+            self.peaks.abs_acceleration_g = self
+                .peaks
+                .abs_acceleration_g
+                .max(a.abs() / self.mode.motion.gravity().g());
         }
         // After a jump this is the one-sided value just past it (the jump itself excluded).
         if let Some(peak) = self.peaks.angular_acceleration_p2
@@ -388,7 +394,10 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
             return;
         }
         let a = self.mode.motion.peak_abs(t0, t1);
-        self.peaks.abs_acceleration_g = self.peaks.abs_acceleration_g.max(a / G);
+        self.peaks.abs_acceleration_g = self
+            .peaks
+            .abs_acceleration_g
+            .max(a / self.mode.motion.gravity().g());
     }
 
     fn energy(&self, y: &[f64; N]) -> Energy {

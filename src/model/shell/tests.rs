@@ -1,6 +1,7 @@
 //! Unit tests of the rocking shell.
 
 use super::*;
+use crate::excitation::Gravity;
 use crate::model::SimModel;
 use crate::model::rigid::RigidModel;
 use crate::presets::{mechanistic, rigid_fig8};
@@ -19,10 +20,15 @@ fn closed_form_event_rates_match_differences_along_the_solution() {
     // Fig. 8's sine pulse, A = 1.5 g tan α at ω = 4p (the model reads a_g only).
     let motion = Motion::Pulse(crate::excitation::Pulse::new(
         crate::excitation::PulseShape::Sine,
-        1.5 * G * block.alpha.tan(),
+        1.5 * Gravity::STANDARD.g() * block.alpha.tan(),
         4.0 * scene.structure.p(),
     ));
-    let device = DeviceModel::new(&scene.device, block.mass, scene.structure.p());
+    let device = DeviceModel::new(
+        &scene.device,
+        block.mass,
+        scene.structure.p(),
+        motion.gravity(),
+    );
     for (rotation, fly) in [
         (0.3 * block.alpha, [0.004, 0.02, -0.003, -0.05]),
         (-0.2 * block.alpha, [-0.001, -0.3, 0.002, 0.1]),

@@ -107,7 +107,7 @@ pub fn plot_fragility(
     dir: &Path,
     options: &FigureOptions,
     report: &FragilityReport,
-) -> anyhow::Result<Option<PathBuf>> {
+) -> crate::error::Result<Option<PathBuf>> {
     if report.curves.is_empty() {
         return Ok(None);
     }
@@ -165,7 +165,7 @@ fn draw<DB: DrawingBackend>(
     legend: &[LegendEntry],
     report: &FragilityReport,
     cols: usize,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let (body, _) = split_figure(&root, canvas, title, legend)?;
     let (variants, states) = variants_and_states(report);
     let areas = body.split_evenly((states.len().div_ceil(cols), cols));

@@ -2,8 +2,8 @@
 //! fragility.json (the whole report, read back by `rocklab plot` and the TUI).
 
 use super::{Curve, FragilityReport};
-use crate::fsutil::write_atomic;
-use anyhow::Context;
+use crate::error::Context;
+use crate::report::write_atomic;
 use std::path::Path;
 
 pub const FRAGILITY_CSV: &str = "fragility.csv";
@@ -58,7 +58,7 @@ pub fn parameter_names(report: &FragilityReport) -> Vec<String> {
 }
 
 /// fragility.csv as bytes: device, each varying parameter, then [`COLUMNS`].
-pub fn fragility_csv(report: &FragilityReport) -> anyhow::Result<Vec<u8>> {
+pub fn fragility_csv(report: &FragilityReport) -> crate::error::Result<Vec<u8>> {
     let params = parameter_names(report);
     let mut w = csv::Writer::from_writer(Vec::new());
     let header = std::iter::once("device")
@@ -77,22 +77,22 @@ pub fn fragility_csv(report: &FragilityReport) -> anyhow::Result<Vec<u8>> {
     Ok(w.into_inner()?)
 }
 
-pub fn write_fragility_csv(report: &FragilityReport, path: &Path) -> anyhow::Result<()> {
+pub fn write_fragility_csv(report: &FragilityReport, path: &Path) -> crate::error::Result<()> {
     write_atomic(path, &fragility_csv(report)?)
 }
 
-pub fn write_fragility_json(report: &FragilityReport, path: &Path) -> anyhow::Result<()> {
+pub fn write_fragility_json(report: &FragilityReport, path: &Path) -> crate::error::Result<()> {
     let mut bytes = serde_json::to_vec_pretty(report)?;
     bytes.push(b'\n');
     write_atomic(path, &bytes)
 }
 
 /// Read a fragility.json written by [`write_fragility_json`].
-pub fn read_fragility_json(path: &Path) -> anyhow::Result<FragilityReport> {
+pub fn read_fragility_json(path: &Path) -> crate::error::Result<FragilityReport> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
     serde_json::from_str(&text).map_err(|e| {
-        anyhow::anyhow!(
+        crate::error::error!(
             "{}:{}:{}: not a fragility report: {e}\n  hint: rerun `rocklab run` on the study to rewrite it",
             path.display(),
             e.line(),

@@ -51,11 +51,11 @@ pub fn plot_history(
     title: &str,
     scene: &crate::scene::Scene,
     history: &History,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     use HistoryColumn as C;
     let t = history
         .column(C::T)
-        .ok_or_else(|| anyhow::anyhow!("the history has no time column"))?;
+        .ok_or_else(|| crate::error::error!("the history has no time column"))?;
     let col = |c: C| history.column(c);
     let nonzero = |v: &Option<Vec<f64>>| v.as_ref().is_some_and(|v| v.iter().any(|x| *x != 0.0));
     let solid = |i: usize| SeriesStyle {
@@ -203,7 +203,7 @@ fn draw_history<DB: DrawingBackend>(
     legend: &[LegendEntry],
     t: &[f64],
     panels: &[HistoryPanel],
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let (body, _) = split_figure(&root, canvas, title, legend)?;
     let areas = body.split_evenly((panels.len().max(1), 1));
     let (t0, t1) = range_of(t.iter().copied());

@@ -20,7 +20,7 @@ pub fn plot_maps(
     results: &SweepResults,
     maps: &[OverturningMap],
     choice: &PlotChoice,
-) -> anyhow::Result<Option<PathBuf>> {
+) -> crate::error::Result<Option<PathBuf>> {
     let groups: Vec<&Group> = maps.iter().map(|m| &m.group).collect();
     let picked = selection(choice, &groups)?;
     let chosen: Vec<&OverturningMap> = maps
@@ -85,7 +85,7 @@ fn draw_maps<DB: DrawingBackend>(
     legend: &[LegendEntry],
     maps: &[&OverturningMap],
     cols: usize,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let (body, _) = split_figure(&root, canvas, title, legend)?;
     let areas = body.split_evenly((maps.len().div_ceil(cols), cols));
     for (i, (area, map)) in areas.iter().zip(maps).enumerate() {
@@ -104,7 +104,7 @@ fn draw_map<DB: DrawingBackend>(
     canvas: Canvas,
     map: &OverturningMap,
     title: &str,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let grid = CellGrid {
         xs: &map.xs,
         ys: &map.ys,
@@ -138,7 +138,7 @@ fn draw_cells<DB: DrawingBackend>(
     grid: &CellGrid,
     title: &str,
     color: impl Fn(usize, usize) -> RGBColor,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let edges = |v: &[f64]| -> Vec<f64> {
         // Cell edges halfway between grid values.
         let n = v.len();
@@ -229,18 +229,18 @@ pub fn plot_map_differences(
     maps: &[OverturningMap],
     a: &str,
     b: &str,
-) -> anyhow::Result<Option<PathBuf>> {
+) -> crate::error::Result<Option<PathBuf>> {
     if maps.is_empty() {
         return Ok(None);
     }
     let (sa, sb) = (
-        Selector::parse(a).map_err(|e| anyhow::anyhow!("--a: {e}"))?,
-        Selector::parse(b).map_err(|e| anyhow::anyhow!("--b: {e}"))?,
+        Selector::parse(a).map_err(|e| crate::error::error!("--a: {e}"))?,
+        Selector::parse(b).map_err(|e| crate::error::error!("--b: {e}"))?,
     );
-    let pairs = compare_maps(maps, &sa, &sb).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let pairs = compare_maps(maps, &sa, &sb).map_err(|e| crate::error::error!("{e}"))?;
     const MAX_MAPS: usize = 12;
     if pairs.len() > MAX_MAPS {
-        anyhow::bail!(
+        crate::error::bail!(
             "{} pairs of overturning maps, more than {MAX_MAPS} in one figure; narrow --a/--b \
              with parameter values, e.g. --b '{}'",
             pairs.len(),
@@ -282,7 +282,7 @@ fn draw_map_differences<DB: DrawingBackend>(
     legend: &[LegendEntry],
     pairs: &[MapComparison],
     cols: usize,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let (body, _) = split_figure(&root, canvas, title, legend)?;
     let areas = body.split_evenly((pairs.len().div_ceil(cols), cols));
     for (i, (area, m)) in areas.iter().zip(pairs).enumerate() {

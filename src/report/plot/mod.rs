@@ -36,13 +36,13 @@ pub const MAX_SERIES: usize = 12;
 /// `compare`'s selector language (report/select.rs): `mechanistic`, `bare`,
 /// `mechanistic(k_theta: 3.0, play: 0.005)`, `sequential(record: landers)`. A selector that
 /// is malformed is an error; one that matches nothing says what there is and picks nothing.
-pub(super) fn selection(choice: &PlotChoice, groups: &[&Group]) -> anyhow::Result<Vec<bool>> {
+pub(super) fn selection(choice: &PlotChoice, groups: &[&Group]) -> crate::error::Result<Vec<bool>> {
     if choice.select.is_empty() {
         return Ok(vec![true; groups.len()]);
     }
     let mut picked = vec![false; groups.len()];
     for text in &choice.select {
-        let sel = Selector::parse(text).map_err(|e| anyhow::anyhow!("--select: {e}"))?;
+        let sel = Selector::parse(text).map_err(|e| crate::error::error!("--select: {e}"))?;
         match select(groups, &sel) {
             Ok(found) => found.into_iter().for_each(|i| picked[i] = true),
             Err(e) => eprintln!("--select {text}: {e}"),

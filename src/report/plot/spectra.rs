@@ -150,7 +150,7 @@ pub fn plot_spectra(
     results: &SweepResults,
     spectra: &[Spectrum],
     choice: &PlotChoice,
-) -> anyhow::Result<Option<PathBuf>> {
+) -> crate::error::Result<Option<PathBuf>> {
     let all = curves(results, spectra);
     let groups: Vec<&Group> = all.iter().map(|c| &c.spectrum.group).collect();
     let picked = selection(choice, &groups)?;
@@ -186,7 +186,7 @@ pub fn plot_spectra(
                 .collect();
             match labels.iter().find(|l| names_parameter(name, l)) {
                 Some(l) => Some((*l).clone()),
-                None => anyhow::bail!(
+                None => crate::error::bail!(
                     "--facet {name}: no such parameter among the chosen spectra (parameters: {})",
                     parameter_names(&chosen)
                 ),
@@ -207,7 +207,7 @@ pub fn plot_spectra(
     facets.sort_by(|a, b| a.unwrap_or(f64::NAN).total_cmp(&b.unwrap_or(f64::NAN)));
     const MAX_FACETS: usize = 8;
     if facets.len() > MAX_FACETS {
-        anyhow::bail!(
+        crate::error::bail!(
             "--facet {}: {} values, more than {MAX_FACETS} rows of panels; narrow it with \
              --select (e.g. --select '{}')",
             choice.facet.as_deref().unwrap_or(""),
@@ -510,7 +510,7 @@ fn draw_panels<DB: DrawingBackend>(
     legend: &[LegendEntry],
     panels: &[Panel],
     cols: usize,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let (body, _) = split_figure(&root, canvas, title, legend)?;
     let rows = panels.len().div_ceil(cols);
     let areas = body.split_evenly((rows, cols));
@@ -524,7 +524,7 @@ fn draw_spectrum_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     canvas: Canvas,
     panel: &Panel,
-) -> anyhow::Result<()> {
+) -> crate::error::Result<()> {
     let points = || {
         panel
             .series

@@ -2,8 +2,8 @@
 //! device, excitation), the expansion indices it covers, and the labels of its groups.
 
 use super::super::{
-    AmplitudeAxis, Axis, CouplingFamily, DeviceVariant, ExcitationFamily, FrequencyAxis, MapAxes,
-    StructureFamily, Study, StudyError, Values,
+    Axis, CouplingFamily, DeviceVariant, ExcitationFamily, MapAxes, Param, StructureFamily, Study,
+    StudyError, Values,
 };
 use crate::numfmt::fmt_digits;
 use serde::{Deserialize, Serialize};
@@ -21,6 +21,7 @@ pub enum Part {
     Excitation,
 }
 
+all_variants! {
 /// The kind of a device variant, named as in study files (`none` is the bare structure).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -30,15 +31,9 @@ pub enum DeviceKind {
     Sequential,
     Mechanistic,
 }
+}
 
 impl DeviceKind {
-    pub const ALL: [DeviceKind; 4] = [
-        DeviceKind::None,
-        DeviceKind::Inerter,
-        DeviceKind::Sequential,
-        DeviceKind::Mechanistic,
-    ];
-
     pub fn of(device: &DeviceVariant) -> DeviceKind {
         match device {
             DeviceVariant::None => DeviceKind::None,
@@ -70,6 +65,8 @@ impl DeviceKind {
 /// One grid parameter of a device variant's expansion.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Parameter {
+    /// Which parameter it is.
+    pub param: Param,
     /// Study field name (also the key used to build the scene), e.g. `k_theta`, `record`.
     pub id: &'static str,
     pub part: Part,
@@ -87,19 +84,13 @@ pub struct Parameter {
 }
 
 impl Parameter {
-    fn new(
-        id: &'static str,
-        part: Part,
-        path: String,
-        label: &str,
-        axis: Option<Axis>,
-        v: &Values,
-    ) -> Self {
+    fn new(param: Param, part: Part, path: String, axis: Option<Axis>, v: &Values) -> Self {
         Parameter {
-            id,
+            param,
+            id: param.field(),
             part,
             path,
-            label: label.to_string(),
+            label: param.label().to_string(),
             axis,
             // A malformed range is reported, never expanded (it may be astronomically long).
             values: if v.shape_error().is_some() {
@@ -317,12 +308,11 @@ fn label_digits(variants: &[VariantLayout]) -> Vec<(&'static str, usize)> {
 }
 
 fn structure_params(s: &StructureFamily) -> Vec<Parameter> {
-    let f = |id, label, axis, v: &Values| {
+    let f = |param: Param, axis, v: &Values| {
         Parameter::new(
-            id,
+            param,
             Part::Structure,
-            format!("structure.{id}"),
-            label,
+            format!("structure.{}", param.field()),
             axis,
             v,
         )
@@ -337,13 +327,13 @@ fn structure_params(s: &StructureFamily) -> Vec<Parameter> {
         } => {
             let mut out = Vec::new();
             if let Some(size) = size {
-                out.push(f("size", "R", Some(Axis::Size), size));
+                out.push(f(Param::Size, Some(Axis::Size), size));
             }
             if let Some(p) = p {
-                out.push(f("p", "p", Some(Axis::P), p));
+                out.push(f(Param::P, Some(Axis::P), p));
             }
-            out.push(f("alpha", "α", Some(Axis::Alpha), alpha));
-            out.push(f("mass", "m", None, mass));
+            out.push(f(Param::Alpha, Some(Axis::Alpha), alpha));
+            out.push(f(Param::Mass, None, mass));
             out
         }
         StructureFamily::Flexible {
@@ -355,17 +345,17 @@ fn structure_params(s: &StructureFamily) -> Vec<Parameter> {
             mass,
         } => {
             let mut out = vec![
-                f("r0", "R0", Some(Axis::R0), r0),
-                f("alpha", "α", Some(Axis::Alpha), alpha),
-                f("xi", "ξ", Some(Axis::Xi), xi),
+                f(Param::R0, Some(Axis::R0), r0),
+                f(Param::Alpha, Some(Axis::Alpha), alpha),
+                f(Param::Xi, Some(Axis::Xi), xi),
             ];
             if let Some(w) = omega_n {
-                out.push(f("omega_n", "ωn", Some(Axis::OmegaN), w));
+                out.push(f(Param::OmegaN, Some(Axis::OmegaN), w));
             }
             if let Some(r) = omega_ratio {
-                out.push(f("omega_ratio", "ωn/p", Some(Axis::OmegaRatio), r));
+                out.push(f(Param::OmegaRatio, Some(Axis::OmegaRatio), r));
             }
-            out.push(f("mass", "m", None, mass));
+            out.push(f(Param::Mass, None, mass));
             out
         }
     }
@@ -373,7 +363,7 @@ fn structure_params(s: &StructureFamily) -> Vec<Parameter> {
 
 fn device_params(device: &DeviceVariant, d: usize) -> Result<Vec<Parameter>, StudyError> {
     let prefix = format!("devices[{d}].");
-    let f = |id, label, v: &Values| device_param(&prefix, id, label, v);
+    let f = |param, v: &Values| device_param(&prefix, param, v);
     Ok(match device {
         DeviceVariant::None => vec![],
         DeviceVariant::Inerter {
@@ -381,7 +371,7 @@ fn device_params(device: &DeviceVariant, d: usize) -> Result<Vec<Parameter>, Stu
             coupling: CouplingFamily::Rigid,
             ..
         }
-        | DeviceVariant::Sequential { sigma, .. } => vec![f("sigma", "σ", sigma)],
+        | DeviceVariant::Sequential { sigma, .. } => vec![f(Param::Sigma, sigma)],
         DeviceVariant::Inerter {
             sigma,
             coupling:
@@ -401,9 +391,9 @@ fn device_params(device: &DeviceVariant, d: usize) -> Result<Vec<Parameter>, Stu
                 cbar,
                 xi_theta,
             };
-            let mut out = vec![f("sigma", "σ", sigma)];
+            let mut out = vec![f(Param::Sigma, sigma)];
             out.extend(spring.params(&prefix)?);
-            out.push(device_param(&prefix, "rho", "ρ", rho));
+            out.push(device_param(&prefix, Param::Rho, rho));
             out
         }
         DeviceVariant::Mechanistic {
@@ -425,14 +415,14 @@ fn device_params(device: &DeviceVariant, d: usize) -> Result<Vec<Parameter>, Stu
                 cbar,
                 xi_theta,
             };
-            let mut out = vec![f("sigma", "σ", sigma)];
+            let mut out = vec![f(Param::Sigma, sigma)];
             out.extend(spring.params(&prefix)?);
             out.extend([
-                f("friction", "fμ", friction),
-                f("eta", "η", eta),
-                f("play", "up", play),
-                f("epsilon", "ε", epsilon),
-                f("rho", "ρ", rho),
+                f(Param::Friction, friction),
+                f(Param::Eta, eta),
+                f(Param::Play, play),
+                f(Param::Epsilon, epsilon),
+                f(Param::Rho, rho),
             ]);
             out
         }
@@ -440,8 +430,9 @@ fn device_params(device: &DeviceVariant, d: usize) -> Result<Vec<Parameter>, Stu
 }
 
 /// A device parameter at `prefix` (`devices[1].`, `devices[1].coupling.`) in the study.
-fn device_param(prefix: &str, id: &'static str, label: &str, v: &Values) -> Parameter {
-    Parameter::new(id, Part::Device, format!("{prefix}{id}"), label, None, v)
+fn device_param(prefix: &str, param: Param, v: &Values) -> Parameter {
+    let path = format!("{prefix}{}", param.field());
+    Parameter::new(param, Part::Device, path, None, v)
 }
 
 /// The spring and damping of a clutch or of a flywheel coupling: one of `k_theta` and
@@ -457,7 +448,7 @@ struct Spring<'a> {
 impl Spring<'_> {
     /// The two parameters, at `prefix` (`devices[1].`) in the study.
     fn params(&self, prefix: &str) -> Result<Vec<Parameter>, StudyError> {
-        let f = |id, label, v: &Values| device_param(prefix, id, label, v);
+        let f = |param, v: &Values| device_param(prefix, param, v);
         let path = |id| format!("{prefix}{id}");
         if self.k_theta.is_some() && self.clutch_frequency_ratio.is_some() {
             return Err(StudyError::field(
@@ -474,18 +465,17 @@ impl Spring<'_> {
             ));
         }
         let stiffness = match (self.k_theta, self.clutch_frequency_ratio) {
-            (Some(k), _) => f("k_theta", "kθ", k),
-            (None, Some(r)) => f("clutch_frequency_ratio", "ωc/p", r),
+            (Some(k), _) => f(Param::KTheta, k),
+            (None, Some(r)) => f(Param::ClutchFrequencyRatio, r),
             (None, None) => f(
-                "clutch_frequency_ratio",
-                "ωc/p",
+                Param::ClutchFrequencyRatio,
                 &crate::study::default_clutch_frequency_ratio(),
             ),
         };
         let damping = match (self.cbar, self.xi_theta) {
-            (_, Some(x)) => f("xi_theta", "ξθ", x),
-            (Some(c), None) => f("cbar", "c̄", c),
-            (None, None) => f("cbar", "c̄", &crate::study::default_cbar()),
+            (_, Some(x)) => f(Param::XiTheta, x),
+            (Some(c), None) => f(Param::Cbar, c),
+            (None, None) => f(Param::Cbar, &crate::study::default_cbar()),
         };
         Ok(vec![stiffness, damping])
     }
@@ -498,29 +488,20 @@ fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Parameter>, StudyError>
             frequency,
             ..
         } => {
-            let (alabel, avalues) = match amplitude {
-                AmplitudeAxis::G(v) => ("A/g", v),
-                AmplitudeAxis::TanAlphaRatio(v) => ("A/(g·tanα)", v),
-                AmplitudeAxis::AlphaRatio(v) => ("A/(g·α)", v),
-            };
-            let (flabel, fvalues) = match frequency {
-                FrequencyAxis::RadPerSec(v) => ("ωg", v),
-                FrequencyAxis::Ratio(v) => ("ωg/p", v),
-            };
+            let (aparam, avalues) = (amplitude.param(), amplitude.values());
+            let (fparam, fvalues) = (frequency.param(), frequency.values());
             vec![
                 Parameter::new(
-                    "amplitude",
+                    aparam,
                     Part::Excitation,
                     "excitation.amplitude".into(),
-                    alabel,
                     Some(Axis::Amplitude),
                     avalues,
                 ),
                 Parameter::new(
-                    "frequency",
+                    fparam,
                     Part::Excitation,
                     "excitation.frequency".into(),
-                    flabel,
                     Some(Axis::Frequency),
                     fvalues,
                 ),
@@ -529,10 +510,9 @@ fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Parameter>, StudyError>
         ExcitationFamily::Record { scale, .. } => {
             let names = e.record_names()?;
             let mut record = Parameter::new(
-                "record",
+                Param::Record,
                 Part::Excitation,
                 "excitation.names".into(),
-                "record",
                 None,
                 &Values::List((0..names.len()).map(|i| i as f64).collect()),
             );
@@ -540,10 +520,9 @@ fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Parameter>, StudyError>
             vec![
                 record,
                 Parameter::new(
-                    "scale",
+                    Param::Scale,
                     Part::Excitation,
                     "excitation.scale".into(),
-                    "scale",
                     Some(Axis::Scale),
                     scale,
                 ),

@@ -9,7 +9,7 @@ mod validate;
 pub use layout::{DeviceKind, Layout, MAX_SCENES, Parameter, Part, VariantLayout, device_label};
 
 use super::{
-    AmplitudeAxis, Axis, CouplingFamily, DeviceVariant, ExcitationFamily, FrequencyAxis,
+    AmplitudeAxis, Axis, CouplingFamily, DeviceVariant, ExcitationFamily, FrequencyAxis, Param,
     ScenePoint, StructureFamily, Study, StudyError, scene_key,
 };
 use crate::scene::{
@@ -33,17 +33,14 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
         check_axes(study, params)?;
         let mut odometer = vec![0usize; params.len()];
         loop {
-            let value = |id: &str| {
-                params
-                    .iter()
-                    .zip(&odometer)
-                    .find(|(p, _)| p.id == id)
-                    .map(|(p, &i)| p.values[i])
+            let point = Point {
+                params,
+                odometer: &odometer,
             };
-            let excitation = build_excitation(&study.excitation, params, &odometer)?;
+            let excitation = build_excitation(&study.excitation, &point)?;
             let scene = Scene {
-                structure: build_structure(&study.structure, &value),
-                device: build_device(device, &value),
+                structure: build_structure(&study.structure, &point)?,
+                device: build_device(device, &point)?,
                 impact: study.impact,
                 duration: crate::study::suites::scene_duration(study, &excitation)?,
                 excitation,
@@ -83,101 +80,128 @@ fn advance(odometer: &mut [usize], params: &[Parameter]) -> bool {
     false
 }
 
-fn build_structure(s: &StructureFamily, value: &dyn Fn(&str) -> Option<f64>) -> Structure {
-    let get = |id: &str| value(id).unwrap_or(f64::NAN);
-    match s {
+/// One point of a variant's grid: each parameter's value at the odometer.
+struct Point<'a> {
+    params: &'a [Parameter],
+    odometer: &'a [usize],
+}
+
+impl Point<'_> {
+    /// The parameter's value at this point, None if the variant has no such parameter.
+    fn value(&self, param: Param) -> Option<f64> {
+        self.params
+            .iter()
+            .zip(self.odometer)
+            .find(|(p, _)| p.param == param)
+            .map(|(p, &i)| p.values[i])
+    }
+
+    /// A parameter the layout gives this variant: if it is missing, the expansion and the
+    /// layout disagree, which is reported (never a NaN in a scene).
+    fn get(&self, param: Param) -> Result<f64, StudyError> {
+        self.value(param).ok_or_else(|| {
+            StudyError::field(
+                param.field(),
+                format!(
+                    "internal: no value of {} in this variant's grid",
+                    param.label()
+                ),
+                "report this: the layout (study/expand/layout.rs) lists the grid's parameters",
+            )
+        })
+    }
+}
+
+fn build_structure(s: &StructureFamily, point: &Point) -> Result<Structure, StudyError> {
+    Ok(match s {
         StructureFamily::Rigid { form, .. } => {
-            let size = value("size").unwrap_or_else(|| {
-                // p = √(3g/4R)  ⇒  R = 3g/(4p²)
-                let p = get("p");
-                3.0 * crate::excitation::G / (4.0 * p * p)
-            });
+            let size = match point.value(Param::Size) {
+                Some(size) => size,
+                None => {
+                    // p = √(3g/4R)  ⇒  R = 3g/(4p²)
+                    let p = point.get(Param::P)?;
+                    3.0 * crate::excitation::G / (4.0 * p * p)
+                }
+            };
             Structure::Rigid(RigidBlock {
                 size,
-                alpha: get("alpha"),
-                mass: get("mass"),
+                alpha: point.get(Param::Alpha)?,
+                mass: point.get(Param::Mass)?,
                 form: *form,
             })
         }
         StructureFamily::Flexible { .. } => {
-            let r0 = get("r0");
-            let omega_n = value("omega_n").unwrap_or_else(|| {
+            let r0 = point.get(Param::R0)?;
+            let omega_n = match point.value(Param::OmegaN) {
+                Some(w) => w,
                 // ωn = (ωn/p)·p with p = √(g/R0)
-                get("omega_ratio") * (crate::excitation::G / r0).sqrt()
-            });
+                None => point.get(Param::OmegaRatio)? * (crate::excitation::G / r0).sqrt(),
+            };
             Structure::Flexible(FlexibleStructure {
                 r0,
-                alpha: get("alpha"),
-                mass: get("mass"),
-                xi: get("xi"),
+                alpha: point.get(Param::Alpha)?,
+                mass: point.get(Param::Mass)?,
+                xi: point.get(Param::Xi)?,
                 omega_n,
             })
         }
-    }
+    })
 }
 
-fn build_device(d: &DeviceVariant, value: &dyn Fn(&str) -> Option<f64>) -> Device {
-    let get = |id: &str| value(id).unwrap_or(f64::NAN);
+fn build_device(d: &DeviceVariant, point: &Point) -> Result<Device, StudyError> {
+    let get = |param| point.get(param);
     // A clutch's or flywheel's spring and damping, as layout.rs gives their parameters.
-    let stiffness = || match value("k_theta") {
-        Some(k) => ClutchStiffness::KTheta(k),
-        None => ClutchStiffness::FrequencyRatio(get("clutch_frequency_ratio")),
+    let stiffness = || -> Result<ClutchStiffness, StudyError> {
+        Ok(match point.value(Param::KTheta) {
+            Some(k) => ClutchStiffness::KTheta(k),
+            None => ClutchStiffness::FrequencyRatio(get(Param::ClutchFrequencyRatio)?),
+        })
     };
-    let damping = || match value("xi_theta") {
-        Some(x) => Damping::XiTheta(x),
-        None => Damping::CBar(get("cbar")),
+    let damping = || -> Result<Damping, StudyError> {
+        Ok(match point.value(Param::XiTheta) {
+            Some(x) => Damping::XiTheta(x),
+            None => Damping::CBar(get(Param::Cbar)?),
+        })
     };
-    match d {
+    Ok(match d {
         DeviceVariant::None => Device::None,
         DeviceVariant::Inerter { coupling, .. } => Device::Inerter {
-            sigma: get("sigma"),
+            sigma: get(Param::Sigma)?,
             coupling: match coupling {
                 CouplingFamily::Rigid => Coupling::Rigid,
                 CouplingFamily::Flywheel { .. } => Coupling::Flywheel {
-                    stiffness: stiffness(),
-                    rho: get("rho"),
-                    damping: damping(),
+                    stiffness: stiffness()?,
+                    rho: get(Param::Rho)?,
+                    damping: damping()?,
                 },
             },
         },
         DeviceVariant::Sequential { .. } => Device::Sequential {
-            sigma: get("sigma"),
+            sigma: get(Param::Sigma)?,
         },
         DeviceVariant::Mechanistic { reset, .. } => Device::Mechanistic(Clutch {
-            sigma: get("sigma"),
-            stiffness: stiffness(),
-            rho: get("rho"),
-            epsilon: get("epsilon"),
-            damping: damping(),
-            friction: get("friction"),
-            eta: get("eta"),
-            play: get("play"),
+            sigma: get(Param::Sigma)?,
+            stiffness: stiffness()?,
+            rho: get(Param::Rho)?,
+            epsilon: get(Param::Epsilon)?,
+            damping: damping()?,
+            friction: get(Param::Friction)?,
+            eta: get(Param::Eta)?,
+            play: get(Param::Play)?,
             reset: *reset,
         }),
-    }
+    })
 }
 
-fn build_excitation(
-    e: &ExcitationFamily,
-    params: &[Parameter],
-    odometer: &[usize],
-) -> Result<Excitation, StudyError> {
-    let value = |id: &str| {
-        params
-            .iter()
-            .zip(odometer)
-            .find(|(p, _)| p.id == id)
-            .map(|(p, &i)| p.values[i])
-            .unwrap_or(f64::NAN)
-    };
+fn build_excitation(e: &ExcitationFamily, point: &Point) -> Result<Excitation, StudyError> {
     match e {
         ExcitationFamily::Pulse {
             shape,
             amplitude,
             frequency,
         } => {
-            let a = value("amplitude");
-            let w = value("frequency");
+            let a = point.get(amplitude.param())?;
+            let w = point.get(frequency.param())?;
             Ok(Excitation::Pulse {
                 shape: *shape,
                 amplitude: match amplitude {
@@ -197,14 +221,19 @@ fn build_excitation(
             kinks,
             ..
         } => {
-            let index = value("record") as usize;
-            let name = params
+            let index = point.get(Param::Record)? as usize;
+            let name = point
+                .params
                 .iter()
                 .find_map(|p| p.names.as_ref())
                 .map(|names| names[index].clone())
                 .unwrap_or_default();
             Ok(Excitation::Record {
-                scale: crate::study::suites::scene_scale(*scale_to, value("scale"), &name)?,
+                scale: crate::study::suites::scene_scale(
+                    *scale_to,
+                    point.get(Param::Scale)?,
+                    &name,
+                )?,
                 name,
                 baseline: *baseline,
                 kinks: *kinks,

@@ -67,7 +67,7 @@ pub(super) fn check_top_level(study: &Study) -> Result<(), StudyError> {
         (Some(d), false) if !(d.is_finite() && d > 0.0) => {
             return Err(StudyError::field(
                 "duration",
-                format!("{d} is not a duration"),
+                format!("{} is not a duration", fmt_exact(d)),
                 "simulated time per scene in seconds, > 0",
             ));
         }
@@ -76,7 +76,7 @@ pub(super) fn check_top_level(study: &Study) -> Result<(), StudyError> {
     if !(1e-14..=0.1).contains(&study.rtol) {
         return Err(StudyError::field(
             "rtol",
-            format!("{} is out of range", study.rtol),
+            format!("{} is out of range", fmt_exact(study.rtol)),
             "relative tolerance must be in [1e-14, 0.1]; 1e-5 is the default",
         ));
     }

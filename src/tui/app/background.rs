@@ -19,13 +19,16 @@ impl App {
                 return;
             }
         };
+        let out = match self.shared.output_dir() {
+            Ok(out) => out,
+            Err(e) => {
+                self.complain(format!("cannot run: {e}"));
+                return;
+            }
+        };
         self.calibration.abandon();
-        self.runs.start(
-            &self.shared.study,
-            points,
-            self.shared.options.jobs,
-            self.shared.output_dir(),
-        );
+        self.runs
+            .start(&self.shared.study, points, self.shared.options.jobs, out);
         self.screen = Screen::Run;
     }
 
@@ -60,7 +63,7 @@ impl App {
             if news.discarded {
                 self.say(format!(
                     "sweep discarded: its {done} finished scenes stay in {}/, not shown",
-                    self.shared.output_dir().display()
+                    self.shared.output_dir_shown()
                 ));
             } else if cancelled {
                 self.show_results(*results, cancelled);

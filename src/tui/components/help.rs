@@ -1,7 +1,9 @@
-//! The help overlay: every key of every screen; any key closes it.
+//! The help overlay: every key of every screen, from each screen's own list
+//! ([`super::Component::commands`]) after the keys that work everywhere; any key closes it.
 
 use super::super::theme::Theme;
 use super::super::widgets::popup;
+use super::{Command, command};
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
@@ -11,65 +13,38 @@ pub struct Help {
     pub visible: bool,
 }
 
+/// The keys every screen answers (the app's own, `App::handle_key`).
+pub const EVERYWHERE: &[Command] = &[
+    command("1 2 3 4", "Study / Run / Results / Scene (Tab cycles)"),
+    command("r  ?", "run or resume the study  /  this help"),
+    command(
+        "q ^C  o ^O",
+        "quit (asks if need be) / open a study or results",
+    ),
+];
+
 impl Help {
-    pub fn draw(&self, theme: Theme, frame: &mut Frame, area: Rect) {
+    /// `sections`: a title and its keys, in order.
+    pub fn draw(
+        &self,
+        theme: Theme,
+        frame: &mut Frame,
+        area: Rect,
+        sections: &[(&str, &[Command])],
+    ) {
         if !self.visible {
             return;
         }
-        let k = |key: &'static str, what: &'static str| {
-            Line::from(vec![
-                Span::styled(format!("{key:>10}  "), theme.key()),
-                Span::raw(what),
-            ])
-        };
-        let h = |title: &'static str| Line::styled(title, theme.title());
-        let lines = vec![
-            h("everywhere"),
-            k("1 2 3 4", "Study / Run / Results / Scene (Tab cycles)"),
-            k("r  ?", "run or resume the study  /  this help"),
-            k(
-                "q ^C  o ^O",
-                "quit (asks if need be) / open a study or results",
-            ),
-            h("Study"),
-            k(
-                "↑↓ PgUp/Dn",
-                "move; g/G first/last; / find, n/N next/previous",
-            ),
-            k(
-                "Enter / e",
-                "edit the value (RON: 0.5, [1.0, 2.0], name(…))",
-            ),
-            k(
-                "a / d",
-                "add from a copy / delete list element; unset a field",
-            ),
-            k("s S ^N", "save, save as, new study (the default's values)"),
-            h("Run"),
-            k(
-                "c / Esc",
-                "stop (asks; finished scenes are kept, r resumes)",
-            ),
-            k("↑↓ d Enter", "scroll (PgUp/Dn g/G) / results dir / results"),
-            h("Results"),
-            k("s m c p g", "spectra / maps / compare / fragility / design"),
-            k(
-                "←→ ↑↓",
-                "cursor along the axis / variant, cell or design point",
-            ),
-            k("[ ]  f", "prev/next quantity, map or state; f filter rows"),
-            k("a b x", "compare: pick A / B (device, values), swap"),
-            k("o y d", "compare: sort pairs, one y scale or two, maps"),
-            k(
-                "Enter  w",
-                "open the scene under the cursor / write results",
-            ),
-            h("Scene"),
-            k(
-                "Esc  c",
-                "back / check; `rocklab plot DIR --scene N` draws it",
-            ),
-        ];
+        let mut lines = Vec::new();
+        for (title, commands) in sections {
+            lines.push(Line::styled(title.to_string(), theme.title()));
+            lines.extend(commands.iter().map(|c| {
+                Line::from(vec![
+                    Span::styled(format!("{:>10}  ", c.keys), theme.key()),
+                    Span::raw(c.what),
+                ])
+            }));
+        }
         let height = lines.len() as u16;
         popup(
             frame,

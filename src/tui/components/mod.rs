@@ -49,14 +49,21 @@ pub struct Shared {
 }
 
 impl Shared {
-    /// Where a run of the open study writes: the chosen directory, or `out/<study name>/` as
-    /// `rocklab run` does.
-    pub fn output_dir(&self) -> PathBuf {
-        self.out_dir.clone().unwrap_or_else(|| {
-            self.options
-                .out_root
-                .join(crate::fsutil::single_component(&self.study.name))
-        })
+    /// Where a run of the open study writes: the chosen directory, or `out/<study name>/` by
+    /// the rule `rocklab run` follows (an error for a name that would leave `out/`).
+    pub fn output_dir(&self) -> Result<PathBuf, crate::sweep::OutputError> {
+        match &self.out_dir {
+            Some(dir) => Ok(dir.clone()),
+            None => crate::sweep::default_out_dir(&self.options.out_root, &self.study.name),
+        }
+    }
+
+    /// The output directory as a screen shows it: the directory, or why there is none.
+    pub fn output_dir_shown(&self) -> String {
+        match self.output_dir() {
+            Ok(dir) => dir.display().to_string(),
+            Err(e) => format!("(no directory: {e})"),
+        }
     }
 
     /// Estimated wall time of the whole study (seconds), when a per-scene time is known.
@@ -100,6 +107,17 @@ pub enum Action {
     Complain(String),
 }
 
+/// A key (or keys) of a screen and what it does, as the help overlay lists it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Command {
+    pub keys: &'static str,
+    pub what: &'static str,
+}
+
+pub const fn command(keys: &'static str, what: &'static str) -> Command {
+    Command { keys, what }
+}
+
 /// A screen of the workbench.
 pub trait Component {
     fn handle_key(&mut self, key: KeyEvent, shared: &Shared) -> Action;
@@ -108,6 +126,9 @@ pub trait Component {
     /// Keys the status line offers on this screen, most useful first (narrow terminals cut
     /// the end).
     fn hints(&self, shared: &Shared) -> Vec<Hint>;
+    /// Every key of the screen, for the help overlay (which lists each screen's own list,
+    /// so a screen's keys are written beside its `handle_key`, never in the overlay).
+    fn commands(&self) -> &'static [Command];
     /// True while the component takes every key itself (a line editor is open): the global
     /// keys (q, ?, 1–4, Tab) are off.
     fn captures_keys(&self) -> bool {

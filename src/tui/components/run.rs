@@ -9,7 +9,7 @@ use super::super::job::{AsyncSingleJob, JobEvent};
 use super::super::theme::Theme;
 use super::super::widgets::{Hint, fmt_coords, fmt_duration, gauge, pad, truncate};
 use super::prompt::{Prompt, StopSweep};
-use super::{Action, Check, Component, Shared};
+use super::{Action, Check, Command, Component, Shared, command};
 use crate::report;
 use crate::study::{ScenePoint, Study};
 use crate::sweep::{self, OpenOptions, Progress, SweepResults};
@@ -380,6 +380,17 @@ impl RunScreen {
 }
 
 impl Component for RunScreen {
+    fn commands(&self) -> &'static [Command] {
+        const COMMANDS: &[Command] = &[
+            command(
+                "c / Esc",
+                "stop (asks; finished scenes are kept, r resumes)",
+            ),
+            command("↑↓ d Enter", "scroll (PgUp/Dn g/G) / results dir / results"),
+        ];
+        COMMANDS
+    }
+
     fn handle_key(&mut self, key: KeyEvent, shared: &Shared) -> Action {
         let page = self.page.get().max(2) - 1;
         match key.code {
@@ -407,9 +418,14 @@ impl RunScreen {
     fn command_key(&mut self, key: KeyEvent, shared: &Shared) -> Action {
         match key.code {
             KeyCode::Char('r') => Action::StartRun,
-            KeyCode::Char('d') if !self.is_running() => Action::Prompt(Prompt::OutDir(
-                LineEdit::new(shared.output_dir().display().to_string()),
-            )),
+            KeyCode::Char('d') if !self.is_running() => {
+                Action::Prompt(Prompt::OutDir(LineEdit::new(
+                    shared
+                        .output_dir()
+                        .map(|d| d.display().to_string())
+                        .unwrap_or_default(),
+                )))
+            }
             KeyCode::Char('c') | KeyCode::Esc => match self.stop_question(false) {
                 Some(stop) => Action::Prompt(Prompt::StopSweep(stop)),
                 None => Action::None,
@@ -443,7 +459,7 @@ impl RunScreen {
                     "No sweep yet. Press r to run the study ({} scenes); results go to {}/ \
                      (d changes it), and a run stopped early resumes there.",
                     points.len(),
-                    shared.output_dir().display()
+                    shared.output_dir_shown()
                 ),
                 Check::Invalid(msg) => format!("The study is invalid: {msg}"),
             };

@@ -8,7 +8,7 @@ use super::super::job::{AsyncSingleJob, JobEvent};
 use super::super::theme::Theme;
 use super::super::widgets::chart::draw_chart;
 use super::super::widgets::{Hint, fmt_num};
-use super::{Action, Component, Shared};
+use super::{Action, Command, Component, Shared, command};
 use crate::numfmt::fmt_condition;
 use crate::sim::check::{Check, Reproducibility, short_name};
 use crate::sim::{self, EnergyRole, History, HistoryColumn, SceneResult};
@@ -135,6 +135,14 @@ impl SceneScreen {
 }
 
 impl Component for SceneScreen {
+    fn commands(&self) -> &'static [Command] {
+        const COMMANDS: &[Command] = &[command(
+            "Esc  c",
+            "back / check; `rocklab plot DIR --scene N` draws it",
+        )];
+        COMMANDS
+    }
+
     fn handle_key(&mut self, key: KeyEvent, _: &Shared) -> Action {
         match key.code {
             KeyCode::Esc | KeyCode::Backspace => Action::Show(Screen::Results),

@@ -8,7 +8,7 @@ pub use super::super::tree::Row;
 use super::super::tree::StudyTree;
 use super::super::widgets::{Hint, edit_spans, fmt_duration, pad, scroll_offset, truncate};
 use super::prompt::{Pending, Prompt};
-use super::{Action, Check, Component, Shared};
+use super::{Action, Check, Command, Component, Shared, command};
 use crate::study::Study;
 use crate::study::fields;
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
@@ -238,6 +238,25 @@ impl StudyScreen {
 }
 
 impl Component for StudyScreen {
+    fn commands(&self) -> &'static [Command] {
+        const COMMANDS: &[Command] = &[
+            command(
+                "↑↓ PgUp/Dn",
+                "move; g/G first/last; / find, n/N next/previous",
+            ),
+            command(
+                "Enter / e",
+                "edit the value (RON: 0.5, [1.0, 2.0], name(…))",
+            ),
+            command(
+                "a / d",
+                "add from a copy / delete list element; unset a field",
+            ),
+            command("s S ^N", "save, save as, new study (the default's values)"),
+        ];
+        COMMANDS
+    }
+
     fn captures_keys(&self) -> bool {
         self.edit.is_some()
     }

@@ -18,7 +18,7 @@ use super::super::edit::LineEdit;
 use super::super::theme::Theme;
 use super::super::widgets::Hint;
 use super::prompt::Prompt;
-use super::{Action, Component, Shared};
+use super::{Action, Command, Component, Shared, command};
 use crate::report::{self, OverturningMap, PointState, Quantity, Spectrum};
 use crate::sim::SceneResult;
 use crate::sim::check::{CheckCsvRow, Reproducibility};
@@ -352,6 +352,24 @@ impl ResultsScreen {
 }
 
 impl Component for ResultsScreen {
+    fn commands(&self) -> &'static [Command] {
+        const COMMANDS: &[Command] = &[
+            command("s m c p g", "spectra / maps / compare / fragility / design"),
+            command(
+                "←→ ↑↓",
+                "cursor along the axis / variant, cell or design point",
+            ),
+            command("[ ]  f", "prev/next quantity, map or state; f filter rows"),
+            command("a b x", "compare: pick A / B (device, values), swap"),
+            command("o y d", "compare: sort pairs, one y scale or two, maps"),
+            command(
+                "Enter  w",
+                "open the scene under the cursor / write results",
+            ),
+        ];
+        COMMANDS
+    }
+
     fn handle_key(&mut self, key: KeyEvent, shared: &Shared) -> Action {
         let Some(data) = &shared.results else {
             return match key.code {
