@@ -102,6 +102,19 @@ pub fn column(h: &History, column: HistoryColumn) -> crate::error::Result<Vec<f6
         .ok_or_else(|| crate::error::error!("paper: history has no column {column}"))
 }
 
+/// A flexible structure's check on both responses the paper plots, rotation and column
+/// deformation (prefixed so); the verdict is the worse of the two.
+pub fn rotation_and_deformation(
+    per: impl Fn(Measure) -> crate::error::Result<super::fair::Judgement>,
+) -> crate::error::Result<super::fair::Judgement> {
+    Ok(super::fair::both(
+        per(Measure::Rotation)?,
+        "rotation",
+        per(Measure::Deformation)?,
+        "deformation",
+    ))
+}
+
 /// What a row reads from a scene's result; None where the structure overturned.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Measure {
