@@ -68,7 +68,8 @@ pub(super) fn row_json(r: &Record) -> serde_json::Value {
     })
 }
 
-pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
+/// The library `--records-dir` (or the default) names.
+fn library(args: &RecordsArgs) -> anyhow::Result<Library> {
     if let Some(dir) = &args.records_dir {
         super::existing_records_dir(dir)?;
     }
@@ -76,24 +77,23 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
         Some(dir) => Some(dir.clone()),
         None => Library::checked_default_dir()?,
     };
-    let library = Library::open(dir)?;
-    if let Some(suite) = &args.suite {
-        return super::records_suite::run(&library, suite, args);
-    }
+    Ok(Library::open(dir)?)
+}
+
+/// Every record of the library, and a line for each one that could not be read.
+fn load_all(library: &Library, baseline: bool) -> (Vec<std::sync::Arc<Record>>, Vec<String>) {
     let mut rows = Vec::new();
     let mut failures = Vec::new();
     for name in library.names() {
-        match library.load(&name, args.baseline) {
+        match library.load(&name, baseline) {
             Ok(r) => rows.push(r),
             Err(e) => failures.push(format!("{name}: {e}")),
         }
     }
-    if args.json {
-        let list: Vec<_> = rows.iter().map(|r| row_json(r)).collect();
-        println!("{}", serde_json::Value::Array(list));
-    } else {
-        print!("{}", table(&library, &rows));
-    }
+    (rows, failures)
+}
+
+fn unreadable(failures: &[String]) -> anyhow::Result<()> {
     if failures.is_empty() {
         Ok(())
     } else {
@@ -102,6 +102,35 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
             failures.join("\n  ")
         )
     }
+}
+
+/// The JSON array `records --json` prints (a suite's with `--suite`): what Python's
+/// `rocklab.records` returns as a table.
+pub fn json(args: &RecordsArgs) -> anyhow::Result<serde_json::Value> {
+    let library = library(args)?;
+    if let Some(suite) = &args.suite {
+        return super::records_suite::json_rows(&library, suite, args);
+    }
+    let (rows, failures) = load_all(&library, args.baseline);
+    unreadable(&failures)?;
+    Ok(serde_json::Value::Array(
+        rows.iter().map(|r| row_json(r)).collect(),
+    ))
+}
+
+pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
+    let library = library(args)?;
+    if let Some(suite) = &args.suite {
+        return super::records_suite::run(&library, suite, args);
+    }
+    let (rows, failures) = load_all(&library, args.baseline);
+    if args.json {
+        let list: Vec<_> = rows.iter().map(|r| row_json(r)).collect();
+        println!("{}", serde_json::Value::Array(list));
+    } else {
+        print!("{}", table(&library, &rows));
+    }
+    unreadable(&failures)
 }
 
 fn table(library: &Library, rows: &[std::sync::Arc<Record>]) -> String {

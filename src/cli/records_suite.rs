@@ -6,7 +6,12 @@ use crate::excitation::suite::{SuiteRecord, SuiteSelect};
 use crate::excitation::{G, Library, Record};
 use std::sync::Arc;
 
-pub fn run(library: &Library, suite: &str, args: &RecordsArgs) -> anyhow::Result<()> {
+/// The suite's records with their metadata, in the suite's order.
+fn load<'a>(
+    library: &'a Library,
+    suite: &str,
+    args: &RecordsArgs,
+) -> anyhow::Result<Vec<(Option<&'a SuiteRecord>, Arc<Record>)>> {
     let select = SuiteSelect {
         name: suite.to_string(),
         ..SuiteSelect::default()
@@ -19,9 +24,26 @@ pub fn run(library: &Library, suite: &str, args: &RecordsArgs) -> anyhow::Result
             library.load(name, args.baseline)?,
         ));
     }
+    Ok(rows)
+}
+
+/// The JSON array `records --suite NAME --json` prints.
+pub fn json_rows(
+    library: &Library,
+    suite: &str,
+    args: &RecordsArgs,
+) -> anyhow::Result<serde_json::Value> {
+    Ok(rows_json(&load(library, suite, args)?))
+}
+
+fn rows_json(rows: &[(Option<&SuiteRecord>, Arc<Record>)]) -> serde_json::Value {
+    serde_json::Value::Array(rows.iter().map(|(e, r)| json(*e, r)).collect())
+}
+
+pub fn run(library: &Library, suite: &str, args: &RecordsArgs) -> anyhow::Result<()> {
+    let rows = load(library, suite, args)?;
     if args.json {
-        let list: Vec<_> = rows.iter().map(|(e, r)| json(*e, r)).collect();
-        println!("{}", serde_json::Value::Array(list));
+        println!("{}", rows_json(&rows));
     } else {
         print!("{}", table(suite, &rows));
     }

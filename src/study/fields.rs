@@ -88,7 +88,10 @@ const FIELD_HELP: &[(&str, &str)] = &[
         "how the single inerter is attached: rigid, or flywheel(cbar: 1.0, …), a flywheel \
          behind a spring (k_theta or clutch_frequency_ratio; cbar or xi_theta; rho)",
     ),
-    ("reset", "re-engagement reset with play: paper or strict"),
+    (
+        "reset",
+        "re-engagement reset with play: paper or strict (never: no reset, the paper's §4 counterfactual)",
+    ),
     ("label", "name of the variant in results"),
     (
         "excitation",
