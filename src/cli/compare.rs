@@ -75,7 +75,23 @@ struct Comparison {
     stand_in_records: Vec<String>,
 }
 
+/// The JSON `compare --json` prints: Python's `Results.compare` reads its pairs.
+pub fn json(args: &CompareArgs) -> anyhow::Result<serde_json::Value> {
+    Ok(serde_json::to_value(comparison(args)?.0)?)
+}
+
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+    let (all, text) = comparison(args)?;
+    // A closed pipe (`compare … | head`) ends the output quietly.
+    if args.json {
+        super::run::print_out(&format!("{}\n", serde_json::to_string_pretty(&all)?))
+    } else {
+        super::run::print_out(&text)
+    }
+}
+
+/// Everything `compare` finds, and the text it prints without `--json`.
+fn comparison(args: &CompareArgs) -> anyhow::Result<(Comparison, String)> {
     let results = report::load_results(&resolve_results(&args.results))?;
     let quantities = selected_quantities(args, &report::quantities(&results))?;
     let usage = |e: report::select::SelectError| UsageError::new(format!("{e}"));
@@ -134,12 +150,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             text.push_str(&compare::map_text(m));
         }
     }
-    // A closed pipe (`compare … | head`) ends the output quietly.
-    if args.json {
-        super::run::print_out(&format!("{}\n", serde_json::to_string_pretty(&all)?))
-    } else {
-        super::run::print_out(&text)
-    }
+    Ok((all, text))
 }
 
 fn selected_quantities(args: &CompareArgs, study: &[Quantity]) -> anyhow::Result<Vec<Quantity>> {

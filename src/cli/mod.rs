@@ -11,6 +11,7 @@ pub mod plot;
 pub mod records;
 mod records_ims;
 mod records_suite;
+pub mod risk;
 pub mod run;
 pub mod simulate;
 pub mod slurm;
@@ -62,6 +63,11 @@ pub enum Command {
     /// Which intensity measure predicts each damage state best: β of ln IDA capacity per
     /// IM, variant and damage state, with bootstrap intervals and magnitude sufficiency.
     Ims(ims::ImsArgs),
+
+    /// Seismic risk at a site: the mean annual frequency of reaching each damage state from a
+    /// fragility study's results and a hazard curve, bare against protected, with intervals;
+    /// FEMA P695 collapse margins with --mce.
+    Risk(risk::RiskArgs),
     /// Figures from a results file: spectra, overturning maps, a scene's histories.
     Plot(plot::PlotArgs),
     /// The results as CSV, long (tidy) or wide, with ASCII column names.
@@ -181,6 +187,7 @@ pub fn main() -> ExitCode {
                 | Command::Bench(_)
                 | Command::Compare(_)
                 | Command::Plot(_)
+                | Command::Risk(_)
                 | Command::Status(_)
                 | Command::Table(_)
                 | Command::Ims(_)
@@ -200,6 +207,7 @@ pub fn main() -> ExitCode {
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Check(args)) => check::run(&args),
         Some(Command::Plot(args)) => plot::run(&args),
+        Some(Command::Risk(args)) => risk::run(&args),
         Some(Command::Paper(args)) => paper::run(&args),
         Some(Command::Ims(args)) => ims::run(&args),
         Some(Command::Table(args)) => table::run(&args),

@@ -88,7 +88,8 @@ pub(super) fn row_json(r: &Record) -> serde_json::Value {
     })
 }
 
-pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
+/// The library `--records-dir` (or the default) names.
+fn library(args: &RecordsArgs) -> anyhow::Result<Library> {
     if let Some(dir) = &args.records_dir {
         super::existing_records_dir(dir)?;
     }
@@ -96,44 +97,49 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
         Some(dir) => Some(dir.clone()),
         None => Library::checked_default_dir()?,
     };
-    let library = Library::open(dir)?;
-    if let Some(suite) = &args.suite {
-        return super::records_suite::run(&library, suite, args);
-    }
-    let names = if args.records.is_empty() {
+    Ok(Library::open(dir)?)
+}
+
+/// The records named on the command line, or else every record of the library.
+fn names(library: &Library, args: &RecordsArgs) -> Vec<String> {
+    if args.records.is_empty() {
         library.names()
     } else {
         args.records.clone()
-    };
-    if args.ims {
-        let listed = names
-            .iter()
-            .map(|name| -> anyhow::Result<super::records_ims::Listed> {
-                let record = library.load(name, args.baseline)?;
-                Ok(super::records_ims::Listed {
-                    meta: row_json(&record),
-                    name: record.name.clone(),
-                    record,
-                    pair: None,
-                })
-            })
-            .collect::<anyhow::Result<Vec<_>>>()?;
-        return super::records_ims::run(listed, args);
     }
+}
+
+/// The records as `records --ims` lists them (no suite pairs: RotD50 needs `--suite`).
+fn listed(library: &Library, args: &RecordsArgs) -> anyhow::Result<Vec<super::records_ims::Listed>> {
+    names(library, args)
+        .iter()
+        .map(|name| -> anyhow::Result<super::records_ims::Listed> {
+            let record = library.load(name, args.baseline)?;
+            Ok(super::records_ims::Listed {
+                meta: row_json(&record),
+                name: record.name.clone(),
+                record,
+                pair: None,
+            })
+        })
+        .collect()
+}
+
+/// The named records (or every record of the library), and a line for each one that could
+/// not be read.
+fn load_all(library: &Library, args: &RecordsArgs) -> (Vec<std::sync::Arc<Record>>, Vec<String>) {
     let mut rows = Vec::new();
     let mut failures = Vec::new();
-    for name in names {
+    for name in names(library, args) {
         match library.load(&name, args.baseline) {
             Ok(r) => rows.push(r),
             Err(e) => failures.push(format!("{name}: {e}")),
         }
     }
-    if args.json {
-        let list: Vec<_> = rows.iter().map(|r| row_json(r)).collect();
-        println!("{}", serde_json::Value::Array(list));
-    } else {
-        print!("{}", table(&library, &rows));
-    }
+    (rows, failures)
+}
+
+fn unreadable(failures: &[String]) -> anyhow::Result<()> {
     if failures.is_empty() {
         Ok(())
     } else {
@@ -142,6 +148,41 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
             failures.join("\n  ")
         )
     }
+}
+
+/// The JSON array `records --json` prints (a suite's with `--suite`): what Python's
+/// `rocklab.records` returns as a table.
+pub fn json(args: &RecordsArgs) -> anyhow::Result<serde_json::Value> {
+    let library = library(args)?;
+    if let Some(suite) = &args.suite {
+        return super::records_suite::json_rows(&library, suite, args);
+    }
+    if args.ims {
+        return super::records_ims::json(listed(&library, args)?, args);
+    }
+    let (rows, failures) = load_all(&library, args);
+    unreadable(&failures)?;
+    Ok(serde_json::Value::Array(
+        rows.iter().map(|r| row_json(r)).collect(),
+    ))
+}
+
+pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
+    let library = library(args)?;
+    if let Some(suite) = &args.suite {
+        return super::records_suite::run(&library, suite, args);
+    }
+    if args.ims {
+        return super::records_ims::run(listed(&library, args)?, args);
+    }
+    let (rows, failures) = load_all(&library, args);
+    if args.json {
+        let list: Vec<_> = rows.iter().map(|r| row_json(r)).collect();
+        println!("{}", serde_json::Value::Array(list));
+    } else {
+        print!("{}", table(&library, &rows));
+    }
+    unreadable(&failures)
 }
 
 fn table(library: &Library, rows: &[std::sync::Arc<Record>]) -> String {

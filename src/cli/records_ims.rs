@@ -86,11 +86,13 @@ fn compute(
     Ok(all.into_iter().zip(rotd).collect())
 }
 
-pub(super) fn run(listed: Vec<Listed>, args: &RecordsArgs) -> anyhow::Result<()> {
+/// The JSON array `records --ims --json` prints: each record's metadata row with its
+/// intensity measures (and `rotd50_g` where its suite pair is listed too).
+pub(super) fn json(listed: Vec<Listed>, args: &RecordsArgs) -> anyhow::Result<serde_json::Value> {
     let (periods, damping) = spectrum_options(args)?;
     let rows = compute(&listed, &periods, damping)?;
-    if args.json {
-        let list: Vec<serde_json::Value> = listed
+    Ok(serde_json::Value::Array(
+        listed
             .into_iter()
             .zip(rows)
             .map(|(l, (ims, rotd))| {
@@ -104,11 +106,18 @@ pub(super) fn run(listed: Vec<Listed>, args: &RecordsArgs) -> anyhow::Result<()>
                 }
                 row
             })
-            .collect();
-        println!("{}", serde_json::Value::Array(list));
-    } else {
-        print!("{}", table(&listed, &rows, &periods, damping));
+            .collect(),
+    ))
+}
+
+pub(super) fn run(listed: Vec<Listed>, args: &RecordsArgs) -> anyhow::Result<()> {
+    if args.json {
+        println!("{}", json(listed, args)?);
+        return Ok(());
     }
+    let (periods, damping) = spectrum_options(args)?;
+    let rows = compute(&listed, &periods, damping)?;
+    print!("{}", table(&listed, &rows, &periods, damping));
     Ok(())
 }
 

@@ -6,7 +6,12 @@ use crate::excitation::suite::{SuiteRecord, SuiteSelect};
 use crate::excitation::{G, Library, Record};
 use std::sync::Arc;
 
-pub fn run(library: &Library, suite: &str, args: &RecordsArgs) -> anyhow::Result<()> {
+/// The suite's records with their metadata, in the suite's order.
+fn load<'a>(
+    library: &'a Library,
+    suite: &str,
+    args: &RecordsArgs,
+) -> anyhow::Result<Vec<(Option<&'a SuiteRecord>, Arc<Record>)>> {
     let select = SuiteSelect {
         name: suite.to_string(),
         ..SuiteSelect::default()
@@ -19,21 +24,45 @@ pub fn run(library: &Library, suite: &str, args: &RecordsArgs) -> anyhow::Result
             library.load(name, args.baseline)?,
         ));
     }
+    Ok(rows)
+}
+
+/// The suite's components as `records --ims` lists them: metadata, name and suite pair.
+fn listed(rows: Vec<(Option<&SuiteRecord>, Arc<Record>)>) -> Vec<super::records_ims::Listed> {
+    rows.into_iter()
+        .map(|(entry, record)| super::records_ims::Listed {
+            meta: json(entry, &record),
+            name: entry.map_or_else(|| record.name.clone(), SuiteRecord::id),
+            pair: entry.map(|e| (e.set.name().to_string(), e.row.record_id)),
+            record,
+        })
+        .collect()
+}
+
+/// The JSON array `records --suite NAME --json [--ims]` prints.
+pub fn json_rows(
+    library: &Library,
+    suite: &str,
+    args: &RecordsArgs,
+) -> anyhow::Result<serde_json::Value> {
+    let rows = load(library, suite, args)?;
     if args.ims {
-        let listed = rows
-            .into_iter()
-            .map(|(entry, record)| super::records_ims::Listed {
-                meta: json(entry, &record),
-                name: entry.map_or_else(|| record.name.clone(), SuiteRecord::id),
-                pair: entry.map(|e| (e.set.name().to_string(), e.row.record_id)),
-                record,
-            })
-            .collect();
-        return super::records_ims::run(listed, args);
+        return super::records_ims::json(listed(rows), args);
+    }
+    Ok(rows_json(&rows))
+}
+
+fn rows_json(rows: &[(Option<&SuiteRecord>, Arc<Record>)]) -> serde_json::Value {
+    serde_json::Value::Array(rows.iter().map(|(e, r)| json(*e, r)).collect())
+}
+
+pub fn run(library: &Library, suite: &str, args: &RecordsArgs) -> anyhow::Result<()> {
+    let rows = load(library, suite, args)?;
+    if args.ims {
+        return super::records_ims::run(listed(rows), args);
     }
     if args.json {
-        let list: Vec<_> = rows.iter().map(|(e, r)| json(*e, r)).collect();
-        println!("{}", serde_json::Value::Array(list));
+        println!("{}", rows_json(&rows));
     } else {
         print!("{}", table(suite, &rows));
     }

@@ -67,7 +67,7 @@ pub struct MergeArgs {
 
 /// `out/<study name>`, as `run` and `slurm` both place a study's results (see
 /// [`sweep::default_out_dir`]); a name that would leave `out/` is a usage error.
-pub(super) fn default_out(study_name: &str) -> Result<std::path::PathBuf, UsageError> {
+pub fn default_out(study_name: &str) -> Result<std::path::PathBuf, UsageError> {
     sweep::default_out_dir(Path::new("out"), study_name).map_err(|e| UsageError::new(e.to_string()))
 }
 
@@ -304,44 +304,40 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         Some(out) => out.clone(),
         None => default_out(&study.name)?,
     };
-    let total = points
-        .iter()
-        .filter(|p| sweep::in_shard(p.index, args.shard))
-        .count();
-    let open = OpenOptions { fresh: args.fresh };
-    let output = sweep::DirRun::open(&out, args.shard, &study, total, open)?;
-    for note in output.notes() {
-        say(&format!("note: {note}"));
-    }
-    let results_path = output.results_path().to_path_buf();
-    install_signal_handlers();
     let reporter = Reporter::new(std::io::stderr().is_terminal());
     let started = Instant::now();
-    let library = crate::excitation::library::global()?;
-    let scene_time_limit =
-        (args.scene_time_limit > 0.0).then(|| Duration::from_secs_f64(args.scene_time_limit));
-    let journal = output.journal_path().to_path_buf();
-    let results_writer = |path: &Path, results: &SweepResults| {
-        reporter.finish();
-        stop_on_signal_while_writing(results, journal.clone());
-        (report::WRITERS.results)(path, results)
-    };
-    let writers = sweep::Writers {
-        results: &results_writer,
-        ..report::WRITERS
-    };
-    let results = output.run(
-        &study,
-        &points,
+    let plan = RunPlan {
+        study: &study,
+        points: &points,
+        out: &out,
+        shard: args.shard,
+        open: OpenOptions { fresh: args.fresh },
         jobs,
-        library,
-        scene_time_limit,
+        scene_time_limit: (args.scene_time_limit > 0.0)
+            .then(|| Duration::from_secs_f64(args.scene_time_limit)),
+    };
+    let on_open = |output: &sweep::DirRun| {
+        for note in output.notes() {
+            say(&format!("note: {note}"));
+        }
+        install_signal_handlers();
+    };
+    let before_writing = |results: &SweepResults, journal: &Path| {
+        reporter.finish();
+        stop_on_signal_while_writing(results, journal.to_path_buf());
+    };
+    let ran = run_into_dir(
+        &plan,
         &CANCEL,
         &|p| reporter.report(p),
-        writers,
+        &on_open,
+        &before_writing,
     );
     reporter.finish();
-    let finished = results?;
+    let DirOutcome {
+        finished,
+        results_path,
+    } = ran?;
     finished.written?;
     let results = finished.results;
     let reused = finished.reused;
@@ -366,6 +362,69 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// One run of a study into an output directory, as `rocklab run` makes it.
+pub struct RunPlan<'a> {
+    pub study: &'a Study,
+    pub points: &'a [crate::study::ScenePoint],
+    pub out: &'a Path,
+    pub shard: Option<(usize, usize)>,
+    pub open: OpenOptions,
+    pub jobs: Option<usize>,
+    pub scene_time_limit: Option<Duration>,
+}
+
+/// A run's results and where its results file is.
+pub struct DirOutcome {
+    pub finished: sweep::Finished,
+    pub results_path: PathBuf,
+}
+
+/// Open the plan's directory through the sweep's façade (lock, resume from the journal) and
+/// run the study into it, every finished scene journalled: the one path behind `rocklab run`
+/// and Python's `rocklab.run`. `on_open` sees what opening decided before any scene runs;
+/// `before_writing` gets the results and the journal's path just before the results file is
+/// written.
+pub fn run_into_dir(
+    plan: &RunPlan,
+    cancel: &AtomicBool,
+    progress: &(dyn Fn(Progress) + Sync),
+    on_open: &dyn Fn(&sweep::DirRun),
+    before_writing: &(dyn Fn(&SweepResults, &Path) + Sync),
+) -> anyhow::Result<DirOutcome> {
+    let total = plan
+        .points
+        .iter()
+        .filter(|p| sweep::in_shard(p.index, plan.shard))
+        .count();
+    let output = sweep::DirRun::open(plan.out, plan.shard, plan.study, total, plan.open)?;
+    on_open(&output);
+    let results_path = output.results_path().to_path_buf();
+    let library = crate::excitation::library::global()?;
+    let journal = output.journal_path().to_path_buf();
+    let results_writer = |path: &Path, results: &SweepResults| {
+        before_writing(results, &journal);
+        (report::WRITERS.results)(path, results)
+    };
+    let writers = sweep::Writers {
+        results: &results_writer,
+        ..report::WRITERS
+    };
+    let finished = output.run(
+        plan.study,
+        plan.points,
+        plan.jobs,
+        library,
+        plan.scene_time_limit,
+        cancel,
+        progress,
+        writers,
+    )?;
+    Ok(DirOutcome {
+        finished,
+        results_path,
+    })
 }
 
 /// The results of one merge input: a results file, a journal, or both (the fuller wins).

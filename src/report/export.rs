@@ -34,6 +34,11 @@ pub fn save_results(path: &Path, results: &SweepResults) -> crate::error::Result
 
 /// CSV (with its column sidecar), summary and the canonical study next to the results file
 /// (`rocklab run`, `merge` and the workbench's runs write the same set).
+/// The overturning boundary of a study with a map, beside its results.
+pub const BOUNDARY_CSV: &str = "boundary.csv";
+/// A design study's answers, beside its results.
+pub const DESIGN_CSV: &str = "design.csv";
+
 pub fn write_tables(
     out: &Path,
     study: &crate::study::Study,
@@ -50,11 +55,11 @@ pub fn write_tables(
     }
     super::write_atomic(&out.join("summary.txt"), text.as_bytes())?;
     if study.map.is_some() {
-        super::write_atomic(&out.join("boundary.csv"), &boundary_csv(results)?)?;
+        super::write_atomic(&out.join(BOUNDARY_CSV), &boundary_csv(results)?)?;
     }
     if let Some(rows) = super::design::design_rows(results) {
         super::write_atomic(
-            &out.join("design.csv"),
+            &out.join(DESIGN_CSV),
             &super::design::design_csv(study, &rows)?,
         )?;
     }
@@ -273,6 +278,11 @@ pub fn results_csv_layout(
         }
     }
     Ok(w.into_inner()?)
+}
+
+/// The results CSV's coordinate columns (one per study axis), after its id columns.
+pub fn axis_columns(results: &SweepResults) -> Vec<String> {
+    axes_of(results).iter().map(|a| parameter(a).name).collect()
 }
 
 /// The metadata of the results CSV's columns, itself a CSV any tool reads: `name` (the column

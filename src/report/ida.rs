@@ -194,5 +194,6 @@ pub fn write(
     }
     let report = analyse(f, study, &ida.rows);
     write_fragility_csv(&report, &out.join(FRAGILITY_CSV))?;
-    write_fragility_json(&report, &out.join(FRAGILITY_JSON))
+    write_fragility_json(&report, &out.join(FRAGILITY_JSON))?;
+    Ok(super::risk::write_section(out, study, results, &report)?)
 }

@@ -13,6 +13,8 @@ mod legend;
 pub mod naming;
 mod plot;
 mod plot_design;
+pub mod risk;
+mod risk_plot;
 pub mod select;
 pub mod stripes;
 
@@ -29,8 +31,9 @@ pub use aggregate::{
     spectra,
 };
 pub use export::{
-    CsvLayout, Parameter, boundary_csv, parameter, results_columns_csv, results_csv,
-    results_csv_layout, results_json, save_results, stand_in_records, summary, write_tables,
+    BOUNDARY_CSV, CsvLayout, DESIGN_CSV, Parameter, axis_columns, boundary_csv, parameter,
+    results_columns_csv, results_csv, results_csv_layout, results_json, save_results,
+    stand_in_records, summary, write_tables,
 };
 pub use figure::{FigureOptions, FigureSize, ImageFormat, MAX_MEGAPIXELS, MEGAPIXELS_CEILING};
 pub use plot::{
@@ -38,9 +41,20 @@ pub use plot::{
     scene_label, scene_title,
 };
 pub use plot_design::plot_design;
+pub use risk_plot::plot_risk;
 
 use crate::sim::History;
 use std::path::Path;
+
+/// The tables a run writes beside its results (when the study has them), by name: what
+/// Python's `Results.fragility()`, `.stripes()`, `.ida()`, `.design()` and `.boundary()` read.
+pub const TABLE_FILES: [(&str, &str); 5] = [
+    ("fragility", fragility::FRAGILITY_CSV),
+    ("stripes", stripes::STRIPES_CSV),
+    ("ida", ida::IDA_CSV),
+    ("design", DESIGN_CSV),
+    ("boundary", BOUNDARY_CSV),
+];
 
 /// How a run writes its results file and tables, for [`crate::sweep::DirRun::run`].
 pub const WRITERS: crate::sweep::Writers<'static> = crate::sweep::Writers {

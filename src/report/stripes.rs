@@ -293,5 +293,6 @@ pub fn write(out: &Path, study: &Study, results: &SweepResults) -> crate::error:
     }
     let report = analyse(f, study, &rows);
     write_fragility_csv(&report, &out.join(FRAGILITY_CSV))?;
-    write_fragility_json(&report, &out.join(FRAGILITY_JSON))
+    write_fragility_json(&report, &out.join(FRAGILITY_JSON))?;
+    Ok(super::risk::write_section(out, study, results, &report)?)
 }

@@ -13,6 +13,7 @@ mod expand;
 pub mod fields;
 pub mod fragility;
 mod param;
+pub mod risk;
 mod strict;
 pub(crate) mod suites;
 mod values;
@@ -82,6 +83,9 @@ pub struct Study {
     /// Fragility analysis over the study's records and stripes (study/fragility.rs).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fragility: Option<fragility::Fragility>,
+    /// Seismic risk at a site from the fragility curves (study/risk.rs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub risk: Option<risk::Risk>,
 }
 
 pub(crate) fn yes() -> bool {
@@ -506,7 +510,9 @@ impl Study {
             message: format!("cannot read the study file: {e}"),
             hint: Some("check the path; `rocklab run default` runs the built-in study".into()),
         })?;
-        Study::from_ron_str(&text, &origin)
+        let mut study = Study::from_ron_str(&text, &origin)?;
+        risk::resolve(&mut study, path).map_err(|e| e.located(&text, &origin))?;
+        Ok(study)
     }
 
     /// Pretty RON that parses back to the same study.
@@ -536,7 +542,8 @@ impl Study {
     pub fn validate(&self) -> Result<(), StudyError> {
         expand::validate(self)?;
         design::validate(self)?;
-        fragility::validate(self)
+        fragility::validate(self)?;
+        risk::validate(self)
     }
 
     pub fn expand(&self) -> Result<Vec<ScenePoint>, StudyError> {

@@ -219,7 +219,7 @@ impl Search {
             states: Vec::new(),
             next_index: Layout::of(study)?.len(),
             finished: Finished::new(),
-            fragility: FragilityFit::of(study),
+            fragility: FragilityFit::of(study)?,
             design,
             points,
         };

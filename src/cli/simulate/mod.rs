@@ -310,7 +310,20 @@ pub fn result_json(scene: &Scene, r: &SceneResult) -> serde_json::Value {
     json
 }
 
-pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
+/// One scene run from `simulate`'s flags: everything its text and `--json` output show.
+pub struct Simulated {
+    pub scene: Scene,
+    pub result: SceneResult,
+    /// The sampled history, when asked for (`--history`, or Python's `history=True`).
+    pub history: Option<sim::History>,
+    pub check: Option<sim::check::Check>,
+    pub timing: Timing,
+}
+
+/// Run the scene the flags describe (`--repeat` times, with `--check` if asked), recording
+/// its history when `record_history`. The one computation behind `rocklab simulate` and
+/// Python's `rocklab.simulate`.
+pub fn compute(args: &SimulateArgs, record_history: bool) -> anyhow::Result<Simulated> {
     let measures = args.measures()?;
     let scene = args.scene()?;
     if args.check {
@@ -326,7 +339,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     };
     let (result, history, check, timing, differs) = crate::sweep::guarded(|| {
         let sampling = args.dt.clone().unwrap_or(sim::Sampling::Auto);
-        let sampling = args.history.is_some().then_some(&sampling);
+        let sampling = record_history.then_some(&sampling);
         let (mut result, history) = sim::run_sampled(&scene, library, sampling, bounds)?;
         let mut walls = vec![result.wall_seconds];
         let mut differs = None;
@@ -359,24 +372,48 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
              solver should be deterministic; please report the command)"
         );
     }
-    if let (Some(path), Some(h)) = (&args.history, &history) {
+    Ok(Simulated {
+        scene,
+        result,
+        history,
+        check,
+        timing,
+    })
+}
+
+/// The one JSON object `simulate --json` prints.
+pub fn json_output(run: &Simulated) -> anyhow::Result<serde_json::Value> {
+    let mut json = result_json(&run.scene, &run.result);
+    json["wall_seconds_median"] = run.timing.median.into();
+    json["repeats"] = run.timing.repeats.into();
+    if let Excitation::Record { name, .. } = &run.scene.excitation {
+        json["record_source"] = library::global()?.load(name, false)?.source.kind().into();
+    }
+    if let Some(check) = &run.check {
+        json["check"] = serde_json::to_value(check)?;
+    }
+    Ok(json)
+}
+
+pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
+    let run = compute(args, args.history.is_some())?;
+    if let (Some(path), Some(h)) = (&args.history, &run.history) {
         crate::report::write_history_csv(path, h)?;
     }
     if args.json {
-        let mut json = result_json(&scene, &result);
-        json["wall_seconds_median"] = timing.median.into();
-        json["repeats"] = timing.repeats.into();
-        if let Excitation::Record { name, .. } = &scene.excitation {
-            json["record_source"] = library.load(name, false)?.source.kind().into();
-        }
-        if let Some(check) = &check {
-            json["check"] = serde_json::to_value(check)?;
-        }
-        println!("{json}");
+        println!("{}", json_output(&run)?);
     } else {
+        let Simulated {
+            scene,
+            result,
+            check,
+            timing,
+            ..
+        } = &run;
+        let library = library::global()?;
         if let Excitation::Record { name, baseline, .. } = &scene.excitation {
             let record = library.load(name, *baseline)?;
-            let factor = match sim::motion_for(&scene, library)? {
+            let factor = match sim::motion_for(scene, library)? {
                 crate::excitation::Motion::Record(m) => m.factor,
                 crate::excitation::Motion::Pulse(_) => 1.0,
             };
@@ -386,7 +423,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
                 record.source.label()
             );
         }
-        print!("{}", summary(&scene, &result));
+        print!("{}", summary(scene, result));
         if timing.repeats > 1 {
             println!(
                 "  wall time over {} runs: fastest {:.3} ms, median {:.3} ms",
@@ -395,7 +432,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
                 timing.median * 1e3
             );
         }
-        if let Some(check) = &check {
+        if let Some(check) = check {
             print!("{}", check.report());
         }
     }
