@@ -110,7 +110,10 @@ fn names(library: &Library, args: &RecordsArgs) -> Vec<String> {
 }
 
 /// The records as `records --ims` lists them (no suite pairs: RotD50 needs `--suite`).
-fn listed(library: &Library, args: &RecordsArgs) -> anyhow::Result<Vec<super::records_ims::Listed>> {
+fn listed(
+    library: &Library,
+    args: &RecordsArgs,
+) -> anyhow::Result<Vec<super::records_ims::Listed>> {
     names(library, args)
         .iter()
         .map(|name| -> anyhow::Result<super::records_ims::Listed> {

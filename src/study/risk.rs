@@ -131,6 +131,18 @@ pub fn im_factor(study: &Study, im: HazardIm) -> Result<ImFactor, (&'static str,
         (Some(RecordScaling::Pga), HazardIm::Pga) | (Some(RecordScaling::Pgv), HazardIm::Pgv) => {
             Ok(|_, _| 1.0)
         }
+        // Sa at the study's own period and damping is the scaling measure itself.
+        (Some(RecordScaling::Sa { period, damping }), HazardIm::Sa { period: t })
+            if (period - t).abs() <= 1e-9 * t
+                && damping.is_none_or(|d| d == crate::excitation::ims::DEFAULT_DAMPING) =>
+        {
+            Ok(|_, _| 1.0)
+        }
+        (Some(RecordScaling::Sa { .. }), _) => Err((
+            "Sa(T) (scale_to: sa(period: T))",
+            "give the site's hazard in Sa at the study's period and 5 % damping: the header \
+             `sa(T),annual_rate` with the same T, Sa in g",
+        )),
         (Some(RecordScaling::PgaStar | RecordScaling::Pga), _) => Err((
             "PGA (pga_star or pga)",
             "give the site's hazard in PGA: the header `pga,annual_rate`, PGA in g",
@@ -142,7 +154,54 @@ pub fn im_factor(study: &Study, im: HazardIm) -> Result<ImFactor, (&'static str,
         _ => Err((
             "a scale factor, not an intensity measure",
             "a risk needs fragility over an intensity measure: scale the records with \
-             `scale_to: pga_star`, `pga_star`, `pgv` or `pgv_star`",
+             `scale_to: pga_star`, `pga`, `pgv`, `pgv_star` or `sa(period: T)`",
         )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn study(scale_to: &str) -> Study {
+        let text = format!(
+            r#"(version: 1, name: "t", structure: rigid(p: 2.0, alpha: 0.2), devices: [none],
+               excitation: record(suite: (name: "far_field", records: [1]), scale: [0.5, 1.0],
+                                  scale_to: {scale_to}),
+               quantities: [peak_rotation_ratio], spectrum: scale)"#
+        );
+        Study::parse_ron(&text, "t.ron").unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    #[test]
+    fn the_hazard_measure_converts_to_the_studys_scaling_measure() {
+        let (alpha, p) = (0.2_f64, 2.0);
+        let f = im_factor(&study("pga_star"), HazardIm::Pga).unwrap();
+        assert!((f(alpha, p) - 1.0 / alpha.tan()).abs() < 1e-15);
+        let f = im_factor(&study("pgv_star"), HazardIm::Pgv).unwrap();
+        assert!((f(alpha, p) - p / (G * alpha.tan())).abs() < 1e-15);
+        // Sa at the study's own period and 5 % damping is the scaling measure itself.
+        let f = im_factor(&study("sa(period: 1.0)"), HazardIm::Sa { period: 1.0 }).unwrap();
+        assert_eq!(f(alpha, p), 1.0);
+        let f = im_factor(
+            &study("sa(period: 1.0, damping: 0.05)"),
+            HazardIm::Sa { period: 1.0 },
+        );
+        assert!(f.is_ok());
+        // Another period, another damping, or PGA against Sa: refused, saying what fits.
+        for (scale_to, im) in [
+            ("sa(period: 1.0)", HazardIm::Sa { period: 2.0 }),
+            (
+                "sa(period: 1.0, damping: 0.02)",
+                HazardIm::Sa { period: 1.0 },
+            ),
+            ("sa(period: 1.0)", HazardIm::Pga),
+            ("pga_star", HazardIm::Sa { period: 1.0 }),
+        ] {
+            assert!(
+                im_factor(&study(scale_to), im).is_err(),
+                "{scale_to} {im:?}"
+            );
+        }
     }
 }
