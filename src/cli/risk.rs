@@ -52,7 +52,16 @@ fn positive(text: &str) -> Result<f64, String> {
     }
 }
 
-pub fn run(args: &RiskArgs) -> anyhow::Result<()> {
+/// What `rocklab risk` wrote: the report, the directory of risk.csv/risk.json, the figure.
+pub struct Written {
+    pub risk: RiskReport,
+    pub out: PathBuf,
+    pub figure: Option<PathBuf>,
+}
+
+/// Everything `rocklab risk` does but print: assess the results against the hazard and write
+/// risk.csv, risk.json and the figure (Python's `Results.risk` calls this).
+pub fn assess_and_write(args: &RiskArgs) -> anyhow::Result<Written> {
     let dir = if args.results.is_dir() {
         args.results.clone()
     } else {
@@ -91,6 +100,11 @@ pub fn run(args: &RiskArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&out)?;
     write_risk(&out, &risk)?;
     let figure = report::plot_risk(&out, &svg_options(), &risk)?;
+    Ok(Written { risk, out, figure })
+}
+
+pub fn run(args: &RiskArgs) -> anyhow::Result<()> {
+    let Written { risk, out, figure } = assess_and_write(args)?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&risk)?);
     } else {

@@ -47,9 +47,11 @@ use crate::sim::History;
 use std::path::Path;
 
 /// The tables a run writes beside its results (when the study has them), by name: what
-/// Python's `Results.fragility()`, `.stripes()`, `.ida()`, `.design()` and `.boundary()` read.
-pub const TABLE_FILES: [(&str, &str); 5] = [
+/// Python's `Results.fragility()`, `.risk()`, `.stripes()`, `.ida()`, `.design()` and
+/// `.boundary()` read.
+pub const TABLE_FILES: [(&str, &str); 6] = [
     ("fragility", fragility::FRAGILITY_CSV),
+    ("risk", risk::RISK_CSV),
     ("stripes", stripes::STRIPES_CSV),
     ("ida", ida::IDA_CSV),
     ("design", DESIGN_CSV),
