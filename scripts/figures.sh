@@ -20,7 +20,9 @@ for file in studies/*.ron; do
         "$bin" run "$file" --out "$results/$study" --quiet
     fi
     "$bin" plot "$results/$study" --png "$tmp/$study" --dpi 150 >/dev/null
-    if [[ -f "$tmp/$study/fragility.png" ]]; then
+    if [[ -f "$tmp/$study/risk.png" ]]; then
+        cp "$tmp/$study/risk.png" "$dest/$study.png"
+    elif [[ -f "$tmp/$study/fragility.png" ]]; then
         cp "$tmp/$study/fragility.png" "$dest/$study.png"
     elif [[ -f "$tmp/$study/maps.png" ]]; then
         cp "$tmp/$study/maps.png" "$dest/$study.png"

@@ -145,6 +145,7 @@ pass_through!(
     crate::sim::SimError,
     crate::excitation::RecordError,
     crate::fsutil::FsError,
+    crate::risk::RiskError,
 );
 
 /// A formatted [`Error::Message`].

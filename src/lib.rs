@@ -15,6 +15,7 @@ pub mod numfmt;
 pub mod paper;
 pub mod presets;
 pub mod report;
+pub mod risk;
 pub mod ron_syntax;
 pub mod scene;
 pub mod sim;

@@ -320,12 +320,15 @@ impl Default for Damping {
 
 /// Re-engagement reset with gear play (docs/MODEL.md): the paper's rule resets whenever the clutch
 /// is disengaged (δ < up), the strict rule only once the gap has closed the other way (δ < 0).
+/// `never` is the paper's counterfactual (§4: "if this is not done, then the clutch will be
+/// prevented from re-engaging after the first engagement event"), there to measure that claim.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ResetRule {
     #[default]
     Paper,
     Strict,
+    Never,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

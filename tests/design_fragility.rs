@@ -21,7 +21,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 /// final bracket: σ = 0.3388 gives a median of 6.49, the bracket's low end 0.3398 less than
 /// 6: with five records the fitted median moves in jumps as single scenes change verdict,
 /// and the search does not look below the bracket's low end).
-const SMALL: &str = r#"(
+pub(crate) const SMALL: &str = r#"(
     version: 1,
     name: "design_fragility_small",
     structure: rigid(p: 2.0, alpha: 0.2),
@@ -57,7 +57,7 @@ fn study(text: &str) -> Study {
 
 /// The fitted curve of `state` over every record and stripe of variant `variant` with σ set to
 /// `value`: the scenes rerun one by one here and fitted by the fragility report's fit.
-fn refit(study: &Study, variant: usize, value: f64, state: f64) -> Curve {
+pub(crate) fn refit(study: &Study, variant: usize, value: f64, state: f64) -> Curve {
     let layout = study.layout().unwrap();
     let library = rocklab::excitation::library::global().unwrap();
     let bounds = Bounds {
@@ -122,6 +122,9 @@ fn check_answer(study: &Study, rows: &[DesignRow]) {
             FragilityGoal::ExceedanceAtMost { at, most } => {
                 let p = curve.probability(at).unwrap();
                 (p, p <= most)
+            }
+            FragilityGoal::MafAtMost(_) | FragilityGoal::PYearsAtMost(_) => {
+                unreachable!("risk targets: tests/design_risk.rs")
             }
         }
     };

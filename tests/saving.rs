@@ -169,10 +169,21 @@ fn bad_degrees_are_located_errors() {
     assert!(e.hint.as_deref().unwrap().contains("alpha"), "{e}");
 }
 
-/// A study saved by `rocklab run` beside its results (every field written) reads back.
+/// A study saved by `rocklab run` beside its results (every field written) reads back. A
+/// `risk` section's hazard path is relative to the study file, so the shipped hazards travel
+/// with the studies (as `rocklab run` copies them beside its results).
 #[test]
 fn study_save_reads_back() {
     let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("hazards")).unwrap();
+    for entry in std::fs::read_dir("studies/hazards").unwrap() {
+        let from = entry.unwrap().path();
+        std::fs::copy(
+            &from,
+            dir.path().join("hazards").join(from.file_name().unwrap()),
+        )
+        .unwrap();
+    }
     for (path, text) in shipped_studies() {
         let study = Study::from_ron_str(&text, &path).unwrap();
         let file = dir.path().join(Path::new(&path).file_name().unwrap());

@@ -99,6 +99,24 @@ class Results:
         """The answers of a design study (``design.csv``)."""
         return self._csv("design")
 
+    def risk(self, hazard: Optional[PathLike] = None, years: Optional[float] = None,
+             mce: Optional[float] = None, beta_total: Optional[float] = None,
+             ratings: Optional[str] = None, mu_t: Optional[float] = None):
+        """Seismic risk at a site (``risk.csv``): per variant and damage state the mean annual
+        frequency ``maf`` with its bootstrap interval, ``p_years``, the ratio to bare and the
+        deaggregation, as ``rocklab risk``. With ``hazard`` (a CSV ``pga,annual_rate``,
+        ``pgv,annual_rate`` or ``sa(T),annual_rate``) it is computed now, as ``rocklab risk
+        RESULTS --hazard FILE`` with the other arguments as its flags (``mce`` with
+        ``beta_total`` or ``ratings``, e.g. ``"B,B,B"``, gives FEMA P695 margins, in
+        ``risk.json``), and written beside the results; without, the study's own ``risk``
+        section's table is read."""
+        if hazard is not None:
+            args = [str(self.dir)] + to_argv({
+                "hazard": os.fspath(hazard), "years": years, "mce": mce,
+                "beta_total": beta_total, "ratings": ratings, "mu_t": mu_t})
+            _native.risk(args)
+        return self._csv("risk")
+
     def boundary(self):
         """The overturning boundary of a study with a map (``boundary.csv``)."""
         return self._csv("boundary")

@@ -27,7 +27,8 @@ create_exception!(
 pub(crate) fn to_py(e: anyhow::Error) -> PyErr {
     let message = format!("{e:#}");
     let bad_input = e.downcast_ref::<UsageError>().is_some()
-        || e.downcast_ref::<rocklab::study::StudyError>().is_some();
+        || e.downcast_ref::<rocklab::study::StudyError>().is_some()
+        || e.downcast_ref::<rocklab::risk::RiskError>().is_some();
     if bad_input {
         StudyError::new_err(message)
     } else {
@@ -95,6 +96,17 @@ fn records(py: Python<'_>, args: Vec<String>) -> PyResult<String> {
 }
 
 /// `rocklab compare ARGS --json`: the JSON it prints.
+/// `rocklab risk ARGS`: computes and writes risk.csv, risk.json (and the figure) beside the
+/// results, as the CLI does; Python reads risk.csv back.
+#[pyfunction]
+fn risk(py: Python<'_>, args: Vec<String>) -> PyResult<()> {
+    let Command::Risk(args) = parse("risk", args)? else {
+        unreachable!("parsed as risk")
+    };
+    py.allow_threads(|| rocklab::cli::risk::assess_and_write(&args).map(|_| ()))
+        .map_err(to_py)
+}
+
 #[pyfunction]
 fn compare(py: Python<'_>, args: Vec<String>) -> PyResult<String> {
     let Command::Compare(args) = parse("compare", args)? else {
@@ -219,6 +231,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(records, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
+    m.add_function(wrap_pyfunction!(risk, m)?)?;
     m.add_function(wrap_pyfunction!(table, m)?)?;
     m.add_function(wrap_pyfunction!(study_parse, m)?)?;
     m.add_function(wrap_pyfunction!(study_ron, m)?)?;

@@ -84,6 +84,19 @@ def test_fragility_tables_equal_the_cli_files(cli, tmp_path):
     assert len(fragility) > 0
     with pytest.raises(FileNotFoundError, match="design"):
         ours.design()
+    # Risk at the shipped illustrative site, as `rocklab risk` writes it.
+    hazard = REPO / "studies" / "hazards" / "illustrative_pga.csv"
+    risk = ours.risk(hazard=hazard, years=50.0)
+    cli("risk", tmp_path / "cli", "--hazard", hazard, "--years", "50")
+    assert risk.equals(pd.read_csv(tmp_path / "cli" / "risk.csv"))
+    fitted = risk[risk["maf"].notna()]
+    assert len(fitted) > 0
+    # p_years is the Poisson probability of the MAF; the interval holds the MAF.
+    assert ((1 - np.exp(-fitted["maf"] * 50.0) - fitted["p_years"]).abs() < 1e-12).all()
+    bounded = fitted[fitted["maf_lo"].notna()]
+    assert ((bounded["maf_lo"] <= bounded["maf"]) & (bounded["maf"] <= bounded["maf_hi"])).all()
+    with pytest.raises(rocklab.StudyError, match="no_such.csv"):
+        ours.risk(hazard=tmp_path / "no_such.csv")
 
 
 def test_progress_reaches_the_total(tmp_path):

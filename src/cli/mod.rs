@@ -5,10 +5,13 @@ mod bench_quantities;
 mod bench_suite;
 pub mod check;
 pub mod compare;
+pub mod ims;
 pub mod paper;
 pub mod plot;
 pub mod records;
+mod records_ims;
 mod records_suite;
+pub mod risk;
 pub mod run;
 pub mod simulate;
 pub mod slurm;
@@ -57,6 +60,14 @@ pub enum Command {
     Check(check::CheckArgs),
     /// The paper's results-section claims rerun against rocklab: the PAPER.md table.
     Paper(paper::PaperArgs),
+    /// Which intensity measure predicts each damage state best: β of ln IDA capacity per
+    /// IM, variant and damage state, with bootstrap intervals and magnitude sufficiency.
+    Ims(ims::ImsArgs),
+
+    /// Seismic risk at a site: the mean annual frequency of reaching each damage state from a
+    /// fragility study's results and a hazard curve, bare against protected, with intervals;
+    /// FEMA P695 collapse margins with --mce.
+    Risk(risk::RiskArgs),
     /// Figures from a results file: spectra, overturning maps, a scene's histories.
     Plot(plot::PlotArgs),
     /// The results as CSV, long (tidy) or wide, with ASCII column names.
@@ -176,8 +187,10 @@ pub fn main() -> ExitCode {
                 | Command::Bench(_)
                 | Command::Compare(_)
                 | Command::Plot(_)
+                | Command::Risk(_)
                 | Command::Status(_)
                 | Command::Table(_)
+                | Command::Ims(_)
         )
     ) {
         quiet_on_broken_pipe();
@@ -194,7 +207,9 @@ pub fn main() -> ExitCode {
         Some(Command::Compare(args)) => compare::run(&args),
         Some(Command::Check(args)) => check::run(&args),
         Some(Command::Plot(args)) => plot::run(&args),
+        Some(Command::Risk(args)) => risk::run(&args),
         Some(Command::Paper(args)) => paper::run(&args),
+        Some(Command::Ims(args)) => ims::run(&args),
         Some(Command::Table(args)) => table::run(&args),
         Some(Command::Tui(args)) => tui(&args),
         None => tui(&TuiArgs {

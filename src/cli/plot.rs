@@ -115,6 +115,8 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
         true => Some(report::fragility::read_fragility_json(&fragility_path)?),
         false => None,
     };
+    // And its seismic risk (`rocklab risk` or a study's risk section), if computed.
+    let risk = report::risk::read_risk(crate::fsutil::parent_dir(&results_path));
     let mut targets = Vec::new();
     if let Some(d) = &args.svg {
         targets.push((d.clone(), ImageFormat::Svg));
@@ -181,6 +183,9 @@ pub fn run(args: &PlotArgs) -> anyhow::Result<()> {
         written.extend(report::plot_maps(&dir, &options, &results, &maps, &choice)?);
         if let Some(f) = &fragility {
             written.extend(report::fragility::plot_fragility(&dir, &options, f)?);
+        }
+        if let Some(risk) = &risk {
+            written.extend(report::plot_risk(&dir, &options, risk)?);
         }
         if let (Some(a), Some(b)) = (&args.a, &args.b) {
             match report::plot_map_differences(&dir, &options, &maps, a, b)? {

@@ -1,7 +1,7 @@
 //! `rocklab records`: the ground-motion records this binary can run, with PGA and PGV computed
 //! from the data, the paper's Table 1 PGV beside them, and where each record came from.
 
-use crate::excitation::{G, Library, Record};
+use crate::excitation::{G, Library, Record, ims};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -22,6 +22,26 @@ pub struct RecordsArgs {
     /// near_field_no_pulse, near_field (both) or table1.
     #[arg(long)]
     pub suite: Option<String>,
+    /// Compute every component's intensity measures (PGA, PGV, PGD, Arias, CAV, D5-75, D5-95,
+    /// Sa at --periods, Tm, pulse classification and Tp; RotD50 for suite pairs).
+    #[arg(long)]
+    pub ims: bool,
+    /// Periods (s) of Sa with --ims, comma separated (default 0.1,0.2,0.3,0.5,0.75,1,1.5,2,3,4,5).
+    #[arg(long, value_delimiter = ',', requires = "ims")]
+    pub periods: Vec<f64>,
+    /// Damping ratio of Sa with --ims.
+    #[arg(long, default_value_t = crate::excitation::ims::DEFAULT_DAMPING, requires = "ims")]
+    pub damping: f64,
+    /// Records to list instead of the library's: names, suite components (far_field/7a) or
+    /// files (AT2, one- or two-column).
+    #[arg(conflicts_with = "suite")]
+    pub records: Vec<String>,
+}
+
+/// PGV (m/s) as the intensity measures define it: a record in g converted with standard
+/// gravity, exact integration of the piecewise-linear record (`excitation::ims`).
+pub(super) fn standard_pgv(r: &Record) -> f64 {
+    ims::Accelerogram::from_series(&r.series).map_or(0.0, |a| ims::kinematics(&a).pgv)
 }
 
 const SPARK: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
@@ -63,7 +83,7 @@ pub(super) fn row_json(r: &Record) -> serde_json::Value {
         "dt": s.dt(),
         "duration": s.end(),
         "pga_g": s.pga() / G,
-        "pgv": s.pgv(),
+        "pgv": standard_pgv(r),
         "pgv_table1": meta.and_then(|m| m.pgv_table1),
     })
 }
@@ -80,12 +100,41 @@ fn library(args: &RecordsArgs) -> anyhow::Result<Library> {
     Ok(Library::open(dir)?)
 }
 
-/// Every record of the library, and a line for each one that could not be read.
-fn load_all(library: &Library, baseline: bool) -> (Vec<std::sync::Arc<Record>>, Vec<String>) {
+/// The records named on the command line, or else every record of the library.
+fn names(library: &Library, args: &RecordsArgs) -> Vec<String> {
+    if args.records.is_empty() {
+        library.names()
+    } else {
+        args.records.clone()
+    }
+}
+
+/// The records as `records --ims` lists them (no suite pairs: RotD50 needs `--suite`).
+fn listed(
+    library: &Library,
+    args: &RecordsArgs,
+) -> anyhow::Result<Vec<super::records_ims::Listed>> {
+    names(library, args)
+        .iter()
+        .map(|name| -> anyhow::Result<super::records_ims::Listed> {
+            let record = library.load(name, args.baseline)?;
+            Ok(super::records_ims::Listed {
+                meta: row_json(&record),
+                name: record.name.clone(),
+                record,
+                pair: None,
+            })
+        })
+        .collect()
+}
+
+/// The named records (or every record of the library), and a line for each one that could
+/// not be read.
+fn load_all(library: &Library, args: &RecordsArgs) -> (Vec<std::sync::Arc<Record>>, Vec<String>) {
     let mut rows = Vec::new();
     let mut failures = Vec::new();
-    for name in library.names() {
-        match library.load(&name, baseline) {
+    for name in names(library, args) {
+        match library.load(&name, args.baseline) {
             Ok(r) => rows.push(r),
             Err(e) => failures.push(format!("{name}: {e}")),
         }
@@ -111,7 +160,10 @@ pub fn json(args: &RecordsArgs) -> anyhow::Result<serde_json::Value> {
     if let Some(suite) = &args.suite {
         return super::records_suite::json_rows(&library, suite, args);
     }
-    let (rows, failures) = load_all(&library, args.baseline);
+    if args.ims {
+        return super::records_ims::json(listed(&library, args)?, args);
+    }
+    let (rows, failures) = load_all(&library, args);
     unreadable(&failures)?;
     Ok(serde_json::Value::Array(
         rows.iter().map(|r| row_json(r)).collect(),
@@ -123,7 +175,10 @@ pub fn run(args: &RecordsArgs) -> anyhow::Result<()> {
     if let Some(suite) = &args.suite {
         return super::records_suite::run(&library, suite, args);
     }
-    let (rows, failures) = load_all(&library, args.baseline);
+    if args.ims {
+        return super::records_ims::run(listed(&library, args)?, args);
+    }
+    let (rows, failures) = load_all(&library, args);
     if args.json {
         let list: Vec<_> = rows.iter().map(|r| row_json(r)).collect();
         println!("{}", serde_json::Value::Array(list));
@@ -143,7 +198,7 @@ fn table(library: &Library, rows: &[std::sync::Arc<Record>]) -> String {
                 .to_string())
     );
     out.push_str(
-        "PGA (g) and PGV (m/s) are computed from the data; Tab1 PGV and Tp are the paper's Table 1.\n",
+        "PGA (g) and PGV (m/s, standard gravity) are computed from the data; Tab1 PGV and Tp are the paper's Table 1.\n",
     );
     out.push_str(&format!(
         "{:<2} {:<19} {:<44} {:>6} {:>6} {:>7} {:>6} {:>6} {:>8} {:>5} {:<9} {}\n",
@@ -176,7 +231,7 @@ fn table(library: &Library, rows: &[std::sync::Arc<Record>]) -> String {
             s.dt(),
             s.end(),
             s.pga() / G,
-            s.pgv(),
+            standard_pgv(r),
             meta.and_then(|m| m.pgv_table1)
                 .map_or("-".into(), |v| format!("{v:.2}")),
             meta.and_then(|m| m.tp)

@@ -1,7 +1,7 @@
 //! `rocklab records --suite NAME`: the components of a record suite with their metadata
 //! (`index.csv`) and the npts, dt, PGA and PGV rocklab computes from the data.
 
-use super::records::{RecordsArgs, row_json, truncate};
+use super::records::{RecordsArgs, row_json, standard_pgv, truncate};
 use crate::excitation::suite::{SuiteRecord, SuiteSelect};
 use crate::excitation::{G, Library, Record};
 use std::sync::Arc;
@@ -27,13 +27,29 @@ fn load<'a>(
     Ok(rows)
 }
 
-/// The JSON array `records --suite NAME --json` prints.
+/// The suite's components as `records --ims` lists them: metadata, name and suite pair.
+fn listed(rows: Vec<(Option<&SuiteRecord>, Arc<Record>)>) -> Vec<super::records_ims::Listed> {
+    rows.into_iter()
+        .map(|(entry, record)| super::records_ims::Listed {
+            meta: json(entry, &record),
+            name: entry.map_or_else(|| record.name.clone(), SuiteRecord::id),
+            pair: entry.map(|e| (e.set.name().to_string(), e.row.record_id)),
+            record,
+        })
+        .collect()
+}
+
+/// The JSON array `records --suite NAME --json [--ims]` prints.
 pub fn json_rows(
     library: &Library,
     suite: &str,
     args: &RecordsArgs,
 ) -> anyhow::Result<serde_json::Value> {
-    Ok(rows_json(&load(library, suite, args)?))
+    let rows = load(library, suite, args)?;
+    if args.ims {
+        return super::records_ims::json(listed(rows), args);
+    }
+    Ok(rows_json(&rows))
 }
 
 fn rows_json(rows: &[(Option<&SuiteRecord>, Arc<Record>)]) -> serde_json::Value {
@@ -42,6 +58,9 @@ fn rows_json(rows: &[(Option<&SuiteRecord>, Arc<Record>)]) -> serde_json::Value 
 
 pub fn run(library: &Library, suite: &str, args: &RecordsArgs) -> anyhow::Result<()> {
     let rows = load(library, suite, args)?;
+    if args.ims {
+        return super::records_ims::run(listed(rows), args);
+    }
     if args.json {
         println!("{}", rows_json(&rows));
     } else {
@@ -79,7 +98,7 @@ fn json(entry: Option<&SuiteRecord>, r: &Record) -> serde_json::Value {
         "dt": s.dt(),
         "duration": s.end(),
         "pga_g": s.pga() / G,
-        "pgv": s.pgv(),
+        "pgv": standard_pgv(r),
         "index_npts": m.npts,
         "index_dt": m.dt,
         "index_pga_g": m.pga_g,
@@ -89,9 +108,10 @@ fn json(entry: Option<&SuiteRecord>, r: &Record) -> serde_json::Value {
 
 fn table(suite: &str, rows: &[(Option<&SuiteRecord>, Arc<Record>)]) -> String {
     let mut out = format!(
-        "suite {suite}: {} components. PGA (g) and PGV (m/s) computed from the data (g = {G}); \
+        "suite {suite}: {} components. PGA (g) and PGV (m/s) computed from the data (g = {}); \
          FEMA NF = the FEMA P695 normalisation factor (`scale_to: fema`).\n",
-        rows.len()
+        rows.len(),
+        crate::excitation::ims::STANDARD_GRAVITY
     );
     out.push_str(&format!(
         "{:<24} {:>5} {:<36} {:>4} {:>5} {:<2} {:<18} {:>6} {:>6} {:>6} {:>6} {:>6} {:>5} {:<5}\n",
@@ -128,7 +148,7 @@ fn table(suite: &str, rows: &[(Option<&SuiteRecord>, Arc<Record>)]) -> String {
                     s.dt(),
                     s.end(),
                     s.pga() / G,
-                    s.pgv(),
+                    standard_pgv(r),
                     m.normalization_factor,
                     e.set.pulse().map_or("-", |p| if p { "yes" } else { "no" }),
                 )
@@ -155,7 +175,7 @@ fn table(suite: &str, rows: &[(Option<&SuiteRecord>, Arc<Record>)]) -> String {
                     s.dt(),
                     s.end(),
                     s.pga() / G,
-                    s.pgv(),
+                    standard_pgv(r),
                     "-",
                     // Table 1's records are the paper's pulse-like set.
                     if meta.and_then(|m| m.table1).is_some() {

@@ -6,8 +6,10 @@
 //!   Mavroeidis–Papageorgiou), all scaled by peak acceleration and ω.
 //! - [`record`]: sampled records, linear between samples, O(1) lookup, shared via `Arc`.
 //! - [`reader`]: PEER AT2, one- and two-column files.
+//! - [`ims`]: intensity measures of a record (PGA … Sa, durations, pulse classification).
 //! - [`library`]: record names → parsed records (directory, embedded copies, stand-ins), cached.
 
+pub mod ims;
 pub mod library;
 pub mod pulse;
 pub mod reader;

@@ -442,7 +442,7 @@ fn parse_at2(
         ));
     }
     let accel = scaled(values.into_iter(), units.to_mps2(), origin)?;
-    Ok((Series::new(0.0, dt, accel), named))
+    Ok((Series::new(0.0, dt, accel).read_in(units), named))
 }
 
 fn at2_npts_dt(line: &str, origin: &str, line_no: usize) -> Result<(usize, f64), ParseError> {
@@ -659,7 +659,7 @@ fn parse_columns(
                 })?;
             let dt = checked_dt(dt, origin, 0, "dt")?;
             let accel = scaled(rows.iter().map(|(_, r)| r[0]), scale, origin)?;
-            Ok((Series::new(0.0, dt, accel), header.units))
+            Ok((Series::new(0.0, dt, accel).read_in(units), header.units))
         }
         2 => {
             let n = rows.len();
@@ -699,7 +699,7 @@ fn parse_columns(
                 }
             }
             let accel = scaled(rows.iter().map(|(_, r)| r[1]), scale, origin)?;
-            Ok((Series::new(t0, dt, accel), header.units))
+            Ok((Series::new(t0, dt, accel).read_in(units), header.units))
         }
         _ => Err(err(
             origin,

@@ -15,6 +15,9 @@ pub struct Series {
     accel: Vec<f64>,
     pga: f64,
     pgv: f64,
+    /// What turns a sample into m/s² at standard gravity for the intensity measures
+    /// ([`Series::standard_samples`]): STANDARD_GRAVITY / G for a file in g, else 1.
+    to_standard: f64,
 }
 
 impl Series {
@@ -32,6 +35,7 @@ impl Series {
             accel,
             pga,
             pgv: 0.0,
+            to_standard: 1.0,
         };
         s.pgv = s.velocity_extremes().1;
         s
@@ -45,6 +49,25 @@ impl Series {
     }
     pub fn npts(&self) -> usize {
         self.accel.len()
+    }
+
+    /// This series read from a file in `units`: a file in g was turned into m/s² with the
+    /// model's [`G`](super::G), and the intensity measures turn it back with standard gravity.
+    pub fn read_in(mut self, units: super::reader::Units) -> Self {
+        self.to_standard = match units {
+            super::reader::Units::G => super::ims::STANDARD_GRAVITY / super::G,
+            _ => 1.0,
+        };
+        self
+    }
+
+    /// Samples in m/s² as the intensity measures read them: a record in g converted with
+    /// standard gravity (`ims::STANDARD_GRAVITY`), not the model's g; others as stored.
+    pub fn standard_samples(&self) -> Vec<f64> {
+        if self.to_standard == 1.0 {
+            return self.accel.clone();
+        }
+        self.accel.iter().map(|a| a * self.to_standard).collect()
     }
     /// Samples in m/s².
     /// A hash of the data (t0, dt and every sample, bit for bit): two series with the same
@@ -152,7 +175,10 @@ impl Series {
             .enumerate()
             .map(|(k, a)| a - (c1 + 2.0 * c2 * k as f64 * self.dt))
             .collect();
-        Series::new(self.t0, self.dt, corrected)
+        Series {
+            to_standard: self.to_standard,
+            ..Series::new(self.t0, self.dt, corrected)
+        }
     }
 
     /// Index of the first sample strictly after t.

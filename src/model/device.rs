@@ -590,6 +590,7 @@ impl ClutchModel {
         match self.reset {
             ResetRule::Paper => delta_a < self.play,
             ResetRule::Strict => delta_a < 0.0,
+            ResetRule::Never => false,
         }
     }
 
@@ -597,6 +598,7 @@ impl ClutchModel {
         match self.reset {
             ResetRule::Paper => delta_b > -self.play,
             ResetRule::Strict => delta_b > 0.0,
+            ResetRule::Never => false,
         }
     }
 }

@@ -159,6 +159,42 @@ pub const CLAIMS: &[Claim] = &[
         "§9",
         "Nevertheless, it should be noted that in all cases the inerter-equipped structures experienced smaller rotation and accelerations demands than unprotected ones.",
     ),
+    // §3–§5: the mechanisms around Figs. 5, 6, 9 and 10 (rows_mechanisms)
+    c(
+        "fig5-phase-shift",
+        "Fig. 5",
+        "… even though changes in the duration of impact cause shifts in the phase of the response.",
+    ),
+    c(
+        "fig5-equivalent-dissipation",
+        "Fig. 5",
+        "The magnitude of the impact forces is defined based on Housner's coefficient of restitution, r, according to Eq. 18. Accordingly, the three models compared in Fig. 5 have equivalent energy dissipation ratios during impact.",
+    ),
+    c(
+        "fig6-epsilon-distortion",
+        "Fig. 6",
+        "… where ϵ is a factor that controls the transition between engagement and disengagement. As can be appreciated from Fig. 6, a higher value of ϵ avoids the local distortion near negative zero.",
+    ),
+    c(
+        "s4-reset-needed",
+        "§4",
+        "Therefore, the local coordinate is updated in real time by resetting its value to the structure's local coordinate once a re-engagement event is detected. … If this is not done, then the clutch will be prevented from re-engaging after the first engagement event.",
+    ),
+    c(
+        "fig9-sudden-loss",
+        "Fig. 9",
+        "Figure 9 evidences the effects of the underlying assumption of the sequential model related to the complete sudden loss of the energy in inerter after disengagement. This contrasts with the relatively decelerated response of the newly proposed model which is controlled by an explicit modelling of the viscous dissipation within the device.",
+    ),
+    c(
+        "fig9-limited-time",
+        "Fig. 9a",
+        "This is because at this stage in the response the inerter has limited time to decelerate while the frequency of the rocking motion continues to increase rapidly.",
+    ),
+    c(
+        "fig10-coincide",
+        "Fig. 10",
+        "When the velocity of the inerter and the local velocity in the structure coincide (Point B), a maximum displacement difference and peak transmission is achieved.",
+    ),
     // §6.2
     c(
         "fig14-inerter-uplift",
@@ -301,6 +337,32 @@ pub const CLAIMS: &[Claim] = &[
         "s9-play-acceleration",
         "§9",
         "Contrastingly, the gear play did not have an appreciable effect on the base rotation and elastic deformation response, but it significantly increased the acceleration demands.",
+    ),
+    // §6–§7 and §9: the flexible structure's device, checks of their own (rows_clutch_settings)
+    c(
+        "fig15-conservation",
+        "Fig. 15f",
+        "This contrasts with the response depicted in Fig. 15f which maintains the conservation of energy throughout the motion of inerter.",
+    ),
+    c(
+        "fig16-similar-peaks",
+        "Fig. 16",
+        "Therefore, the horizontal drift is controlled mainly by uplift peak rotation, which explains partly why different models have similar peak response predictions.",
+    ),
+    c(
+        "s7-series-of-collisions",
+        "§7.4, Fig. 22",
+        "The consideration of gear play effectively introduces a series of collisions whenever the clutch engages.",
+    ),
+    c(
+        "fig21-similar-to-viscous",
+        "Fig. 21, §9",
+        "In general, the effects of dissipating energy through friction are similar to those observed for viscous damping, …",
+    ),
+    c(
+        "s9-damping-friction-more-significant",
+        "§9",
+        "Analyses conducted for a wide range of ground motion frequencies demonstrated that, for all practical purposes, the influence of the clutch stiffness is not determinant. Viscous damping and dry friction, on the other hand, were shown to have a more significant impact on the rotation and elastic deformation responses.",
     ),
     // §8
     c(

@@ -67,20 +67,28 @@ pub const IMMATERIAL_SHARE: f64 = 0.10;
 /// ...and at most this for "roughly".
 pub const IMMATERIAL_ROUGHLY: f64 = 0.20;
 
+/// The dead band of the immaterial share: within a point of [`IMMATERIAL_SHARE`] the row says
+/// the verdict sits at the threshold.
+pub const IMMATERIAL_MARGIN: f64 = 0.01;
+
 /// "Immaterial" and its synonyms: every variant against the reference. A point where exactly
 /// one of the two overturned (a curve discontinued where the other goes on) is a visible
-/// difference: it caps the verdict at roughly.
+/// difference: it caps the verdict at roughly. On a spectrum (three points or more) the
+/// largest difference but one is reported too: a share above the threshold at a single point
+/// only is roughly, and the gap says the verdict rests on that point.
 pub fn immaterial(reference: &Series, variants: &[(&str, &Series)]) -> Judgement {
     let scale = peak(reference).unwrap_or(0.0);
     let mut values = vec![("reference peak".to_string(), scale)];
-    let (mut worst, mut flips) = (0.0f64, 0usize);
+    let (mut worst, mut worst_but_one, mut flips) = (0.0f64, 0.0f64, 0usize);
     for (name, v) in variants {
-        let d = reference
+        let mut d: Vec<f64> = reference
             .iter()
             .zip(v.iter())
             .filter_map(|(a, b)| Some((a.as_ref()? - b.as_ref()?).abs()))
-            .fold(0.0, f64::max);
-        let share = if scale > 0.0 { d / scale } else { d };
+            .map(|d| if scale > 0.0 { d / scale } else { d })
+            .collect();
+        d.sort_by(|a, b| b.total_cmp(a));
+        let share = d.first().copied().unwrap_or(0.0);
         let flipped = reference
             .iter()
             .zip(v.iter())
@@ -91,33 +99,56 @@ pub fn immaterial(reference: &Series, variants: &[(&str, &Series)]) -> Judgement
             share,
         ));
         values.push((format!("{name}: overturning flips"), flipped as f64));
+        if reference.len() >= 3 {
+            let but_one = d.get(1).copied().unwrap_or(0.0);
+            values.push((
+                format!("{name}: largest difference but one / reference peak"),
+                but_one,
+            ));
+            worst_but_one = worst_but_one.max(but_one);
+        } else {
+            worst_but_one = worst_but_one.max(share);
+        }
         worst = worst.max(share);
         flips += flipped;
     }
+    let one_point = worst > IMMATERIAL_SHARE && worst_but_one <= IMMATERIAL_SHARE;
     let verdict = if worst <= IMMATERIAL_SHARE && flips == 0 {
         Agreement::Agrees
-    } else if worst <= IMMATERIAL_ROUGHLY {
+    } else if worst <= IMMATERIAL_ROUGHLY || (one_point && flips == 0) {
         Agreement::Roughly
     } else {
         Agreement::Disagrees
     };
+    let pct = |x: f64| 100.0 * x;
     let gap = match verdict {
+        Agreement::Agrees if worst > IMMATERIAL_SHARE - IMMATERIAL_MARGIN => format!(
+            "largest difference {:.1} % of the reference peak, within a point of the {:.0} % threshold",
+            pct(worst),
+            pct(IMMATERIAL_SHARE)
+        ),
         Agreement::Agrees => String::new(),
         _ if flips > 0 && worst <= IMMATERIAL_ROUGHLY => format!(
             "largest difference {:.1} % of the peak, but {flips} point(s) where only one curve overturns",
-            100.0 * worst
+            pct(worst)
+        ),
+        _ if one_point => format!(
+            "largest difference {:.1} % of the reference peak at one point only: without it {:.1} % (immaterial: ≤ {:.0} %), so the verdict rests on that point",
+            pct(worst),
+            pct(worst_but_one),
+            pct(IMMATERIAL_SHARE)
         ),
         _ => format!(
             "largest difference {:.1} % of the reference peak (immaterial: ≤ {:.0} %)",
-            100.0 * worst,
-            100.0 * IMMATERIAL_SHARE
+            pct(worst),
+            pct(IMMATERIAL_SHARE)
         ),
     };
     Judgement {
         check: format!(
-            "immaterial: largest |difference| over the whole axis ≤ {:.0} % of the reference spectrum's peak (≤ {:.0} % roughly), no overturning flips",
-            100.0 * IMMATERIAL_SHARE,
-            100.0 * IMMATERIAL_ROUGHLY
+            "immaterial: largest |difference| over the whole axis ≤ {:.0} % of the reference spectrum's peak (≤ {:.0} %, or above it at one point only, roughly), no overturning flips",
+            pct(IMMATERIAL_SHARE),
+            pct(IMMATERIAL_ROUGHLY)
         ),
         values,
         verdict,
@@ -169,8 +200,14 @@ fn gap_unless_agrees(verdict: Agreement, gap: impl FnOnce() -> String) -> String
     }
 }
 
+/// The dead band of every ratio check: a ratio within ±1 % of 1 is "no difference", so a
+/// verdict never flips on the fifth digit (a mean of 0.9999992 is not "slightly lower", a
+/// point at 1.000001 is not "above").
+pub const DEAD_BAND: f64 = 0.01;
+
 /// How strongly a claim says one response is above or below another; thresholds on the mean
-/// of the pointwise ratio (variant / reference) and the share of points on the claimed side.
+/// of the pointwise ratio (variant / reference) and the share of points on the claimed side,
+/// each clear of [`DEAD_BAND`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Relation {
     /// "larger / higher / increased": mean ratio > 1 and at least half the points above.
@@ -200,25 +237,27 @@ impl Relation {
     fn words(self) -> &'static str {
         match self {
             Relation::Larger => {
-                "larger: mean ratio > 1 and ≥ 50 % of points above (one of the two roughly)"
+                "larger: mean ratio > 1.01 and ≥ 50 % of points above 1.01 (one of the two roughly)"
             }
             Relation::MarkedlyLarger => {
-                "markedly larger: mean ratio ≥ 1.10 and ≥ 80 % of points above (mean > 1 roughly)"
+                "markedly larger: mean ratio ≥ 1.10 and ≥ 80 % of points above 1.01 (mean > 1.01 roughly)"
             }
             Relation::Lower => {
-                "lower: mean ratio < 1 and ≥ 50 % of points below (one of the two roughly)"
+                "lower: mean ratio < 0.99 and ≥ 50 % of points below 0.99 (one of the two roughly)"
             }
-            Relation::LowerEverywhere => "lower in all cases: every point below (≥ 80 % roughly)",
+            Relation::LowerEverywhere => {
+                "lower in all cases: every point below 0.99 (≥ 80 % roughly)"
+            }
             Relation::MuchLower => "significantly lower: mean ratio ≤ 0.80 (< 0.95 roughly)",
             Relation::SlightlyLower => {
-                "slightly lower: mean ratio in [0.80, 1) (0.70–0.80 or 1–1.03 roughly)"
+                "slightly lower: mean ratio in [0.80, 0.99) (0.70–0.80 or 0.99–1.03 roughly)"
             }
             Relation::Halved => "more than halved: mean ratio < 0.5 (< 0.6 roughly)",
             Relation::SlightlyHigher => {
-                "slightly higher: mean ratio in (1, 1.20] ((1.20, 1.30] or [0.97, 1] roughly)"
+                "slightly higher: mean ratio in (1.01, 1.20] ((1.20, 1.30] or [0.97, 1.01] roughly)"
             }
-            Relation::HigherSomewhere => "can be higher: at least one point above",
-            Relation::LowerSomewhere => "can be lower: at least one point below",
+            Relation::HigherSomewhere => "can be higher: at least one point above 1.01",
+            Relation::LowerSomewhere => "can be lower: at least one point below 0.99",
         }
     }
 
@@ -233,20 +272,21 @@ impl Relation {
                 Disagrees
             }
         };
+        let (hi, lo) = (1.0 + DEAD_BAND, 1.0 - DEAD_BAND);
         match self {
-            Relation::Larger => pick(mean > 1.0 && above >= 0.5, mean > 1.0 || above >= 0.5),
-            Relation::MarkedlyLarger => pick(mean >= 1.10 && above >= 0.8, mean > 1.0),
-            Relation::Lower => pick(mean < 1.0 && below >= 0.5, mean < 1.0 || below >= 0.5),
+            Relation::Larger => pick(mean > hi && above >= 0.5, mean > hi || above >= 0.5),
+            Relation::MarkedlyLarger => pick(mean >= 1.10 && above >= 0.8, mean > hi),
+            Relation::Lower => pick(mean < lo && below >= 0.5, mean < lo || below >= 0.5),
             Relation::LowerEverywhere => pick(below >= 1.0, below >= 0.8),
             Relation::MuchLower => pick(mean <= 0.80, mean < 0.95),
             Relation::SlightlyLower => pick(
-                (0.80..1.0).contains(&mean),
-                (0.70..0.80).contains(&mean) || (1.0..1.03).contains(&mean),
+                (0.80..lo).contains(&mean),
+                (0.70..0.80).contains(&mean) || (lo..1.03).contains(&mean),
             ),
             Relation::Halved => pick(mean < 0.5, mean < 0.6),
             Relation::SlightlyHigher => pick(
-                mean > 1.0 && mean <= 1.20,
-                (1.20..=1.30).contains(&mean) || (0.97..=1.0).contains(&mean),
+                mean > hi && mean <= 1.20,
+                (1.20..=1.30).contains(&mean) || (0.97..=hi).contains(&mean),
             ),
             Relation::HigherSomewhere => pick(above > 0.0, false),
             Relation::LowerSomewhere => pick(below > 0.0, false),
@@ -272,8 +312,8 @@ pub fn compare(relation: Relation, reference: &Series, variant: &Series) -> Judg
     let q = ratios(reference, variant);
     let n = q.len().max(1) as f64;
     let m = mean(&q);
-    let above = q.iter().filter(|r| **r > 1.0).count() as f64 / n;
-    let below = q.iter().filter(|r| **r < 1.0).count() as f64 / n;
+    let above = q.iter().filter(|r| **r > 1.0 + DEAD_BAND).count() as f64 / n;
+    let below = q.iter().filter(|r| **r < 1.0 - DEAD_BAND).count() as f64 / n;
     let verdict = if q.is_empty() {
         Agreement::Untestable
     } else {
@@ -292,7 +332,7 @@ pub fn compare(relation: Relation, reference: &Series, variant: &Series) -> Judg
             Agreement::Agrees => String::new(),
             Agreement::Untestable => "no point where both responses exist".into(),
             _ => format!(
-                "mean ratio {m:.3}, {:.0} % of {} points above, {:.0} % below",
+                "mean ratio {m:.3}, {:.0} % of {} points above 1.01, {:.0} % below 0.99",
                 100.0 * above,
                 q.len(),
                 100.0 * below
@@ -301,22 +341,25 @@ pub fn compare(relation: Relation, reference: &Series, variant: &Series) -> Judg
     }
 }
 
-/// "Reduced as X increases": the distance of the ratio from 1, averaged per third of the
-/// axis, falls from third to third (a rise of at most `TREND_TOL` between neighbours is
-/// allowed) and ends below where it started. Ends lower but not monotone: roughly.
-pub const TREND_TOL: f64 = 0.02;
-
-pub fn toward_one(xs: &[f64], reference: &Series, variant: &Series) -> Judgement {
-    let thirds = thirds(xs.len());
-    let d: Vec<f64> = thirds
+/// "Differences reduced as X increases", read off the plot: the mean |difference| per third of
+/// the axis, on the plotted quantity, as a share of the reference's peak (the plot's scale),
+/// falls from third to third (a rise of at most [`DEAD_BAND`] of the peak between neighbours
+/// is allowed) and ends more than [`DEAD_BAND`] below where it started. Ends lower but not
+/// monotone: roughly.
+pub fn gap_shrinks(xs: &[f64], reference: &Series, variant: &Series) -> Judgement {
+    let scale = peak(reference).unwrap_or(1.0);
+    let d: Vec<f64> = thirds(xs.len())
         .iter()
         .map(|r| {
-            let q = ratios(&reference[r.clone()].to_vec(), &variant[r.clone()].to_vec());
-            (1.0 - mean(&q)).abs()
+            let gaps: Vec<f64> = r
+                .clone()
+                .filter_map(|i| Some((reference[i]? - variant[i]?).abs() / scale))
+                .collect();
+            mean(&gaps)
         })
         .collect();
-    let monotone = d.windows(2).all(|w| w[1] <= w[0] + TREND_TOL);
-    let ends_lower = d[2] < d[0];
+    let monotone = d.windows(2).all(|w| w[1] <= w[0] + DEAD_BAND);
+    let ends_lower = d[2] < d[0] - DEAD_BAND;
     let verdict = if monotone && ends_lower {
         Agreement::Agrees
     } else if ends_lower {
@@ -324,27 +367,30 @@ pub fn toward_one(xs: &[f64], reference: &Series, variant: &Series) -> Judgement
     } else {
         Agreement::Disagrees
     };
-    let mut values = Vec::new();
-    for (k, r) in thirds.iter().enumerate() {
-        values.push((
-            format!(
-                "|1 − mean ratio|, third {} (x {:.2}–{:.2})",
-                k + 1,
-                xs[r.start],
-                xs[r.end - 1]
-            ),
-            d[k],
-        ));
-    }
+    let values = thirds(xs.len())
+        .iter()
+        .enumerate()
+        .map(|(k, r)| {
+            (
+                format!(
+                    "mean |difference| / reference peak, third {} (x {:.2}–{:.2})",
+                    k + 1,
+                    xs[r.start],
+                    xs[r.end - 1]
+                ),
+                d[k],
+            )
+        })
+        .collect();
     Judgement {
         check: format!(
-            "reduced as x increases: |1 − mean ratio| per third of the axis falls third to third (rises ≤ {TREND_TOL} allowed) and ends below its start"
+            "differences reduced as x increases: mean |difference| per third of the axis over the reference's peak (the plotted gap) falls third to third (rises ≤ {DEAD_BAND} allowed) and ends more than {DEAD_BAND} below its start"
         ),
         values,
         verdict,
         gap: gap_unless_agrees(verdict, || {
             format!(
-                "|1 − ratio| by third {:.3} → {:.3} → {:.3}",
+                "plotted gap by third {:.3} → {:.3} → {:.3}",
                 d[0], d[1], d[2]
             )
         }),
@@ -486,6 +532,35 @@ pub fn approximately(value: f64, stated: f64) -> Judgement {
         values: vec![("measured".into(), value), ("stated".into(), stated)],
         verdict,
         gap: gap_unless_agrees(verdict, || format!("{value:.3} against {stated}")),
+    }
+}
+
+/// "Coincide / conserve / equivalent": a measured share (a mismatch, a residual, a relative
+/// difference) at most `limit` (twice that roughly).
+pub fn small(what: &str, share: f64, limit: f64) -> Judgement {
+    let verdict = ladder(share, limit, 2.0 * limit);
+    Judgement {
+        check: format!("small: {what} ≤ {} ({} roughly)", limit, 2.0 * limit),
+        values: vec![(what.to_string(), share)],
+        verdict,
+        gap: gap_unless_agrees(verdict, || format!("{what} = {share:.4} against ≤ {limit}")),
+    }
+}
+
+/// "Cause shifts / is prevented": a measured share at least `limit` (half that roughly).
+pub fn at_least(what: &str, share: f64, limit: f64) -> Judgement {
+    let verdict = if share >= limit {
+        Agreement::Agrees
+    } else if share >= 0.5 * limit {
+        Agreement::Roughly
+    } else {
+        Agreement::Disagrees
+    };
+    Judgement {
+        check: format!("at least: {what} ≥ {limit} ({} roughly)", 0.5 * limit),
+        values: vec![(what.to_string(), share)],
+        verdict,
+        gap: gap_unless_agrees(verdict, || format!("{what} = {share:.4} against ≥ {limit}")),
     }
 }
 

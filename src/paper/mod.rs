@@ -4,13 +4,17 @@
 //!
 //! Seams: [`claims`] is the table of quotes (id, figure, the sentence in full); [`fair`] holds
 //! the one check per kind of claim that every row of that kind uses; [`runs`] runs (and caches)
-//! the scenes rows share, histories resampled as `simulate --history` writes them; the row
-//! modules measure; [`render`] writes the markdown.
+//! the scenes rows share, histories resampled as `simulate --history` writes them;
+//! `histories` reads forces, contacts and jumps off them; the row modules measure; [`render`]
+//! writes the markdown.
 
 mod claims;
 pub mod fair;
+mod histories;
 mod render;
+mod rows_clutch_settings;
 mod rows_flexible;
+mod rows_mechanisms;
 mod rows_records;
 mod rows_rigid;
 pub mod runs;
@@ -93,7 +97,9 @@ type Measure = fn() -> crate::error::Result<Row>;
 /// Every row, in the paper's order: the claim table's ids paired with their measurements.
 fn measures() -> Vec<Measure> {
     let mut v = rows_rigid::ROWS.to_vec();
+    v.extend(rows_mechanisms::ROWS);
     v.extend(rows_flexible::ROWS);
+    v.extend(rows_clutch_settings::ROWS);
     v.extend(rows_records::ROWS);
     v
 }

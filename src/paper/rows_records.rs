@@ -7,7 +7,7 @@
 
 use super::fair::{self, Judgement, Relation, Series};
 use super::runs::{self, Measure, RECORDS};
-use super::{Measure as RowFn, Row, explained, judged};
+use super::{Measure as RowFn, Row, judged};
 use crate::presets::{mechanistic_xi_theta, sequential};
 use crate::scene::Device;
 
@@ -153,51 +153,121 @@ fn fig24_rotation_deformation() -> crate::error::Result<Row> {
     Ok(judged("fig24-rotation-deformation", j, ""))
 }
 
-fn offset(m: Measure, mech: &Device) -> crate::error::Result<Judgement> {
+/// The real records' (sequential, mechanistic) series of `m`, with `skip` (a record's name)
+/// left out.
+fn record_pairs(
+    m: Measure,
+    mech: &Device,
+    skip: Option<&str>,
+) -> crate::error::Result<(Vec<Series>, Vec<Series>)> {
+    let keep: Vec<usize> = RECORDS
+        .iter()
+        .filter(|(_, real)| *real)
+        .enumerate()
+        .filter(|(_, (name, _))| Some(*name) != skip)
+        .map(|(i, _)| i)
+        .collect();
     let seq = per_record(SEQ, m, true)?;
     let mech = per_record_of(mech, m, true)?;
+    Ok((
+        keep.iter().map(|&i| seq[i].clone()).collect(),
+        keep.iter().map(|&i| mech[i].clone()).collect(),
+    ))
+}
+
+fn offset(m: Measure, mech: &Device, skip: Option<&str>) -> crate::error::Result<Judgement> {
+    let (seq, mech) = record_pairs(m, mech, skip)?;
     let pairs: Vec<(&Series, &Series)> = seq.iter().zip(&mech).collect();
     Ok(fair::constant_offset(&runs::record_axis(), &pairs, 0.08))
 }
 
-fn fig24_8pct() -> crate::error::Result<Row> {
-    // Beside: the peak-of-spectrum ratio (dominated by low ωn).
-    let mut peaks = Vec::new();
-    for (m, name) in [
-        (Measure::Rotation, "rotation"),
-        (Measure::Deformation, "deformation"),
-    ] {
-        let seq = per_record(SEQ, m, true)?;
-        let mech = per_record(MECH, m, true)?;
-        let q: Vec<f64> = seq
+fn offsets(d: &Device, skip: Option<&str>) -> crate::error::Result<Judgement> {
+    Ok(fair::both(
+        offset(Measure::Rotation, d, skip)?,
+        "rotation",
+        offset(Measure::Deformation, d, skip)?,
+        "deformation",
+    ))
+}
+
+/// Per third of the axis, the median pointwise ratio and the ratio of the records' mean
+/// spectra (mechanistic over sequential): the readings that a single noisy record cannot
+/// carry.
+fn robust_ratios(m: Measure, name: &str) -> crate::error::Result<Vec<(String, f64)>> {
+    let (seq, mech) = record_pairs(m, &devices()[MECH], None)?;
+    let xs = runs::record_axis();
+    let mut out = Vec::new();
+    for (k, r) in fair::thirds(xs.len()).iter().enumerate() {
+        let mut q: Vec<f64> = seq
             .iter()
             .zip(&mech)
-            .filter_map(|(s, m)| Some(fair::peak(m)? / fair::peak(s)?))
+            .flat_map(|(a, b)| fair::ratios(&a[r.clone()].to_vec(), &b[r.clone()].to_vec()))
             .collect();
-        peaks.push((
-            format!("beside: {name} spectrum-peak ratio, mean over records"),
-            fair::mean(&q),
+        q.sort_by(f64::total_cmp);
+        let median = if q.is_empty() {
+            f64::NAN
+        } else if q.len() % 2 == 1 {
+            q[q.len() / 2]
+        } else {
+            0.5 * (q[q.len() / 2 - 1] + q[q.len() / 2])
+        };
+        // Mean spectra over the points where both exist in every record.
+        let (mut a, mut b) = (0.0, 0.0);
+        for (sa, sb) in seq.iter().zip(&mech) {
+            for i in r.clone() {
+                if let (Some(x), Some(y)) = (sa[i], sb[i]) {
+                    a += x;
+                    b += y;
+                }
+            }
+        }
+        out.push((
+            format!("beside: {name} median ratio, third {}", k + 1),
+            median,
+        ));
+        out.push((
+            format!("beside: {name} ratio of mean spectra, third {}", k + 1),
+            b / a,
         ));
     }
-    explained(
-        &runs::unstated_but_damping(),
-        "fig24-8pct",
-        "the ratio of spectrum peaks (beside) is near 0.92 because the peaks sit at low ωn, where the clutches differ most; point by point the rotation ratio climbs to 1 as ωn grows and the deformation differs by a few per cent only, so the 8 % reads as a peak-of-spectrum statement; ",
-        |change| {
-            let d = mech(change);
-            let mut j = fair::both(
-                offset(Measure::Rotation, &d)?,
-                "rotation",
-                offset(Measure::Deformation, &d)?,
-                "deformation",
-            )
-            .on(&format!(
-                "mechanistic against sequential, pointwise; {FIG24}"
+    Ok(out)
+}
+
+fn fig24_8pct() -> crate::error::Result<Row> {
+    let mut beside = robust_ratios(Measure::Rotation, "rotation")?;
+    beside.extend(robust_ratios(Measure::Deformation, "deformation")?);
+    let mut j = offsets(&devices()[MECH], None)?.on(&format!(
+        "mechanistic against sequential, pointwise; {FIG24}"
+    ));
+    j.values.extend(beside);
+    if j.verdict == super::Agreement::Agrees {
+        return Ok(judged("fig24-8pct", j, ""));
+    }
+    // The sensitivity to one record: the same check with each real record left out.
+    let mut variants = Vec::new();
+    for (name, real) in RECORDS {
+        if real {
+            variants.push((
+                format!("without {name}"),
+                offsets(&devices()[MECH], Some(name))?,
             ));
-            j.values.extend(peaks.iter().cloned());
-            Ok(j)
-        },
-    )
+        }
+    }
+    let (records, values) = fair::sensitivity("records (one left out)", &variants);
+    j.values.extend(values);
+    let check = |change: fn(&mut crate::scene::Clutch)| offsets(&mech(change), None);
+    let (sens, values) = runs::sensitivity(&runs::unstated_but_damping(), check)?;
+    j.values.extend(values);
+    let reason = format!(
+        "the rotation's last-third mean ratio {:.3} comes from a few large ratios at high ωn, where θ/α is small and ratios are noisy: its median is {:.3} and the ratio of the mean spectra {:.3} (by third {:.3}, {:.3}, {:.3}), below 1 throughout but nearer 0.94 than 0.92 above the first third; {records}; {sens}",
+        j.value("rotation: mean ratio, third 3 (x 20–29)")?,
+        j.value("beside: rotation median ratio, third 3")?,
+        j.value("beside: rotation ratio of mean spectra, third 3")?,
+        j.value("beside: rotation ratio of mean spectra, third 1")?,
+        j.value("beside: rotation ratio of mean spectra, third 2")?,
+        j.value("beside: rotation ratio of mean spectra, third 3")?,
+    );
+    Ok(judged("fig24-8pct", j, reason))
 }
 
 fn fig24_more_engagements() -> crate::error::Result<Row> {
@@ -333,8 +403,18 @@ fn fig24_el_centro() -> crate::error::Result<Row> {
 
 fn s9_clutch_increases_acceleration() -> crate::error::Result<Row> {
     let (a, b) = clutched(Measure::Acceleration)?;
-    let j = fair::compare(Relation::HigherSomewhere, &a, &b).on(&format!(
-        "|ẍ + a_g|max/g, sequential and mechanistic each against bare; {FIG24}"
+    let j = fair::both(
+        fair::compare(
+            Relation::SlightlyLower,
+            &flat(SEQ, Measure::Rotation)?,
+            &flat(MECH, Measure::Rotation)?,
+        ),
+        "mechanistic rocking slightly lower",
+        fair::compare(Relation::HigherSomewhere, &a, &b),
+        "clutch can increase acceleration",
+    )
+    .on(&format!(
+        "θmax/α mechanistic against sequential, and |ẍ + a_g|max/g of sequential and mechanistic each against bare; {FIG24}"
     ));
     Ok(judged("s9-clutch-increases-acceleration", j, ""))
 }

@@ -77,6 +77,10 @@ pub mod col {
     pub const CLUTCH_A: C = C::ClutchForceA;
     pub const CLUTCH_B: C = C::ClutchForceB;
     pub const DEVICE_FORCE: C = C::DeviceForce;
+    pub const X_DOT: C = C::XDot;
+    pub const THETA_DOT: C = C::ThetaDot;
+    pub const E_STRUCTURE: C = C::EStructure;
+    pub const E_INERTER: C = C::EInerter;
     /// The device-side energy: flywheels + clutch spring and everything the device dissipates.
     pub const DEVICE_ENERGY: [C; 5] = [
         C::EInerter,
@@ -87,12 +91,28 @@ pub mod col {
     ];
 }
 
+/// A rocking block's impact event.
+pub const IMPACT: &str = "impact";
+
 /// The sequential law's engagement switch event.
 pub const SEQUENTIAL_SWITCH: &str = "sequential_switch";
 
 pub fn column(h: &History, column: HistoryColumn) -> crate::error::Result<Vec<f64>> {
     h.column(column)
         .ok_or_else(|| crate::error::error!("paper: history has no column {column}"))
+}
+
+/// A flexible structure's check on both responses the paper plots, rotation and column
+/// deformation (prefixed so); the verdict is the worse of the two.
+pub fn rotation_and_deformation(
+    per: impl Fn(Measure) -> crate::error::Result<super::fair::Judgement>,
+) -> crate::error::Result<super::fair::Judgement> {
+    Ok(super::fair::both(
+        per(Measure::Rotation)?,
+        "rotation",
+        per(Measure::Deformation)?,
+        "deformation",
+    ))
 }
 
 /// What a row reads from a scene's result; None where the structure overturned.
@@ -319,6 +339,15 @@ pub fn sensitivity(
 
 /// No change (the rows' own settings).
 pub fn as_is(_: &mut Clutch) {}
+
+/// Energy dissipated inside the device by the end of a run (viscous, friction, the sequential
+/// law's disengagement loss, resets) as a share of the input: the one measure of "energy
+/// dissipation" every row uses, so runs that take in different energy compare fairly. None
+/// where the structure overturned.
+pub fn device_share(r: &SceneResult) -> Option<f64> {
+    let e = &r.energy;
+    (!r.overturned).then(|| (e.device_damping + e.friction + e.disengagement + e.reset) / e.input)
+}
 
 /// Energy the device hands back to the structure over what it took, from the history's
 /// device-side energy D (a drop of D is energy flowing back).

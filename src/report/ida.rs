@@ -186,5 +186,6 @@ pub fn write(out: &Path, study: &Study, results: &SweepResults) -> crate::error:
         return Ok(());
     };
     write_fragility_csv(&report, &out.join(FRAGILITY_CSV))?;
-    write_fragility_json(&report, &out.join(FRAGILITY_JSON))
+    write_fragility_json(&report, &out.join(FRAGILITY_JSON))?;
+    Ok(super::risk::write_section(out, study, results, &report)?)
 }

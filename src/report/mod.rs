@@ -8,10 +8,13 @@ mod export;
 mod figure;
 pub mod fragility;
 pub mod ida;
+pub mod ims;
 mod legend;
 pub mod naming;
 mod plot;
 mod plot_design;
+pub mod risk;
+mod risk_plot;
 pub mod select;
 pub mod stripes;
 
@@ -38,14 +41,17 @@ pub use plot::{
     scene_label, scene_title,
 };
 pub use plot_design::plot_design;
+pub use risk_plot::plot_risk;
 
 use crate::sim::History;
 use std::path::Path;
 
 /// The tables a run writes beside its results (when the study has them), by name: what
-/// Python's `Results.fragility()`, `.stripes()`, `.ida()`, `.design()` and `.boundary()` read.
-pub const TABLE_FILES: [(&str, &str); 5] = [
+/// Python's `Results.fragility()`, `.risk()`, `.stripes()`, `.ida()`, `.design()` and
+/// `.boundary()` read.
+pub const TABLE_FILES: [(&str, &str); 6] = [
     ("fragility", fragility::FRAGILITY_CSV),
+    ("risk", risk::RISK_CSV),
     ("stripes", stripes::STRIPES_CSV),
     ("ida", ida::IDA_CSV),
     ("design", DESIGN_CSV),

@@ -154,7 +154,7 @@ pub fn rows(study: &Study, results: &SweepResults) -> crate::error::Result<Vec<S
 pub(super) fn csv_axes<'a>(
     study: &Study,
     variants: impl Iterator<Item = &'a Variant>,
-) -> (Vec<String>, &'static str) {
+) -> (Vec<String>, String) {
     let mut params: Vec<String> = Vec::new();
     for v in variants {
         for (k, _) in &v.params {
@@ -164,8 +164,10 @@ pub(super) fn csv_axes<'a>(
         }
     }
     let im = match &study.excitation {
-        ExcitationFamily::Record { scale_to, .. } => im_name(*scale_to).unwrap_or("im"),
-        _ => "im",
+        ExcitationFamily::Record { scale_to, .. } => {
+            im_name(*scale_to).unwrap_or_else(|| "im".into())
+        }
+        _ => "im".into(),
     };
     (params, im)
 }
@@ -250,7 +252,7 @@ pub(super) fn options(f: &Fragility) -> FragilityOptions {
 /// Name a report's intensity measure and damage measure for its figure and readouts.
 pub(super) fn name_axes(report: &mut FragilityReport, f: &Fragility, study: &Study) {
     report.im = match &study.excitation {
-        ExcitationFamily::Record { scale_to, .. } => im_label(*scale_to).to_string(),
+        ExcitationFamily::Record { scale_to, .. } => im_label(*scale_to),
         _ => String::new(),
     };
     report.damage_measure = match f.measure {
@@ -259,14 +261,17 @@ pub(super) fn name_axes(report: &mut FragilityReport, f: &Fragility, study: &Stu
     };
 }
 
-fn im_label(scale_to: crate::study::RecordScaling) -> &'static str {
+fn im_label(scale_to: crate::study::RecordScaling) -> String {
     use crate::study::RecordScaling as S;
     match scale_to {
-        S::Pga => "PGA (g)",
-        S::Pgv => "PGV (m/s)",
-        S::PgaStar => "PGA* = PGA/(g·tanα)",
-        S::PgvStar => "PGV* = PGV·p/(g·tanα)",
-        S::Factor | S::Fema => "scale",
+        S::Pga => "PGA (g)".into(),
+        S::Pgv => "PGV (m/s)".into(),
+        S::PgaStar => "PGA* = PGA/(g·tanα)".into(),
+        S::PgvStar => "PGV* = PGV·p/(g·tanα)".into(),
+        S::Sa { period, .. } => format!("Sa({period} s) (g)"),
+        S::SaAvg { from, to } => format!("Sa_avg({from}–{to} s) (g)"),
+        S::Arias => "Arias intensity (m/s)".into(),
+        S::Factor | S::Fema => "scale".into(),
     }
 }
 
@@ -285,7 +290,8 @@ pub fn write(out: &Path, study: &Study, results: &SweepResults) -> crate::error:
         return Ok(());
     };
     write_fragility_csv(&report, &out.join(FRAGILITY_CSV))?;
-    write_fragility_json(&report, &out.join(FRAGILITY_JSON))
+    write_fragility_json(&report, &out.join(FRAGILITY_JSON))?;
+    Ok(super::risk::write_section(out, study, results, &report)?)
 }
 
 /// The fitted fragility report of a fragility study's results (stripes or IDA), or None: no

@@ -11,15 +11,16 @@
 //! The contract with the engine is /work/notes/fragility-interface.md (copied into the types
 //! below); degenerate fits are statuses, never numbers.
 
-mod bootstrap;
+pub(crate) mod bootstrap;
 mod fit;
-mod normal;
+pub(crate) mod normal;
 #[cfg(test)]
 pub(crate) mod tests;
 
 pub use fit::{Lognormal, fit_binomial_mle, fit_censored, fit_moments, merge_stripes};
 
-use bootstrap::{Resampler, interval};
+use bootstrap::Resampler;
+pub use bootstrap::interval;
 use serde::{Deserialize, Serialize};
 
 /// The device of the bare structure: ratios are taken against the variant with this device.
@@ -232,9 +233,40 @@ pub struct Curve {
     pub resurrections: usize,
     /// IDA: sorted capacities of the records that reached the state (empty for stripes).
     pub capacities: Vec<f64>,
+    /// Each bootstrap resample's fit as [median, β], None where it was degenerate, in draw
+    /// order (the same resample for every curve, so curves pair by index). Kept so that
+    /// quantities derived from a fit (a seismic risk, `crate::risk`) get intervals from the
+    /// same resamples. Empty without a fit or in files written before it was kept.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub resamples: Vec<Option<[f64; 2]>>,
 }
 
 impl Curve {
+    /// Why a fitted curve should not be trusted as it stands (empty: nothing found): a median
+    /// outside the data's intensity range, a median interval wider (as a ratio) than the
+    /// data's span, bootstrap resamples that could not be fitted (with their count).
+    pub fn warnings(&self) -> Vec<String> {
+        let mut flags = Vec::new();
+        let (Some(_), Some([lo, hi])) = (self.median, self.im_range) else {
+            return flags;
+        };
+        if let Some(e) = self.extrapolation() {
+            flags.push(format!("median_{}", e.name()));
+        }
+        if let (Some(mlo), Some(mhi)) = (self.median_lo, self.median_hi)
+            && mhi / mlo > hi / lo
+        {
+            flags.push("interval_wider_than_data".to_string());
+        }
+        if self.bootstrap_degenerate > 0 {
+            flags.push(format!(
+                "degenerate_resamples={}",
+                self.bootstrap_degenerate
+            ));
+        }
+        flags
+    }
+
     /// P(reach the state | IM = x) of the fitted curve.
     pub fn probability(&self, x: f64) -> Option<f64> {
         let (m, b) = (self.median?, self.beta?);
@@ -261,7 +293,7 @@ pub enum Extrapolation {
 }
 
 impl Extrapolation {
-    /// The word in fragility.csv's `median_warning` column.
+    /// The word in fragility.csv's `warnings` column, after `median_` (`median_below_data`).
     pub fn name(self) -> &'static str {
         match self {
             Extrapolation::BelowData => "below_data",
@@ -452,6 +484,10 @@ fn finish(mut pending: Vec<Pending>, n_records: usize, opts: &FragilityOptions) 
                 let betas: Vec<f64> = ok.iter().map(|f| f.beta).collect();
                 [c.median_lo, c.median_hi] = interval(&medians, opts.confidence);
                 [c.beta_lo, c.beta_hi] = interval(&betas, opts.confidence);
+                c.resamples = reps
+                    .iter()
+                    .map(|r| r.as_ref().ok().map(|f| [f.median, f.beta]))
+                    .collect();
             }
             Err(status) => c.status = *status,
         }
@@ -551,6 +587,7 @@ fn empty_curve(variant: &Variant, damage_state: f64, method: Method) -> Curve {
         n_censored: 0,
         resurrections: 0,
         capacities: Vec::new(),
+        resamples: Vec::new(),
     }
 }
 

@@ -22,6 +22,16 @@
 //! target: fragility(state: 1.0, median_at_least: 4.0),
 //! target: fragility(state: 0.5, at: 3.0, exceedance_at_most: 0.1),
 //! ```
+//!
+//! With a `risk` section too (the site's hazard curve), it may size the device for the risk
+//! at the site: the mean annual frequency of reaching the state over the section's hazard
+//! (`crate::risk`, the fitted curve converted to the hazard's measure), or the probability in
+//! the section's `years`, p = 1 − exp(−MAF · years):
+//!
+//! ```ron
+//! target: risk(state: 1.0, maf_at_most: 5e-4),
+//! target: risk(state: 1.0, p_years_at_most: 0.02),
+//! ```
 
 use super::fragility::Method;
 use super::{DeviceVariant, ExcitationFamily, Layout, Param, Quantity, Study, StudyError};
@@ -146,6 +156,17 @@ pub enum DesignTarget {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         exceedance_at_most: Option<f64>,
     },
+    /// A fragility study's risk at the site of its `risk` section: the mean annual frequency
+    /// of reaching damage state `state` (the fitted curve over that hazard) is at most
+    /// `maf_at_most`, or its probability in the section's `years` at most `p_years_at_most`
+    /// (one or the other: [`validate`]).
+    Risk {
+        state: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        maf_at_most: Option<f64>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        p_years_at_most: Option<f64>,
+    },
 }
 
 /// A fragility target's requirement on the fitted curve (the target after validation).
@@ -155,23 +176,30 @@ pub enum FragilityGoal {
     MedianAtLeast(f64),
     /// P(reach the state | IM = at) ≤ most.
     ExceedanceAtMost { at: f64, most: f64 },
+    /// The mean annual frequency of reaching the state at the site ≤ this (1/yr).
+    MafAtMost(f64),
+    /// The probability of reaching the state in the risk section's years ≤ this.
+    PYearsAtMost(f64),
 }
 
 impl FragilityGoal {
-    /// The intensity the goal is read at (a median of at least x: P(x) ≤ 1/2).
-    pub fn im(self) -> f64 {
+    /// The intensity the goal is read at (a median of at least x: P(x) ≤ 1/2); None for a
+    /// risk goal (read off the whole curve).
+    pub fn im(self) -> Option<f64> {
         match self {
-            FragilityGoal::MedianAtLeast(x) => x,
-            FragilityGoal::ExceedanceAtMost { at, .. } => at,
+            FragilityGoal::MedianAtLeast(x) => Some(x),
+            FragilityGoal::ExceedanceAtMost { at, .. } => Some(at),
+            FragilityGoal::MafAtMost(_) | FragilityGoal::PYearsAtMost(_) => None,
         }
     }
 
     /// The most probability of reaching the state at [`FragilityGoal::im`] (a median of at
-    /// least x: 1/2).
+    /// least x: 1/2); for a risk goal its bound.
     pub fn most(self) -> f64 {
         match self {
             FragilityGoal::MedianAtLeast(_) => 0.5,
             FragilityGoal::ExceedanceAtMost { most, .. } => most,
+            FragilityGoal::MafAtMost(most) | FragilityGoal::PYearsAtMost(most) => most,
         }
     }
 }
@@ -183,13 +211,26 @@ impl DesignTarget {
         match self {
             DesignTarget::Limit { quantity, .. } => Some(quantity),
             DesignTarget::NoOverturning => Some(Quantity::PeakRotationRatio),
-            DesignTarget::Fragility { .. } => None,
+            DesignTarget::Fragility { .. } | DesignTarget::Risk { .. } => None,
         }
     }
 
     /// A fragility target's damage state and goal (None: another target, or the fields do
     /// not make one goal: [`validate`] refuses those).
     pub fn fragility(self) -> Option<(f64, FragilityGoal)> {
+        if let DesignTarget::Risk {
+            state,
+            maf_at_most,
+            p_years_at_most,
+        } = self
+        {
+            let goal = match (maf_at_most, p_years_at_most) {
+                (Some(x), None) => FragilityGoal::MafAtMost(x),
+                (None, Some(p)) => FragilityGoal::PYearsAtMost(p),
+                _ => return None,
+            };
+            return Some((state, goal));
+        }
         let DesignTarget::Fragility {
             state,
             median_at_least,
@@ -218,7 +259,16 @@ impl DesignTarget {
                 Some((_, FragilityGoal::ExceedanceAtMost { at, most })) => {
                     format!("P(damage state {state} | IM = {at}) <= {most}")
                 }
-                None => format!("fragility of damage state {state}"),
+                _ => format!("fragility of damage state {state}"),
+            },
+            DesignTarget::Risk { state, .. } => match self.fragility() {
+                Some((_, FragilityGoal::MafAtMost(x))) => {
+                    format!("MAF of damage state {state} <= {x} /yr")
+                }
+                Some((_, FragilityGoal::PYearsAtMost(p))) => {
+                    format!("P(damage state {state} in the risk's years) <= {p}")
+                }
+                _ => format!("risk of damage state {state}"),
             },
         }
     }
@@ -326,7 +376,9 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
             ));
         }
     }
-    if let DesignTarget::Fragility { .. } = design.target {
+    if let DesignTarget::Risk { .. } = design.target {
+        validate_risk_target(study, design)?;
+    } else if let DesignTarget::Fragility { .. } = design.target {
         validate_fragility_target(study, design)?;
     } else if study
         .fragility
@@ -384,6 +436,66 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
         ));
     }
     Ok(())
+}
+
+/// A risk target against the study: a `risk` section (its hazard), a fragility study on
+/// stripes with the state among its damage states, and one bound in range.
+fn validate_risk_target(study: &Study, design: &Design) -> Result<(), StudyError> {
+    const FORMS: &str = "risk(state: 1.0, maf_at_most: 5e-4) or \
+                         risk(state: 1.0, p_years_at_most: 0.02)";
+    let DesignTarget::Risk {
+        state,
+        maf_at_most,
+        p_years_at_most,
+    } = design.target
+    else {
+        return Ok(());
+    };
+    if study.risk.is_none() {
+        return Err(StudyError::field(
+            "design.target",
+            "a risk target needs the site's hazard curve",
+            "add a risk section: risk: (hazard: \"hazards/illustrative_pga.csv\", years: 50.0), \
+             the path relative to the study file",
+        ));
+    }
+    // The fragility checks, on the same state (median 1 stands for any fragility goal).
+    let as_fragility = Design {
+        target: DesignTarget::Fragility {
+            state,
+            median_at_least: Some(1.0),
+            at: None,
+            exceedance_at_most: None,
+        },
+        ..design.clone()
+    };
+    validate_fragility_target(study, &as_fragility)?;
+    match (maf_at_most, p_years_at_most) {
+        (Some(x), None) if !(x.is_finite() && x > 0.0) => Err(StudyError::field(
+            "design.target.maf_at_most",
+            format!("{} is not a mean annual frequency", fmt_exact(x)),
+            "a finite rate > 0 per year, e.g. maf_at_most: 5e-4 (once in 2000 years)",
+        )),
+        (None, Some(p)) if !(p > 0.0 && p < 1.0) => Err(StudyError::field(
+            "design.target.p_years_at_most",
+            format!(
+                "{} is not a probability strictly between 0 and 1",
+                fmt_exact(p)
+            ),
+            "e.g. p_years_at_most: 0.02 (2 % in the risk section's years)",
+        )),
+        (Some(_), Some(_)) => Err(StudyError::field(
+            "design.target.p_years_at_most",
+            "a risk target is either a MAF or a probability in years, not both",
+            FORMS,
+        )),
+        (None, None) => Err(StudyError::field(
+            "design.target",
+            "a risk target needs maf_at_most or p_years_at_most",
+            FORMS,
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// A fragility target against the study: a fragility study on stripes, a damage state of its

@@ -34,6 +34,11 @@ pub const OPTIONAL_FIELDS: &[OptionalField] = &[
         "fragility",
         "(damage_states: levels([0.2, 0.5, 1.0]))",
     ),
+    optional(
+        "study",
+        "risk",
+        "(hazard: \"hazards/illustrative_pga.csv\", years: 50.0)",
+    ),
     optional("rigid", "size", "1.0"),
     optional("rigid", "p", "2.0"),
     optional("flexible", "omega_n", "10.0"),
@@ -83,7 +88,10 @@ const FIELD_HELP: &[(&str, &str)] = &[
         "how the single inerter is attached: rigid, or flywheel(cbar: 1.0, …), a flywheel \
          behind a spring (k_theta or clutch_frequency_ratio; cbar or xi_theta; rho)",
     ),
-    ("reset", "re-engagement reset with play: paper or strict"),
+    (
+        "reset",
+        "re-engagement reset with play: paper or strict (never: no reset, the paper's §4 counterfactual)",
+    ),
     ("label", "name of the variant in results"),
     (
         "excitation",
@@ -120,7 +128,9 @@ const FIELD_HELP: &[(&str, &str)] = &[
     (
         "scale_to",
         "what scale means: factor, pga (g), pgv (m/s), pga_star (PGA/(g·tanα)), \
-         pgv_star (PGV·p/(g·tanα)) or fema (factor × FEMA P695 normalisation)",
+         pgv_star (PGV·p/(g·tanα)), fema (factor × FEMA P695 normalisation), \
+         sa(period: T) (Sa(T) in g, ξ = 0.05 unless damping: is given), \
+         sa_avg(from: T1, to: T2) (geometric mean of Sa, g) or arias (m/s)",
     ),
     ("baseline", "baseline-correct the records first"),
     (
@@ -131,6 +141,28 @@ const FIELD_HELP: &[(&str, &str)] = &[
     (
         "damage_states",
         "levels([…]) or twelve (0.01 … 1): thresholds of the damage measure",
+    ),
+    (
+        "risk",
+        "seismic risk at a site from the fragility curves: (hazard: \"FILE\", years, mce, \
+         beta_total); writes risk.csv, risk.json and risk.svg",
+    ),
+    (
+        "hazard",
+        "the site's hazard curve CSV (header pga,annual_rate or pgv,annual_rate), relative to \
+         the study file's directory",
+    ),
+    (
+        "years",
+        "years of exposure for p_years = 1 − exp(−MAF · years)",
+    ),
+    (
+        "mce",
+        "FEMA P695 margins: the MCE intensity in the hazard's IM (with beta_total)",
+    ),
+    (
+        "beta_total",
+        "FEMA P695 margins: the total collapse uncertainty β_TOT (Table 7-2)",
     ),
     (
         "measure",
@@ -195,7 +227,8 @@ const FIELD_HELP: &[(&str, &str)] = &[
         "target",
         "limit(quantity: q, max: v) (and no overturning) or no_overturning, at every excitation \
          point; in a fragility study fragility(state: d, median_at_least: x) or \
-         fragility(state: d, at: x, exceedance_at_most: p), fitted over every record and stripe",
+         fragility(state: d, at: x, exceedance_at_most: p), fitted over every record and stripe; \
+         with a risk section risk(state: d, maf_at_most: x) or risk(state: d, p_years_at_most: p)",
     ),
     ("quantity", "the response quantity the target limits"),
     ("max", "the response limit of the target"),
@@ -210,6 +243,14 @@ const FIELD_HELP: &[(&str, &str)] = &[
     (
         "at",
         "fragility target: the intensity the exceedance probability is read at",
+    ),
+    (
+        "maf_at_most",
+        "risk target: most mean annual frequency (1/yr) of reaching the state at the risk's site",
+    ),
+    (
+        "p_years_at_most",
+        "risk target: most probability of reaching the state in the risk section's years",
     ),
     (
         "exceedance_at_most",

@@ -156,14 +156,18 @@ const MAX_BOOTSTRAP: usize = 100_000;
 pub const MIN_BOOTSTRAP: usize = 200;
 
 /// The intensity measure of a fragility study's stripes, as `stripes.csv` and the fit name it.
-pub fn im_name(scale_to: RecordScaling) -> Option<&'static str> {
-    match scale_to {
-        RecordScaling::Pga => Some("pga_g"),
-        RecordScaling::Pgv => Some("pgv_m_s"),
-        RecordScaling::PgaStar => Some("pga_star"),
-        RecordScaling::PgvStar => Some("pgv_star"),
-        RecordScaling::Factor | RecordScaling::Fema => None,
-    }
+/// Sa is named `sa(T)` (`sa(1.0)`), the spelling hazard curves in Sa use too.
+pub fn im_name(scale_to: RecordScaling) -> Option<String> {
+    Some(match scale_to {
+        RecordScaling::Pga => "pga_g".into(),
+        RecordScaling::Pgv => "pgv_m_s".into(),
+        RecordScaling::PgaStar => "pga_star".into(),
+        RecordScaling::PgvStar => "pgv_star".into(),
+        RecordScaling::Sa { period, .. } => format!("sa({period:?})"),
+        RecordScaling::SaAvg { from, to } => format!("sa_avg({from:?},{to:?})"),
+        RecordScaling::Arias => "arias_m_s".into(),
+        RecordScaling::Factor | RecordScaling::Fema => return None,
+    })
 }
 
 /// Check a study's fragility section against the rest of the study.
@@ -182,7 +186,8 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
         return Err(StudyError::field(
             "excitation.scale_to",
             "the stripes of a fragility analysis are intensity-measure values",
-            "scale_to: pga (g), pgv (m/s), pga_star (PGA/(g·tanα)) or pgv_star (PGV·p/(g·tanα)); \
+            "scale_to: pga (g), pgv (m/s), pga_star (PGA/(g·tanα)), pgv_star (PGV·p/(g·tanα)), \
+             sa(period: T), sa_avg(from: T1, to: T2) or arias; \
              `scale` then lists the stripes",
         ));
     }

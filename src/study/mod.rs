@@ -13,8 +13,9 @@ mod expand;
 pub mod fields;
 pub mod fragility;
 mod param;
+pub mod risk;
 mod strict;
-mod suites;
+pub(crate) mod suites;
 mod values;
 pub mod writer;
 
@@ -82,6 +83,9 @@ pub struct Study {
     /// Fragility analysis over the study's records and stripes (study/fragility.rs).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fragility: Option<fragility::Fragility>,
+    /// Seismic risk at a site from the fragility curves (study/risk.rs).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub risk: Option<risk::Risk>,
 }
 
 pub(crate) fn yes() -> bool {
@@ -277,7 +281,7 @@ pub enum ExcitationFamily {
 }
 
 /// What a record's `scale` value means.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum RecordScaling {
     /// a_g = scale · record.
@@ -294,6 +298,18 @@ pub enum RecordScaling {
     /// FEMA P695 normalisation: a_g = `scale` · (the record's normalisation factor) · record
     /// (suite records only; the factor is in their `index.csv`).
     Fema,
+    /// Scaled to Sa(T, ξ) = `scale` g: the record's pseudo-spectral acceleration at `period`
+    /// (s), damping ratio `damping` (default 0.05), as `excitation::ims` computes it.
+    Sa {
+        period: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        damping: Option<f64>,
+    },
+    /// Scaled to Sa_avg = `scale` g: the geometric mean of Sa (ξ = 0.05) at ten log-spaced
+    /// periods from `from` to `to` (s).
+    SaAvg { from: f64, to: f64 },
+    /// Scaled to an Arias intensity of `scale` m/s (it grows with the factor squared).
+    Arias,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -495,7 +511,9 @@ impl Study {
             message: format!("cannot read the study file: {e}"),
             hint: Some("check the path; `rocklab run default` runs the built-in study".into()),
         })?;
-        Study::from_ron_str(&text, &origin)
+        let mut study = Study::from_ron_str(&text, &origin)?;
+        risk::resolve(&mut study, path).map_err(|e| e.located(&text, &origin))?;
+        Ok(study)
     }
 
     /// Pretty RON that parses back to the same study.
@@ -525,7 +543,8 @@ impl Study {
     pub fn validate(&self) -> Result<(), StudyError> {
         expand::validate(self)?;
         design::validate(self)?;
-        fragility::validate(self)
+        fragility::validate(self)?;
+        risk::validate(self)
     }
 
     pub fn expand(&self) -> Result<Vec<ScenePoint>, StudyError> {

@@ -2,6 +2,7 @@
 //! scaling each record gets: the study side of record suites and intensity-measure scaling.
 
 use super::{ExcitationFamily, RecordScaling, Study, StudyError};
+use crate::excitation::ims;
 use crate::excitation::library::{self, Library};
 use crate::scene::{Excitation, RecordScale};
 
@@ -55,12 +56,54 @@ impl ExcitationFamily {
 }
 
 /// The scene scaling of record `name` for the study value `value` of `scale`.
-pub(super) fn scene_scale(
+pub(crate) fn scene_scale(
     scale_to: RecordScaling,
     value: f64,
     name: &str,
+    baseline: bool,
 ) -> Result<RecordScale, StudyError> {
+    // An IM of the record itself (unscaled, standard gravity), for the scalings that are
+    // neither a factor nor a PGA/PGV the scene computes.
+    let im = |measure: &dyn Fn(&ims::Accelerogram) -> Result<f64, ims::ImError>| -> Result<f64, StudyError> {
+        let bad = |message: String| {
+            StudyError::field(
+                "excitation.scale_to",
+                format!("record `{name}`: {message}"),
+                "e.g. scale_to: sa(period: 1.0), sa_avg(from: 0.5, to: 2.0) or arias",
+            )
+        };
+        let record = library()?
+            .load(name, baseline)
+            .map_err(|e| bad(e.to_string()))?;
+        let value = ims::Accelerogram::from_series(&record.series)
+            .and_then(|r| measure(&r))
+            .map_err(|e| bad(e.to_string()))?;
+        if !(value.is_finite() && value > 0.0) {
+            return Err(bad(format!(
+                "its intensity is {value}, so no factor reaches the target"
+            )));
+        }
+        Ok(value)
+    };
     Ok(match scale_to {
+        RecordScaling::Sa { period, damping } => {
+            let sa = im(&|r| {
+                ims::spectrum::sa(r, &[period], damping.unwrap_or(ims::DEFAULT_DAMPING))
+                    .map(|v| v[0] / ims::STANDARD_GRAVITY)
+            })?;
+            RecordScale::Factor(value / sa)
+        }
+        RecordScaling::SaAvg { from, to } => {
+            let sa = im(&|r| {
+                ims::spectrum::sa_avg(r, from, to, ims::DEFAULT_DAMPING)
+                    .map(|v| v / ims::STANDARD_GRAVITY)
+            })?;
+            RecordScale::Factor(value / sa)
+        }
+        RecordScaling::Arias => {
+            let ia = im(&|r| Ok(ims::arias(r)))?;
+            RecordScale::Factor((value / ia).sqrt())
+        }
         RecordScaling::Factor => RecordScale::Factor(value),
         RecordScaling::Pga => RecordScale::Pga(value),
         RecordScaling::Pgv => RecordScale::Pgv(value),

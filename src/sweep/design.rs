@@ -225,7 +225,7 @@ impl Search {
             states: Vec::new(),
             next_index: Layout::of(study)?.len(),
             finished: Finished::new(),
-            fragility: FragilityFit::of(study),
+            fragility: FragilityFit::of(study)?,
             design,
             points,
         };

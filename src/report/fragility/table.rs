@@ -1,7 +1,7 @@
 //! fragility.csv (one row per variant × damage state, with the ratio to the bare variant) and
 //! fragility.json (the whole report, read back by `rocklab plot` and the TUI).
 
-use super::{Curve, FragilityReport};
+use super::{Curve, FragilityReport, Variant};
 use crate::error::Context;
 use crate::report::write_atomic;
 use std::path::Path;
@@ -42,17 +42,20 @@ const COLUMNS: [(&str, Cell); 16] = [
         r.ratio_of(c)
             .map_or_else(String::new, |x| x.curves_cross.to_string())
     }),
-    // A median outside the data's IM range (below_data / above_data): extrapolated.
-    ("median_warning", |_, c| {
-        c.extrapolation().map_or("", |e| e.name()).to_string()
-    }),
+    // Why a fitted curve is doubtful (`Curve::warnings`), `;`-separated; empty if nothing.
+    ("warnings", |_, c| c.warnings().join(";")),
 ];
 
 /// The varying parameters' names over all curves, in order of first appearance.
 pub fn parameter_names(report: &FragilityReport) -> Vec<String> {
+    variant_parameter_names(report.curves.iter().map(|c| &c.variant))
+}
+
+/// The varying parameters' names over these variants, in order of first appearance.
+pub fn variant_parameter_names<'a>(variants: impl Iterator<Item = &'a Variant>) -> Vec<String> {
     let mut names: Vec<String> = Vec::new();
-    for c in &report.curves {
-        for (k, _) in &c.variant.params {
+    for v in variants {
+        for (k, _) in &v.params {
             if !names.contains(k) {
                 names.push(k.clone());
             }
@@ -135,8 +138,7 @@ mod tests {
         assert_eq!(
             lines.next().unwrap(),
             "device,alpha,damage_state,median,beta,median_lo,median_hi,beta_lo,beta_hi,\
-             n_records,n_stripes,method,status,median_ratio,median_ratio_lo,median_ratio_hi,crosses_bare,\
-             median_warning"
+             n_records,n_stripes,method,status,median_ratio,median_ratio_lo,median_ratio_hi,crosses_bare,warnings"
         );
         let rows: Vec<&str> = lines.collect();
         assert_eq!(rows.len(), 2);

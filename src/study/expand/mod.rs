@@ -233,6 +233,7 @@ fn build_excitation(e: &ExcitationFamily, point: &Point) -> Result<Excitation, S
                     *scale_to,
                     point.get(Param::Scale)?,
                     &name,
+                    *baseline,
                 )?,
                 name,
                 baseline: *baseline,

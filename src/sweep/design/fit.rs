@@ -15,16 +15,32 @@
 //! within the goal at the target's intensity; a target above the highest stripe cannot be
 //! judged so and fails (no fit is no proof). A failed scene fails the probe, as for a
 //! response target.
+//!
+//! A risk target (`target: risk(state: d, maf_at_most: x)` or `p_years_at_most`) reads the
+//! same fitted curve, converted to the hazard's measure with the probe's structure (α, p), as
+//! the risk report does (`crate::risk::maf` over the study's `risk` section's hazard): the
+//! MAF against x, or 1 − exp(−MAF · years) against the bound. Its interval is the MAF of each
+//! bootstrap resample's fit (as risk.csv's), reported beside. A curve without a fit fails a
+//! risk target: the MAF needs the whole curve.
 
 use super::Finished;
-use crate::numfmt::fmt_num;
+use crate::numfmt::{fmt_num, fmt_sig};
+use crate::risk::{HazardCurve, probability_in};
 use crate::scene::Excitation;
 use crate::sim::Quantity;
 use crate::stats::{
-    FitStatus, FragilityOptions, StripeObservation, StripePoint, Variant, analyse_stripes,
+    FitStatus, FragilityOptions, StripeObservation, StripePoint, Variant, analyse_stripes, interval,
 };
 use crate::study::design::FragilityGoal;
-use crate::study::{ScenePoint, Study};
+use crate::study::risk::ImFactor;
+use crate::study::{ScenePoint, Study, StudyError};
+
+/// A risk target's site: the hazard, its conversion to the study's measure, the years.
+struct Site {
+    hazard: HazardCurve,
+    factor: ImFactor,
+    years: f64,
+}
 
 /// What a fragility probe is fitted with: the study's damage measure and fit options, the
 /// damage state and the goal.
@@ -33,6 +49,7 @@ pub(super) struct FragilityFit {
     goal: FragilityGoal,
     measure: Quantity,
     options: FragilityOptions,
+    site: Option<Site>,
 }
 
 /// A fitted probe: the curve of the target's state and the verdict.
@@ -51,15 +68,56 @@ pub(super) struct FitSummary {
     /// The stripes' bound at the goal's intensity: the first stripe at or above it, and the
     /// largest fraction reaching the state up to it (None: the intensity is above them all).
     pub bound: Option<(f64, f64)>,
+    /// A risk target's MAF of the fitted curve at the site and its bootstrap interval.
+    pub maf: Option<f64>,
+    pub maf_lo: Option<f64>,
+    pub maf_hi: Option<f64>,
 }
 
 impl FragilityFit {
     /// The fit of a study whose design target is a fragility target (validated: a stripes
     /// study with the state among its damage states).
-    pub fn of(study: &Study) -> Option<FragilityFit> {
-        let (state, goal) = study.design.as_ref()?.target.fragility()?;
-        let f = study.fragility.as_ref()?;
-        Some(FragilityFit {
+    /// A risk target reads the study's `risk` hazard (Err: unreadable, or in another
+    /// measure than the study's).
+    pub fn of(study: &Study) -> Result<Option<FragilityFit>, StudyError> {
+        let Some((state, goal)) = study.design.as_ref().and_then(|d| d.target.fragility()) else {
+            return Ok(None);
+        };
+        let Some(f) = study.fragility.as_ref() else {
+            return Ok(None);
+        };
+        let site = match (goal, &study.risk) {
+            (FragilityGoal::MafAtMost(_) | FragilityGoal::PYearsAtMost(_), Some(r)) => {
+                let hazard = HazardCurve::read(&r.hazard_path()).map_err(|e| {
+                    StudyError::field(
+                        "risk.hazard",
+                        e.to_string(),
+                        "the hazard file's path is relative to the study file's directory",
+                    )
+                })?;
+                let factor = crate::study::risk::im_factor(study, hazard.im).map_err(
+                    |(scaling, hint)| {
+                        StudyError::field(
+                            "risk.hazard",
+                            format!(
+                                "{}: the hazard is in `{}`, but the study scales its records \
+                                 to {scaling}",
+                                r.hazard,
+                                hazard.im.name()
+                            ),
+                            hint,
+                        )
+                    },
+                )?;
+                Some(Site {
+                    hazard,
+                    factor,
+                    years: r.years,
+                })
+            }
+            _ => None,
+        };
+        Ok(Some(FragilityFit {
             state,
             goal,
             measure: f.measure,
@@ -69,7 +127,8 @@ impl FragilityFit {
                 damage_states: vec![state],
                 ..f.fit_options()
             },
-        })
+            site,
+        }))
     }
 
     /// The probe's fit once every scene has finished (None before); Err(i): scene i failed or
@@ -81,6 +140,8 @@ impl FragilityFit {
     ) -> Option<Result<FitSummary, usize>> {
         let mut obs = Vec::with_capacity(scenes.len());
         let mut failed = None;
+        // The probe's structure (every scene of a probe has the same), for a risk's IM factor.
+        let structure = &scenes.first()?.scene.structure;
         for (i, sc) in scenes.iter().enumerate() {
             let response = match done.get(&sc.key)? {
                 Ok(r) if r.overturned => Some(f64::INFINITY),
@@ -112,9 +173,33 @@ impl FragilityFit {
             .curves
             .into_iter()
             .find(|c| c.damage_state == self.state)?;
-        let bound = stripe_bound(&curve.stripes, self.goal.im());
-        let probability = curve.probability(self.goal.im());
+        let bound = self
+            .goal
+            .im()
+            .and_then(|im| stripe_bound(&curve.stripes, im));
+        let probability = self.goal.im().and_then(|im| curve.probability(im));
+        let (mut maf, mut maf_lo, mut maf_hi) = (None, None, None);
+        if let Some(site) = &self.site
+            && curve.status == FitStatus::Fitted
+            && let (Some(median), Some(beta)) = (curve.median, curve.beta)
+        {
+            let factor = (site.factor)(structure.alpha(), structure.p());
+            let of = |m: f64, b: f64| crate::risk::maf(&site.hazard, m / factor, b).maf;
+            maf = Some(of(median, beta));
+            let sample: Vec<f64> = curve
+                .resamples
+                .iter()
+                .flatten()
+                .map(|[m, b]| of(*m, *b))
+                .collect();
+            [maf_lo, maf_hi] = interval(&sample, self.options.confidence);
+        }
+        let years = self.site.as_ref().map_or(f64::NAN, |s| s.years);
         let pass = match (curve.status, self.goal) {
+            (_, FragilityGoal::MafAtMost(most)) => maf.is_some_and(|m| m <= most),
+            (_, FragilityGoal::PYearsAtMost(most)) => {
+                maf.is_some_and(|m| probability_in(m, years) <= most)
+            }
             (FitStatus::Fitted, FragilityGoal::MedianAtLeast(x)) => curve.median? >= x,
             (FitStatus::Fitted, FragilityGoal::ExceedanceAtMost { most, .. }) => {
                 probability? <= most
@@ -132,6 +217,9 @@ impl FragilityFit {
             records: curve.n_records,
             stripes: curve.n_stripes,
             bound,
+            maf,
+            maf_lo,
+            maf_hi,
         }))
     }
 
@@ -140,6 +228,11 @@ impl FragilityFit {
         match self.goal {
             FragilityGoal::MedianAtLeast(_) => s.median,
             FragilityGoal::ExceedanceAtMost { .. } => s.probability,
+            FragilityGoal::MafAtMost(_) => s.maf,
+            FragilityGoal::PYearsAtMost(_) => {
+                let years = self.site.as_ref()?.years;
+                s.maf.map(|m| probability_in(m, years))
+            }
         }
     }
 
@@ -155,7 +248,10 @@ impl FragilityFit {
                     fmt_num(100.0 * fraction),
                     fmt_num(im)
                 ),
-                None => format!("no stripe at or above IM {}", fmt_num(self.goal.im())),
+                None => match self.goal.im() {
+                    Some(im) => format!("no stripe at or above IM {}", fmt_num(im)),
+                    None => "a risk needs the fitted curve".to_string(),
+                },
             };
             return format!(
                 "no fit ({}: {}); {on_stripes} ({data})",
@@ -174,6 +270,19 @@ impl FragilityFit {
         );
         if let (FragilityGoal::ExceedanceAtMost { at, .. }, Some(p)) = (self.goal, s.probability) {
             text = format!("P(IM {}) {}; {text}", fmt_num(at), fmt_num(p));
+        }
+        if let Some(maf) = s.maf {
+            let interval = match (s.maf_lo, s.maf_hi) {
+                (Some(lo), Some(hi)) => format!(" [{}, {}]", fmt_sig(lo), fmt_sig(hi)),
+                _ => String::new(),
+            };
+            let years = self.site.as_ref().map_or(f64::NAN, |s| s.years);
+            text = format!(
+                "MAF {}{interval} /yr, P({} yr) {}; {text}",
+                fmt_sig(maf),
+                fmt_num(years),
+                fmt_sig(probability_in(maf, years))
+            );
         }
         text
     }

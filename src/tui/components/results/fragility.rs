@@ -52,6 +52,11 @@ impl FragilityView {
     }
 
     /// The IMs the cursor steps through: the stripes of the state's curves, or an even grid.
+    /// The selected curve, if any.
+    pub fn selected<'a>(&self, report: &'a FragilityReport) -> Option<&'a Curve> {
+        self.curves(report).get(self.variant).copied()
+    }
+
     pub fn grid(&self, report: &FragilityReport) -> Vec<f64> {
         let curves = self.curves(report);
         let mut ims: Vec<f64> = curves

@@ -6,6 +6,7 @@ mod compare;
 pub mod design;
 mod fragility;
 mod maps;
+mod risk;
 mod spectra;
 
 pub use compare::CompareView;
@@ -53,6 +54,8 @@ pub struct Results {
     pub checks: std::collections::HashMap<usize, SceneCheck>,
     /// The fragility report (fragility.json) beside the results of a fragility study.
     pub fragility: Option<report::fragility::FragilityReport>,
+    /// The seismic risk (risk.json) beside a fragility study's results, if computed.
+    pub risk: Option<crate::risk::RiskReport>,
     /// A design study's answer (the search replayed on the scenes); empty for other studies.
     pub design: Vec<crate::sweep::design::DesignRow>,
 }
@@ -158,6 +161,7 @@ impl Results {
             cancelled,
             checks: Default::default(),
             fragility: None,
+            risk: None,
         }
     }
 
@@ -170,6 +174,7 @@ impl Results {
         }
         let report = report::fragility::read_fragility_json(&path).map_err(|e| format!("{e:#}"))?;
         self.fragility = Some(report);
+        self.risk = report::risk::read_risk(dir);
         Ok(true)
     }
 
@@ -542,6 +547,17 @@ impl Component for ResultsScreen {
             ResultsTab::Maps => self.maps.draw(data, theme, frame, body),
             ResultsTab::Compare => compare::draw(self, data, theme, frame, body),
             ResultsTab::Fragility => {
+                // With a risk.json: two lines of risk for the selected curve below the view.
+                let body = match (&data.risk, &data.fragility) {
+                    (Some(risk), Some(f)) => {
+                        let [view, lines] =
+                            Layout::vertical([Constraint::Min(8), Constraint::Length(2)])
+                                .areas(body);
+                        risk::draw(risk, self.fragility.selected(f), theme, frame, lines);
+                        view
+                    }
+                    _ => body,
+                };
                 self.fragility
                     .draw(data.fragility.as_ref(), theme, frame, body)
             }
