@@ -84,17 +84,32 @@ def test_fragility_tables_equal_the_cli_files(cli, tmp_path):
     assert len(fragility) > 0
     with pytest.raises(FileNotFoundError, match="design"):
         ours.design()
+
+
+RISK_STUDY = FRAGILITY_STUDY.replace('records: [1, 2]', 'records: [1, 2, 3, 4, 5, 6]').replace(
+    'scale: [1.5, 3.0, 6.0]', 'scale: [1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0]').replace(
+    'levels([0.2, 1.0])', 'levels([0.2, 1.0]), bootstrap: 200')
+
+
+def test_risk_equals_the_cli(cli, tmp_path):
+    assert RISK_STUDY != FRAGILITY_STUDY and "bootstrap: 200" in RISK_STUDY
+    ours = rocklab.run(RISK_STUDY, out=tmp_path / "py", progress=False)
+    study = tmp_path / "r.ron"
+    study.write_text(RISK_STUDY)
+    cli("run", study, "--out", tmp_path / "cli", "--quiet")
     # Risk at the shipped illustrative site, as `rocklab risk` writes it.
     hazard = REPO / "studies" / "hazards" / "illustrative_pga.csv"
     risk = ours.risk(hazard=hazard, years=50.0)
     cli("risk", tmp_path / "cli", "--hazard", hazard, "--years", "50")
     assert risk.equals(pd.read_csv(tmp_path / "cli" / "risk.csv"))
     fitted = risk[risk["maf"].notna()]
-    assert len(fitted) > 0
+    assert len(fitted) > 0, risk[["device", "damage_state", "status"]]
     # p_years is the Poisson probability of the MAF; the interval holds the MAF.
     assert ((1 - np.exp(-fitted["maf"] * 50.0) - fitted["p_years"]).abs() < 1e-12).all()
     bounded = fitted[fitted["maf_lo"].notna()]
     assert ((bounded["maf_lo"] <= bounded["maf"]) & (bounded["maf"] <= bounded["maf_hi"])).all()
+    # Read back without a hazard: the table just written.
+    assert ours.risk().equals(risk)
     with pytest.raises(rocklab.StudyError, match="no_such.csv"):
         ours.risk(hazard=tmp_path / "no_such.csv")
 
