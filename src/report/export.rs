@@ -77,7 +77,11 @@ pub fn study_summary(
     if study.kind() == StudyKind::Ida {
         text.push_str(&super::ida::scenes_line(&super::ida::ida(study, results)?));
     }
-    if let Some(report) = super::stripes::fit(study, results)? {
+    // A design's probes are no fragility study of their own: its answers are its summary
+    // (design.csv), not a fitted curve per probed device.
+    if study.kind() != StudyKind::Design
+        && let Some(report) = super::stripes::fit(study, results)?
+    {
         text.push_str(&super::fragility::summary_text(&report));
     }
     Ok(text)
