@@ -65,7 +65,7 @@ fn loss(width: Option<f64>) -> f64 {
         .find(|&&x| x > end)
         .unwrap();
     let ext = crossings(&t, &column(&h, col::THETA_DOT));
-    let before = *ext.iter().filter(|&&x| x < hit).last().unwrap();
+    let before = *ext.iter().rfind(|&&x| x < hit).unwrap();
     let after = *ext.iter().find(|&&x| x > hit).unwrap();
     let row = |x: f64| t.iter().position(|s| *s >= x).unwrap_or(t.len() - 1);
     1.0 - e[row(after)] / e[row(before)]

@@ -137,7 +137,7 @@ fn fig21_similar_to_viscous() -> crate::error::Result<Row> {
         }
         Ok(fair::immaterial(&viscous, &[("friction", &dry)]))
     };
-    let j = runs::rotation_and_deformation(&per)?
+    let j = runs::rotation_and_deformation(per)?
     .on(&format!(
         "the pointwise reduction (damped / undamped) by friction fμ = 0.1 and 0.2 mr g (η = 100 s/rad) against the viscous ξθ = 0.02 and 0.2 (the paper's operational and high levels), one after the other on the axis; {SPECTRA}"
     ));

@@ -385,7 +385,7 @@ fn fig18_not_determinant() -> crate::error::Result<Row> {
             &[("50 p", &at(50.0, m)?), ("100 p", &at(100.0, m)?)],
         ))
     };
-    let j = runs::rotation_and_deformation(&per)?.on(&format!(
+    let j = runs::rotation_and_deformation(per)?.on(&format!(
         "√(kθ/J) = 50 and 100 p against 25 p (the paper gives no kθ), c̄ = 1 s⁻¹ held; {SPECTRA}"
     ));
     Ok(judged("fig18-not-determinant", j, ""))
@@ -417,7 +417,7 @@ fn fig19_operational_immaterial() -> crate::error::Result<Row> {
                     &[("ξθ = 0.02", &at(0.02, m)?)],
                 ))
             };
-            Ok(runs::rotation_and_deformation(&per)?
+            Ok(runs::rotation_and_deformation(per)?
                 .on(&format!("ξθ = 0.02 against ξθ = 0; {SPECTRA}"))
                 .with("ωg/p of the largest rotation difference", worst.1))
         },
@@ -507,7 +507,7 @@ fn fig19_full_range() -> crate::error::Result<Row> {
             &xi(0.2, m)?,
         ))
     };
-    let j = runs::rotation_and_deformation(&per)?.on(&format!(
+    let j = runs::rotation_and_deformation(per)?.on(&format!(
         "ξθ = 0.2 below ξθ = 0.02 at every ωg/p; {SPECTRA}"
     ));
     Ok(judged("fig19-full-range", j, ""))
@@ -529,7 +529,7 @@ fn negligible(f: f64, eta: f64) -> crate::error::Result<Judgement> {
             &[("friction", &spectrum(friction(f, eta), m)?)],
         ))
     };
-    Ok(runs::rotation_and_deformation(&per)?)
+    runs::rotation_and_deformation(per)
 }
 
 fn fig21_operational_negligible() -> crate::error::Result<Row> {
@@ -562,7 +562,7 @@ fn fig21_strong_reduces() -> crate::error::Result<Row> {
             &spectrum(friction(0.2, 100.0), m)?,
         ))
     };
-    let j = runs::rotation_and_deformation(&per)?.on(&format!(
+    let j = runs::rotation_and_deformation(per)?.on(&format!(
         "fμ = 0.2 mr g against fμ = 0, no viscous damping, η = 100 s/rad; {SPECTRA}"
     ));
     Ok(judged("fig21-strong-reduces", j, ""))
@@ -658,7 +658,7 @@ fn fig23_play_unnoticeable() -> crate::error::Result<Row> {
             &[("up = 1 cm", &spectrum(play(0.01), m)?)],
         ))
     };
-    let j = runs::rotation_and_deformation(&per)?.on(&format!(
+    let j = runs::rotation_and_deformation(per)?.on(&format!(
         "gear play up = 1 cm against none, ξθ = 0.02, paper reset rule; {SPECTRA}"
     ));
     Ok(judged("fig23-play-unnoticeable", j, ""))
