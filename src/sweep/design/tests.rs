@@ -1,6 +1,7 @@
 //! The design search's unit tests: probes at the parameter, and a bisection that always ends.
 
 use super::*;
+use crate::scene::Device;
 
 #[test]
 fn sigma_zero_is_the_bare_structure_and_clutch_fields_are_set() {
