@@ -39,6 +39,8 @@ pub const OPTIONAL_FIELDS: &[OptionalField] = &[
         "risk",
         "(hazard: \"hazards/illustrative_pga.csv\", years: 50.0)",
     ),
+    optional("pulse", "vertical", "ratio(0.67)"),
+    optional("record", "vertical", "ratio(0.67)"),
     optional("rigid", "size", "1.0"),
     optional("rigid", "p", "2.0"),
     optional("flexible", "omega_n", "10.0"),
@@ -98,6 +100,12 @@ const FIELD_HELP: &[(&str, &str)] = &[
         "pulse(shape, amplitude, frequency) or record(names: [\"…\"], scale: …)",
     ),
     ("shape", "sine, cosine, ricker, …"),
+    (
+        "vertical",
+        "vertical ground motion, positive up: ratio(r) (r × the scaled horizontal), \
+         constant(c) (c·g), record(\"FILE\") (× the horizontal record's factor) or \
+         pulse(shape, amplitude, frequency) (absolute)",
+    ),
     (
         "amplitude",
         "alpha_ratio(A/(g·α)), tan_alpha_ratio(A/(g·tanα)) or g(A/g)",
@@ -535,12 +543,20 @@ mod tests {
                     rigid,
                     format!("inerter(sigma: 1.0, coupling: flywheel({set}))"),
                 ),
+                "pulse" | "record" => ("", rigid, "none".to_string()),
                 device => ("", rigid, format!("{device}(sigma: 1.0, {set})")),
+            };
+            let excitation = match owner {
+                "pulse" => format!(
+                    "pulse(shape: sine, amplitude: alpha_ratio(1.5), frequency: ratio(2.0), {set})"
+                ),
+                "record" => format!("record(names: [\"x\"], {set})"),
+                _ => "pulse(shape: sine, amplitude: alpha_ratio(1.5), frequency: ratio(2.0))"
+                    .to_string(),
             };
             format!(
                 "(version: 1, name: \"t\", structure: {structure}, devices: [{device}], \
-                 excitation: pulse(shape: sine, amplitude: alpha_ratio(1.5), \
-                 frequency: ratio(2.0)), duration: 1.0, {top})"
+                 excitation: {excitation}, duration: 1.0, {top})"
             )
         };
         let saved = |doc: &str| -> String {

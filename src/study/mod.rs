@@ -253,6 +253,9 @@ pub enum ExcitationFamily {
         shape: PulseShape,
         amplitude: AmplitudeAxis,
         frequency: FrequencyAxis,
+        /// The vertical ground motion of every scene (absent: none).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        vertical: Option<crate::scene::VerticalMotion>,
     },
     /// Recorded ground motions from the record library (`rocklab records` lists them), each
     /// scaled by `scale`: a factor (default), or a target PGA (g), PGV (m/s), PGA* or PGV*
@@ -277,7 +280,22 @@ pub enum ExcitationFamily {
         /// `duration`).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         tail: Option<f64>,
+        /// The vertical ground motion of every scene (absent: none): `ratio(r)` follows each
+        /// record's scaling, a `record("FILE")` is multiplied by the same factor.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        vertical: Option<crate::scene::VerticalMotion>,
     },
+}
+
+impl ExcitationFamily {
+    /// The vertical ground motion every scene of the study has.
+    pub fn vertical(&self) -> Option<&crate::scene::VerticalMotion> {
+        match self {
+            ExcitationFamily::Pulse { vertical, .. } | ExcitationFamily::Record { vertical, .. } => {
+                vertical.as_ref()
+            }
+        }
+    }
 }
 
 /// What a record's `scale` value means.

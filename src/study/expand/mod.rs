@@ -44,6 +44,7 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
                 impact: study.impact,
                 duration: crate::study::suites::scene_duration(study, &excitation)?,
                 excitation,
+                vertical: study.excitation.vertical().cloned(),
                 rtol: study.rtol,
                 initial_rotation: 0.0,
                 stop_when_settled: study.stop_when_settled,
@@ -199,6 +200,7 @@ fn build_excitation(e: &ExcitationFamily, point: &Point) -> Result<Excitation, S
             shape,
             amplitude,
             frequency,
+            ..
         } => {
             let a = point.get(amplitude.param())?;
             let w = point.get(frequency.param())?;
