@@ -537,7 +537,9 @@ impl VerticalMotion {
                 *c >= -1.0,
                 "must be a finite number ≥ -1 (ü_v = c·g below -g is free flight)",
             ),
-            VerticalMotion::Ratio(r) => check("vertical ratio", *r, true, "must be a finite number"),
+            VerticalMotion::Ratio(r) => {
+                check("vertical ratio", *r, true, "must be a finite number")
+            }
         }
     }
 }

@@ -124,7 +124,9 @@ pub fn print(args: &BenchArgs) -> anyhow::Result<()> {
         for file in &files {
             for &stripe in &STRIPES {
                 let s = suite_scene(file, stripe, device.clone(), library)?;
-                if let crate::excitation::Horizontal::Record(m) = sim::motion_for(&s, library)?.ground() {
+                if let crate::excitation::Horizontal::Record(m) =
+                    sim::motion_for(&s, library)?.ground()
+                {
                     samples += m.series.npts();
                 }
                 scenes.push(s);

@@ -47,7 +47,10 @@ impl Vertical {
 
 impl Gravity {
     /// Standard gravity, constant in time.
-    pub const STANDARD: Gravity = Gravity { g: G, vertical: None };
+    pub const STANDARD: Gravity = Gravity {
+        g: G,
+        vertical: None,
+    };
 
     /// Standard gravity plus a vertical ground motion; a vertical motion that is identically
     /// zero (constant(0), ratio(0)) is no vertical motion, so its results are bit-identical

@@ -316,9 +316,15 @@ impl Body for FlexibleBody {
     fn bare_xddot(&self, m: &Mode, kin: &Kinematics, t: f64, y: &[f64]) -> f64 {
         let x = kin.x;
         let fd = m.dev.spring_force(x, m.layout.device_states(y));
-        let (udd, thdd) = self
-            .col
-            .accelerations_kin(m, kin, m.motion.accel(t), m.motion.gravity().at(t), y, fd, 0.0);
+        let (udd, thdd) = self.col.accelerations_kin(
+            m,
+            kin,
+            m.motion.accel(t),
+            m.motion.gravity().at(t),
+            y,
+            fd,
+            0.0,
+        );
         self.col.xddot_kin(kin, y, udd, thdd)
     }
 

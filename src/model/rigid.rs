@@ -87,14 +87,10 @@ impl<'m> RigidModel<'m> {
         // rate below which the chattering block is put to rest (exact similarity, MODEL.md).
         let g_rest = motion.gravity().at_rest();
         if g_rest != body.g {
-            body.rest_rate = REST_EXCURSION.sqrt() * (body.p2 * g_rest / body.g).sqrt() * block.alpha;
+            body.rest_rate =
+                REST_EXCURSION.sqrt() * (body.p2 * g_rest / body.g).sqrt() * block.alpha;
         }
-        Rocking::with_body(
-            body,
-            device,
-            motion,
-            initial_rotation,
-        )
+        Rocking::with_body(body, device, motion, initial_rotation)
     }
 }
 
@@ -204,9 +200,7 @@ impl RigidBody {
     fn potential(&self, s: f64, c: f64) -> f64 {
         match self.form {
             Equations::Trigonometric => self.m * self.g * self.r * (c - self.cos_a),
-            Equations::Slender => {
-                0.5 * self.m * self.g * self.r * (self.alpha.powi(2) - s * s)
-            }
+            Equations::Slender => 0.5 * self.m * self.g * self.r * (self.alpha.powi(2) - s * s),
         }
     }
 }

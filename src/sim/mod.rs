@@ -143,9 +143,9 @@ pub fn motion_for(scene: &Scene, library: &Library) -> Result<Motion, SimError> 
         ))),
         VerticalMotion::Record(file) => {
             let baseline = matches!(scene.excitation, Excitation::Record { baseline: true, .. });
-            let record = library.load(file, baseline).map_err(|e| {
-                SimError::Invalid(format!("vertical record '{file}': {e}"))
-            })?;
+            let record = library
+                .load(file, baseline)
+                .map_err(|e| SimError::Invalid(format!("vertical record '{file}': {e}")))?;
             Vertical::Own(Horizontal::Record(RecordMotion {
                 factor,
                 series: Arc::clone(&record.series),
@@ -522,8 +522,10 @@ fn drive<const N: usize, M: SimModel<N>>(
                 // The history shows the end of an idle period (an uplift from rest) as the
                 // located events are shown.
                 if let Some(h) = history.as_deref_mut() {
-                    if action == Action::Continue {
-                        h.event(t, model.wake_name());
+                    if action == Action::Continue
+                        && let Some(name) = model.wake_name()
+                    {
+                        h.event(t, name);
                     }
                     h.exact(model, t, &y);
                 }

@@ -291,9 +291,8 @@ impl ExcitationFamily {
     /// The vertical ground motion every scene of the study has.
     pub fn vertical(&self) -> Option<&crate::scene::VerticalMotion> {
         match self {
-            ExcitationFamily::Pulse { vertical, .. } | ExcitationFamily::Record { vertical, .. } => {
-                vertical.as_ref()
-            }
+            ExcitationFamily::Pulse { vertical, .. }
+            | ExcitationFamily::Record { vertical, .. } => vertical.as_ref(),
         }
     }
 }

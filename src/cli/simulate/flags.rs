@@ -5,8 +5,7 @@ use crate::excitation::{KinkPolicy, PulseShape, library};
 use crate::scene::{
     Amplitude, Clutch, ClutchStiffness, Coupling, Damping, Device, Excitation, FlexibleStructure,
     Form, Frequency, Impact, RecordScale, ResetRule, RigidBlock, Scene, Structure, VerticalMotion,
-    default_epsilon,
-    default_eta, default_rho,
+    default_epsilon, default_eta, default_rho,
 };
 
 use super::{

@@ -219,8 +219,10 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
         }
     }
 
-    fn wake_name(&self) -> &'static str {
-        "uplift"
+    /// A wake that lifted the base; a varying gravity may wake to integrate from a bound
+    /// of the uplift without lifting it yet.
+    fn wake_name(&self) -> Option<&'static str> {
+        self.mode.rocking().then_some("uplift")
     }
 
     /// A body that does not move in contact is lifted by the ground itself: while it is flat
