@@ -13,6 +13,8 @@ use super::{G, Horizontal};
 pub struct Gravity {
     g: f64,
     vertical: Option<Vertical>,
+    /// (t, g + ü_v(t)) where g_eff is lowest ([`Gravity::lowest`]), found once.
+    lowest: (f64, f64),
 }
 
 /// A vertical ground acceleration ü_v(t) (m/s², positive up), compiled for a scene.
@@ -50,15 +52,22 @@ impl Gravity {
     pub const STANDARD: Gravity = Gravity {
         g: G,
         vertical: None,
+        lowest: (0.0, G),
     };
 
     /// Standard gravity plus a vertical ground motion; a vertical motion that is identically
     /// zero (constant(0), ratio(0)) is no vertical motion, so its results are bit-identical
     /// to a scene without one.
     pub fn with_vertical(vertical: Vertical) -> Self {
+        let (t, v) = match &vertical {
+            Vertical::Constant(c) => (0.0, *c),
+            Vertical::Ratio(r, h) => lowest_of(h, *r),
+            Vertical::Own(h) => lowest_of(h, 1.0),
+        };
         Gravity {
             g: G,
             vertical: (!vertical.is_zero()).then_some(vertical),
+            lowest: (t, G + v),
         }
     }
 
@@ -80,6 +89,11 @@ impl Gravity {
     /// Whether the ground moves vertically (or g is shifted by a constant).
     pub fn has_vertical(&self) -> bool {
         self.vertical.is_some()
+    }
+
+    /// Whether g_eff is constant in time (no vertical motion, or a constant one).
+    pub fn is_constant(&self) -> bool {
+        matches!(self.vertical, None | Some(Vertical::Constant(_)))
     }
 
     /// Gravity once the ground has stopped (a constant vertical acceleration stays).
@@ -124,43 +138,39 @@ impl Gravity {
     }
 
     /// A horizontal acceleration level below which the ground cannot lift a block whose
-    /// uplift needs |a_g| > g_eff(t) · `ratio` (ratio = tan α, or α), and whether the level
-    /// is exact (the uplift happens at its first exceedance). Exact for a constant g_eff;
+    /// uplift needs |a_g| > g_eff(t) · `ratio` (ratio = tan α, or α). Exact for a constant
+    /// g_eff (the uplift happens at its first exceedance, [`Gravity::is_constant`]);
     /// otherwise a lower bound: with ü_v = r a_g, |a_g| > (g − |r||a_g|) ratio needs
     /// |a_g| > g ratio / (1 + |r| ratio); with its own ü_v, g + min ü_v bounds g_eff.
-    pub fn uplift_level(&self, ratio: f64) -> (f64, bool) {
+    pub fn uplift_level(&self, ratio: f64) -> f64 {
         match &self.vertical {
-            None => (self.g * ratio, true),
-            Some(Vertical::Constant(c)) => ((self.g + c) * ratio, true),
-            Some(Vertical::Ratio(r, _)) => (self.g * ratio / (1.0 + r.abs() * ratio), false),
-            Some(Vertical::Own(_)) => (self.lowest().1.max(0.0) * ratio, false),
+            None => self.g * ratio,
+            Some(Vertical::Constant(c)) => (self.g + c) * ratio,
+            Some(Vertical::Ratio(r, _)) => self.g * ratio / (1.0 + r.abs() * ratio),
+            Some(Vertical::Own(_)) => self.lowest().1.max(0.0) * ratio,
         }
     }
 
     /// The time and value of the lowest g + ü_v(t) (over the motion's samples; a pulse on a
     /// grid of [`LOWEST_SAMPLES_PER_PERIOD`]).
     pub fn lowest(&self) -> (f64, f64) {
-        let (t, v) = match &self.vertical {
-            None => (0.0, 0.0),
-            Some(Vertical::Constant(c)) => (0.0, *c),
-            Some(Vertical::Ratio(r, h)) => lowest_of(h, *r),
-            Some(Vertical::Own(h)) => lowest_of(h, 1.0),
-        };
-        (t, self.g + v)
+        self.lowest
     }
 
     /// Refuse a vertical motion that takes g + ü_v below zero: the structure would leave
     /// the ground (free flight), which no model here describes.
-    pub fn check_contact(&self) -> crate::error::Result<()> {
+    /// (The message is the caller's error: `error` depends on this module.)
+    pub fn check_contact(&self) -> Result<(), String> {
         let (t, low) = self.lowest();
-        crate::error::ensure!(
-            low >= 0.0,
+        if low >= 0.0 {
+            return Ok(());
+        }
+        Err(format!(
             "vertical ground acceleration {:.4} g at t = {t:.4} s is below -1 g (g + ü_v = {low:.4} \
              m/s² < 0): the structure would leave the ground in free flight, which is not \
              modelled; lower the vertical motion (its ratio, amplitude or constant)",
             (low - self.g) / self.g,
-        );
-        Ok(())
+        ))
     }
 }
 

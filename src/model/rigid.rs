@@ -465,9 +465,12 @@ impl Body for RigidBody {
         let abs_g = (self.r * (wdot + s_max * w * w) + ground) / self.g;
         let mut angular = wdot / self.p2 * (1.0 + ANGULAR_BOUND_MARGIN);
         let springless = m.dev.spring_stiffness().is_none();
-        if ground == 0.0 && springless && self.dirac.is_none() {
+        // A vertical motion: only a constant one, whose g_eff scales the restoring moment.
+        let gravity = m.motion.gravity();
+        if ground == 0.0 && springless && self.dirac.is_none() && gravity.is_constant() {
             let sigma = m.coupled_mass() / self.m;
-            angular = angular.min(s_max + 0.75 * sigma * s_max * w * w / self.p2);
+            let weight = s_max * (gravity.at_rest() / self.g);
+            angular = angular.min(weight + 0.75 * sigma * s_max * w * w / self.p2);
         }
         (Some(abs_g), Some(angular))
     }
@@ -534,7 +537,7 @@ impl Body for RigidBody {
     /// lower bound of it ([`crate::excitation::Gravity::uplift_level`]), from which the
     /// shell's wake integrates if the ground does not lift the block yet.
     fn idle_until(&self, m: &Mode, t: f64) -> Option<f64> {
-        let (level, _exact) = m.motion.gravity().uplift_level(self.uplift_ratio);
+        let level = m.motion.gravity().uplift_level(self.uplift_ratio);
         Some(
             m.motion
                 .first_exceedance(t, level)

@@ -154,9 +154,7 @@ pub fn motion_for(scene: &Scene, library: &Library) -> Result<Motion, SimError> 
         }
     };
     let gravity = Gravity::with_vertical(vertical);
-    gravity
-        .check_contact()
-        .map_err(|e| SimError::Invalid(e.to_string()))?;
+    gravity.check_contact().map_err(SimError::Invalid)?;
     Ok(Motion::with_gravity(horizontal, gravity))
 }
 
