@@ -397,7 +397,9 @@ fn a_vertical_record_file_is_read_and_aligned_with_the_horizontal() {
 #[test]
 fn vertical_pulse_matches_the_scipy_reference() {
     let text = include_str!("data/vertical_reference.csv");
-    let mut cases: Vec<(Vec<f64>, Vec<(f64, f64)>, f64)> = Vec::new();
+    // (α, p, A_h/g, ω_h, A_v/g, ω_v), the (t, θ) samples, the peak |θ|.
+    type Case = (Vec<f64>, Vec<(f64, f64)>, f64);
+    let mut cases: Vec<Case> = Vec::new();
     let mut keys: Vec<String> = Vec::new();
     for line in text.lines().filter(|l| !l.starts_with('#')).skip(1) {
         let f: Vec<&str> = line.split(',').collect();
