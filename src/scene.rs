@@ -502,7 +502,7 @@ impl VerticalMotion {
     pub fn validate(&self, p: f64) -> Result<(), Invalid> {
         match self {
             VerticalMotion::Record(name) if name.trim().is_empty() => Err(Invalid {
-                field: "vertical",
+                field: "vertical_record",
                 value: f64::NAN,
                 expected: "record(\"FILE\") needs a record file",
             }),
@@ -515,13 +515,13 @@ impl VerticalMotion {
                 let a = match *amplitude {
                     Amplitude::G(a) | Amplitude::TanAlphaRatio(a) | Amplitude::AlphaRatio(a) => a,
                 };
-                check("vertical amplitude", a, true, "must be a finite number")?;
+                check("vertical_amplitude_g", a, true, "must be a finite number")?;
                 let w = match *frequency {
                     Frequency::RadPerSec(w) | Frequency::Ratio(w) => w,
                 };
-                positive("vertical frequency", w)?;
+                positive("vertical_frequency", w)?;
                 check(
-                    "vertical frequency",
+                    "vertical_frequency",
                     w,
                     2.0 * std::f64::consts::PI / frequency.absolute(p) >= MIN_PULSE_PERIOD,
                     "the pulse period 2π/ω must be ≥ 1 ms",
@@ -532,13 +532,13 @@ impl VerticalMotion {
                 Ok(())
             }
             VerticalMotion::Constant(c) => check(
-                "vertical constant",
+                "vertical_constant",
                 *c,
                 *c >= -1.0,
                 "must be a finite number ≥ -1 (ü_v = c·g below -g is free flight)",
             ),
             VerticalMotion::Ratio(r) => {
-                check("vertical ratio", *r, true, "must be a finite number")
+                check("vertical_ratio", *r, true, "must be a finite number")
             }
         }
     }

@@ -231,7 +231,7 @@ fn free_flight_is_refused_with_its_time_and_value() {
     assert!(message.contains("-1.1000 g"), "{message}");
     // A constant below −1 is refused by the scene's validation.
     let message = refused(VerticalMotion::Constant(-1.2));
-    assert!(message.contains("vertical constant"), "{message}");
+    assert!(message.contains("vertical_constant"), "{message}");
     // Just above −g is fine.
     assert!(
         sim::run(
