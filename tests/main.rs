@@ -62,3 +62,4 @@ mod tui_scene;
 mod tui_smoke;
 mod tui_study;
 mod tui_workflow;
+mod uncertain;

@@ -307,7 +307,7 @@ pub fn analyse(f: &Fragility, study: &Study, rows: &[StripeRow]) -> FragilityRep
                 c.beta_records = r.beta;
             }
         }
-        report.uncertainty = u.describe();
+        report.uncertainty = u.describe(false);
     }
     name_axes(&mut report, f, study);
     report

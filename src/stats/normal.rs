@@ -77,13 +77,13 @@ pub fn quantile(u: f64) -> f64 {
         (((((A[0] * r + A[1]) * r + A[2]) * r + A[3]) * r + A[4]) * r + A[5]) * q
             / (((((B[0] * r + B[1]) * r + B[2]) * r + B[3]) * r + B[4]) * r + 1.0)
     };
-    // One Halley step on Φ(t) − u (the error is Φ's, so the upper tail is refined on 1 − u).
+    // One Halley step on e = Φ(t) − u; above ½ as (1 − u) − Q(t), Q(t) = 1 − Φ(t) taken from
+    // erfc, which keeps the upper tail's digits.
     let e = if u > 0.5 {
         (1.0 - u) - 0.5 * libm::erfc(t / SQRT_2)
     } else {
         cdf(t) - u
     };
-    let e = if u > 0.5 { -e } else { e };
     let step = e * (0.5 * t * t + LN_SQRT_2PI).exp();
     t - step / (1.0 + 0.5 * t * step)
 }

@@ -88,10 +88,15 @@ pub fn summary_text(report: &FragilityReport) -> String {
     if !report.uncertainty.is_empty() {
         let _ = writeln!(
             text,
-            "  uncertain parameters: {}. β is the total (records and parameters): the β_total \
-             of FEMA P695 (`rocklab risk --beta-total`); \"records alone\" fits the \
-             deterministic companion scenes (every uncertain parameter at its centre).",
-            report.uncertainty
+            "  uncertain parameters: {}. β is the total (records and parameters), the \
+             β_total `rocklab risk --mce` takes for FEMA P695 margins when none is given{}",
+            report.uncertainty,
+            if method == "ida" {
+                " (an IDA runs no companions: no records-only β)."
+            } else {
+                "; \"records alone\" fits the deterministic companion scenes (every uncertain \
+                 parameter at its centre)."
+            }
         );
     }
     for c in &report.curves {

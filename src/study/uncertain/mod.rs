@@ -265,8 +265,9 @@ impl Distribution {
 }
 
 impl Uncertain {
-    /// One line on what is drawn and how, for the fragility report.
-    pub fn describe(&self) -> String {
+    /// One line on what is drawn and how, for the fragility report (`per_record`: an IDA's
+    /// draws).
+    pub fn describe(&self, per_record: bool) -> String {
         let each: Vec<String> = (self.parameters().into_iter())
             .map(|(p, d)| format!("{} ~ {}", p.label(), d.text()))
             .collect();
@@ -275,9 +276,10 @@ impl Uncertain {
             Sampling::LatinHypercube => "Latin hypercube",
         };
         format!(
-            "{}; {sampling}, seed {}, one draw per record × stripe",
+            "{}; {sampling}, seed {}, one draw per record{}",
             each.join(", "),
-            self.seed
+            self.seed,
+            if per_record { "" } else { " × stripe" }
         )
     }
 }
