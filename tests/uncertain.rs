@@ -11,7 +11,7 @@ use rocklab::study::uncertain::{Distribution, Range, Sample};
 use rocklab::study::{Param, ScenePoint, Study};
 use rocklab::sweep::{SceneOutcome, SweepResults};
 
-/// A small fragility study over far-field records 1–3 (component a) at three PGA stripes,
+/// A small fragility study over far-field records (component a) at six PGA stripes,
 /// with `impact` and an `uncertain` section spliced in.
 fn study_text(records: &str, devices: &str, impact: &str, uncertain: &str) -> String {
     format!(
@@ -22,7 +22,7 @@ fn study_text(records: &str, devices: &str, impact: &str, uncertain: &str) -> St
     devices: [{devices}],
     excitation: record(
         suite: (name: "far_field", component: a, records: [{records}]),
-        scale: [0.3, 0.6, 1.0],
+        scale: [0.25, 0.35, 0.45, 0.55, 0.7, 1.0],
         scale_to: pga,
         tail: 2.0,
     ),
@@ -67,14 +67,15 @@ fn drawn(p: &ScenePoint) -> &[(String, f64)] {
 #[test]
 fn zero_dispersion_is_the_deterministic_study_bit_for_bit() {
     let impact = "housner(restitution: 0.9)";
-    let plain = Study::from_ron_str(&study_text("1, 2, 3", "none", impact, ""), "plain").unwrap();
+    let records = "1, 2, 3, 4, 5, 6";
+    let plain = Study::from_ron_str(&study_text(records, "none", impact, ""), "plain").unwrap();
     let section = "    uncertain: (seed: 3, alpha: normal(mean: 0.2, sd: 0.0), \
                    restitution: uniform(lo: 0.9, hi: 0.9)),";
-    let text = study_text("1, 2, 3", "none", impact, section);
+    let text = study_text(records, "none", impact, section);
     let uncertain = Study::from_ron_str(&text, "uncertain").unwrap();
     let (a, b) = (run(&plain), run(&uncertain));
     let grid = a.outcomes.len();
-    assert_eq!(grid, 9);
+    assert_eq!(grid, 6 * 6);
     // The drawn scenes, then as many deterministic companions.
     assert_eq!(b.outcomes.len(), 2 * grid);
     let (drawn_half, companions) = b.outcomes.split_at(grid);
@@ -101,11 +102,13 @@ fn zero_dispersion_is_the_deterministic_study_bit_for_bit() {
     };
     let (fa, fb) = (fit(&plain, &a), fit(&uncertain, &b));
     assert_eq!(fa.curves.len(), fb.curves.len());
+    assert!(fa.curves.iter().any(|c| c.median.is_some()), "no curve fitted");
     for (x, y) in fa.curves.iter().zip(&fb.curves) {
-        assert!(x.median.is_some(), "{x:?}");
         assert_eq!((x.median, x.beta), (y.median, y.beta));
         assert_eq!((x.median, x.beta), (y.median_records, y.beta_records));
-        assert_eq!(y.beta_parameters(), Some(0.0));
+        if y.beta.is_some() {
+            assert_eq!(y.beta_parameters(), Some(0.0));
+        }
     }
 }
 
@@ -132,7 +135,7 @@ fn draws_follow_the_seed_and_the_record_stripe_and_are_stratified() {
     let points = study.expand().unwrap();
     let layout = study.layout().unwrap();
     let grid = layout.len();
-    assert_eq!(grid, 2 * 4 * 3);
+    assert_eq!(grid, 2 * 4 * 6);
     assert_eq!(points.len(), 2 * grid);
     let (bare, clutch) = points[..grid].split_at(grid / 2);
     for (b, c) in bare.iter().zip(clutch) {

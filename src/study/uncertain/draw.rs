@@ -157,6 +157,10 @@ pub fn apply(
         // Refused by validation (`super::validate`), which names the field.
         _ => return Ok(points),
     };
+    // Each distribution is checked before it is drawn from (validation names the field).
+    for (param, d) in &parameters {
+        super::check_distribution(*param, d)?;
+    }
     let places: Vec<Option<(usize, usize)>> = points
         .iter()
         .map(|p| place(layout, p.index, per_record))
