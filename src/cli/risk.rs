@@ -182,7 +182,7 @@ pub fn table(risk: &RiskReport) -> String {
                 fmt_sig(g.cmr),
                 fmt_sig(g.median_capacity),
                 fmt_sig(g.mce),
-                g.beta_total,
+                fmt_sig(g.beta_total),
                 fmt_sig(g.acmr_10),
                 fmt_sig(g.acmr_20),
                 match (g.pass_10, g.pass_20) {
