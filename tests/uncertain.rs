@@ -95,6 +95,17 @@ fn zero_dispersion_is_the_deterministic_study_bit_for_bit() {
         );
         assert_eq!(x.point.key, c.point.key);
     }
+    // results.csv shows each scene's draw and drawn values (and results.columns.csv says so).
+    let csv = String::from_utf8(rocklab::report::results_csv(&b).unwrap()).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let at = header.iter().position(|h| *h == "draw").expect("a draw column");
+    assert_eq!(header[at + 1..at + 3], ["alpha", "restitution"]);
+    let nominal = (csv.lines().skip(1))
+        .filter(|l| l.split(',').nth(at) == Some("nominal"))
+        .count();
+    assert_eq!(nominal, grid);
+    let meta = String::from_utf8(rocklab::report::results_columns_csv(&b).unwrap()).unwrap();
+    assert!(meta.lines().any(|l| l.starts_with("restitution,r,,uncertain parameter")), "{meta}");
     // And the fits: the total is the deterministic fit, and so is the records-only one.
     let fit = |study: &Study, results: &SweepResults| {
         let f = study.fragility.as_ref().unwrap();

@@ -182,7 +182,7 @@ pub fn table(risk: &RiskReport) -> String {
                 fmt_sig(g.cmr),
                 fmt_sig(g.median_capacity),
                 fmt_sig(g.mce),
-                fmt_sig(g.beta_total),
+                crate::numfmt::fmt_digits(g.beta_total, 4),
                 fmt_sig(g.acmr_10),
                 fmt_sig(g.acmr_20),
                 match (g.pass_10, g.pass_20) {
