@@ -79,8 +79,14 @@ fn zero_dispersion_is_the_deterministic_study_bit_for_bit() {
     // The drawn scenes, then as many deterministic companions.
     assert_eq!(b.outcomes.len(), 2 * grid);
     let (drawn_half, companions) = b.outcomes.split_at(grid);
-    for (x, y) in timeless(a.outcomes.clone()).iter().zip(timeless(drawn_half.to_vec())) {
-        assert_eq!(x.point.key, y.point.key, "the same scene, the same cache key");
+    for (x, y) in timeless(a.outcomes.clone())
+        .iter()
+        .zip(timeless(drawn_half.to_vec()))
+    {
+        assert_eq!(
+            x.point.key, y.point.key,
+            "the same scene, the same cache key"
+        );
         assert_eq!(x.point.scene, y.point.scene);
         assert_eq!(x.result, y.result);
         assert_eq!(
@@ -98,14 +104,21 @@ fn zero_dispersion_is_the_deterministic_study_bit_for_bit() {
     // results.csv shows each scene's draw and drawn values (and results.columns.csv says so).
     let csv = String::from_utf8(rocklab::report::results_csv(&b).unwrap()).unwrap();
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
-    let at = header.iter().position(|h| *h == "draw").expect("a draw column");
+    let at = header
+        .iter()
+        .position(|h| *h == "draw")
+        .expect("a draw column");
     assert_eq!(header[at + 1..at + 3], ["alpha", "restitution"]);
     let nominal = (csv.lines().skip(1))
         .filter(|l| l.split(',').nth(at) == Some("nominal"))
         .count();
     assert_eq!(nominal, grid);
     let meta = String::from_utf8(rocklab::report::results_columns_csv(&b).unwrap()).unwrap();
-    assert!(meta.lines().any(|l| l.starts_with("restitution,r,,uncertain parameter")), "{meta}");
+    assert!(
+        meta.lines()
+            .any(|l| l.starts_with("restitution,r,,uncertain parameter")),
+        "{meta}"
+    );
     // And the fits: the total is the deterministic fit, and so is the records-only one.
     let fit = |study: &Study, results: &SweepResults| {
         let f = study.fragility.as_ref().unwrap();
@@ -113,7 +126,10 @@ fn zero_dispersion_is_the_deterministic_study_bit_for_bit() {
     };
     let (fa, fb) = (fit(&plain, &a), fit(&uncertain, &b));
     assert_eq!(fa.curves.len(), fb.curves.len());
-    assert!(fa.curves.iter().any(|c| c.median.is_some()), "no curve fitted");
+    assert!(
+        fa.curves.iter().any(|c| c.median.is_some()),
+        "no curve fitted"
+    );
     for (x, y) in fa.curves.iter().zip(&fb.curves) {
         assert_eq!((x.median, x.beta), (y.median, y.beta));
         assert_eq!((x.median, x.beta), (y.median_records, y.beta_records));
@@ -199,7 +215,13 @@ fn an_ida_draws_once_per_record() {
     for p in &points {
         for q in &points {
             let same_draw = drawn(p) == drawn(q);
-            assert_eq!(same_draw, record(p) == record(q), "{} vs {}", p.group, q.group);
+            assert_eq!(
+                same_draw,
+                record(p) == record(q),
+                "{} vs {}",
+                p.group,
+                q.group
+            );
         }
     }
 }
@@ -264,12 +286,18 @@ fn the_total_beta_adds_the_parameters_to_the_records_by_srss() {
     assert!(total >= alone, "{total} < {alone}");
     assert!((total - 0.5).abs() < 0.05, "β_total {total}");
     assert!((alone - beta_r).abs() < 0.05, "β_records {alone}");
-    assert!((parameters - beta_u).abs() < 0.08, "β_parameters {parameters}");
+    assert!(
+        (parameters - beta_u).abs() < 0.08,
+        "β_parameters {parameters}"
+    );
     // The parameters' share is the SRSS remainder of the two fits, exactly.
     assert!((parameters.powi(2) + alone.powi(2) - total.powi(2)).abs() < 1e-12);
     // Both medians near e^{ln 0.8} (the parameter term has median 1).
     let (m, mr) = (c.median.unwrap(), c.median_records.unwrap());
-    assert!((m / 0.8 - 1.0).abs() < 0.1 && (mr / 0.8 - 1.0).abs() < 0.1, "{m} {mr}");
+    assert!(
+        (m / 0.8 - 1.0).abs() < 0.1 && (mr / 0.8 - 1.0).abs() < 0.1,
+        "{m} {mr}"
+    );
 }
 
 #[test]
@@ -284,7 +312,11 @@ fn the_section_round_trips_through_the_writer() {
     assert!(kept.contains("deg(11.5)"), "{kept}");
     assert_eq!(Study::from_ron_str(&kept, "kept").unwrap(), study);
     let fresh = study.to_ron_keeping(None).text;
-    assert_eq!(Study::from_ron_str(&fresh, "fresh").unwrap(), study, "{fresh}");
+    assert_eq!(
+        Study::from_ron_str(&fresh, "fresh").unwrap(),
+        study,
+        "{fresh}"
+    );
     let plain = study.to_ron_string();
     assert_eq!(Study::from_ron_str(&plain, "plain").unwrap(), study);
 }
@@ -296,13 +328,41 @@ fn bad_sections_are_refused_naming_file_line_and_field() {
     let dir = tempfile::tempdir().unwrap();
     let cases: [(&str, &str, &str); 8] = [
         ("alhpa: normal(mean: 0.2, sd: 0.01)", "alhpa", "alpha"),
-        ("alpha: normal(mean: 0.2, sd: -0.01)", "uncertain.alpha", "negative"),
-        ("restitution: uniform(lo: 0.95, hi: 0.8)", "uncertain.restitution", "above"),
-        ("size: lognormal(median: 0.0, beta: 0.1)", "uncertain.size", "not positive"),
-        ("restitution: normal(mean: 0.95, sd: 0.05)", "uncertain.restitution", "outside"),
-        ("alpha: uniform(lo: 0.0, hi: 1.7)", "uncertain.alpha", "outside"),
-        ("size: lognormal(median: 2.0, beta: deg(1))", "beta", "not an angle"),
-        ("k_theta: normal(mean: 1000.0, sd: 10.0)", "uncertain.k_theta", "clutch"),
+        (
+            "alpha: normal(mean: 0.2, sd: -0.01)",
+            "uncertain.alpha",
+            "negative",
+        ),
+        (
+            "restitution: uniform(lo: 0.95, hi: 0.8)",
+            "uncertain.restitution",
+            "above",
+        ),
+        (
+            "size: lognormal(median: 0.0, beta: 0.1)",
+            "uncertain.size",
+            "not positive",
+        ),
+        (
+            "restitution: normal(mean: 0.95, sd: 0.05)",
+            "uncertain.restitution",
+            "outside",
+        ),
+        (
+            "alpha: uniform(lo: 0.0, hi: 1.7)",
+            "uncertain.alpha",
+            "outside",
+        ),
+        (
+            "size: lognormal(median: 2.0, beta: deg(1))",
+            "beta",
+            "not an angle",
+        ),
+        (
+            "k_theta: normal(mean: 1000.0, sd: 10.0)",
+            "uncertain.k_theta",
+            "clutch",
+        ),
     ];
     for (i, (field, names, says)) in cases.iter().enumerate() {
         let section = format!("    uncertain: (\n        seed: 1,\n        {field},\n    ),");
@@ -328,7 +388,10 @@ fn bad_sections_are_refused_naming_file_line_and_field() {
         "housner()",
         "    uncertain: (alpha: normal(mean: 0.2, sd: 0.01)),",
     )
-    .replace("    fragility: (damage_states: levels([0.5, 1.0]), bootstrap: 0),\n", "");
+    .replace(
+        "    fragility: (damage_states: levels([0.5, 1.0]), bootstrap: 0),\n",
+        "",
+    );
     let e = Study::from_ron_str(&spectra, "spectra.ron").unwrap_err();
     assert_eq!(e.field.as_deref(), Some("uncertain"), "{e}");
     assert!(e.line.is_some(), "{e}");
@@ -339,7 +402,10 @@ fn bad_sections_are_refused_naming_file_line_and_field() {
 /// uninterrupted run: the same draws (recorded in each scene) and the same results.
 #[test]
 fn a_killed_and_resumed_run_reproduces_the_draws() {
-    let records = (1..=22).map(|r| r.to_string()).collect::<Vec<_>>().join(", ");
+    let records = (1..=22)
+        .map(|r| r.to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
     let text = drawn_study(&records, 7);
     let study = Study::from_ron_str(&text, "t").unwrap();
     let scenes = study.expand().unwrap().len();
@@ -372,7 +438,10 @@ fn a_killed_and_resumed_run_reproduces_the_draws() {
     let (status, stderr) = finish(child);
     assert!(!status.success(), "SIGKILL must end the run: {stderr}");
     let before = journalled(&journal);
-    assert!((12..scenes).contains(&before), "{before} of {scenes} journalled");
+    assert!(
+        (12..scenes).contains(&before),
+        "{before} of {scenes} journalled"
+    );
     let (status, stderr) = finish(spawn_run(&study_path, &out, &[]));
     assert!(status.success(), "{stderr}");
     assert_eq!(reused(&stderr), before, "every journalled scene is reused");
@@ -384,8 +453,20 @@ fn a_killed_and_resumed_run_reproduces_the_draws() {
 #[test]
 fn a_distributions_centre_is_its_companions_value() {
     for (d, centre) in [
-        (Distribution::Normal { mean: 0.2, sd: 0.01 }, 0.2),
-        (Distribution::Lognormal { median: 2.0, beta: 0.1 }, 2.0),
+        (
+            Distribution::Normal {
+                mean: 0.2,
+                sd: 0.01,
+            },
+            0.2,
+        ),
+        (
+            Distribution::Lognormal {
+                median: 2.0,
+                beta: 0.1,
+            },
+            2.0,
+        ),
         (Distribution::Uniform { lo: 0.8, hi: 0.95 }, 0.875),
     ] {
         assert_eq!(d.centre(), centre);

@@ -201,7 +201,10 @@ fn uncertain_columns(results: &SweepResults) -> Vec<(crate::study::Param, f64)> 
 
 /// A scene's `draw` and uncertain-parameter cells: its draw's place and drawn values, or
 /// `nominal` and the centres for a deterministic companion.
-fn uncertain_cells(point: &crate::study::ScenePoint, columns: &[(crate::study::Param, f64)]) -> Vec<String> {
+fn uncertain_cells(
+    point: &crate::study::ScenePoint,
+    columns: &[(crate::study::Param, f64)],
+) -> Vec<String> {
     use crate::study::uncertain::Sample;
     match &point.uncertain {
         Some(Sample::Drawn { draw, values }) => std::iter::once(draw.to_string())

@@ -197,7 +197,10 @@ const FIELD_HELP: &[(&str, &str)] = &[
         "per_record_stripe: one draw per record × stripe, shared by the device variants (an \
          IDA: per record)",
     ),
-    ("mean", "a normal distribution's mean, in the parameter's unit"),
+    (
+        "mean",
+        "a normal distribution's mean, in the parameter's unit",
+    ),
     (
         "sd",
         "a normal distribution's standard deviation (≥ 0), in the parameter's unit",

@@ -91,7 +91,9 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
     }
     // With uncertain parameters the study's own fitted total β serves as β_TOT.
     let own_beta = study.uncertain.is_some();
-    if r.beta_total.is_some() && r.mce.is_none() || r.mce.is_some() && !own_beta && r.beta_total.is_none() {
+    if r.beta_total.is_some() && r.mce.is_none()
+        || r.mce.is_some() && !own_beta && r.beta_total.is_none()
+    {
         return Err(StudyError::field(
             "risk.mce",
             "P695 margins need both the MCE intensity and β_TOT",

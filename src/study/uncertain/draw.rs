@@ -79,24 +79,20 @@ pub fn uniforms(sampling: Sampling, seed: u64, draws: usize, parameters: usize) 
 
 /// A drawn (or central) value put into a scene.
 fn set(scene: &mut Scene, param: Param, v: f64) {
-    let mut clutch = |f: &mut dyn FnMut(&mut ClutchStiffness, &mut Damping)| match &mut scene
-        .device
+    let mut clutch = |f: &mut dyn FnMut(&mut ClutchStiffness, &mut Damping)| match &mut scene.device
     {
         Device::Mechanistic(c) => f(&mut c.stiffness, &mut c.damping),
         Device::Inerter {
-            coupling:
-                Coupling::Flywheel {
-                    stiffness, damping, ..
-                },
+            coupling: Coupling::Flywheel {
+                stiffness, damping, ..
+            },
             ..
         } => f(stiffness, damping),
         Device::None | Device::Sequential { .. } | Device::Inerter { .. } => {}
     };
     match param {
         Param::KTheta => clutch(&mut |k, _| *k = ClutchStiffness::KTheta(v)),
-        Param::ClutchFrequencyRatio => {
-            clutch(&mut |k, _| *k = ClutchStiffness::FrequencyRatio(v))
-        }
+        Param::ClutchFrequencyRatio => clutch(&mut |k, _| *k = ClutchStiffness::FrequencyRatio(v)),
         Param::Cbar => clutch(&mut |_, c| *c = Damping::CBar(v)),
         Param::XiTheta => clutch(&mut |_, c| *c = Damping::XiTheta(v)),
         Param::Restitution => {

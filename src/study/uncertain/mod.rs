@@ -362,10 +362,7 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
         ));
     }
     let kind = study.kind();
-    if !matches!(
-        kind,
-        super::StudyKind::Stripes | super::StudyKind::Ida
-    ) {
+    if !matches!(kind, super::StudyKind::Stripes | super::StudyKind::Ida) {
         return Err(StudyError::field(
             "uncertain",
             "uncertain parameters are drawn per record and stripe of a fragility study",

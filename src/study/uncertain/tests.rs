@@ -57,13 +57,19 @@ fn sample_moments_converge_to_the_stated_distributions() {
         .map(|r| r[0])
         .collect();
     let within = |got: f64, want: f64, se: f64, what: &str| {
-        assert!((got - want).abs() < 4.0 * se, "{what}: {got} vs {want} (se {se})");
+        assert!(
+            (got - want).abs() < 4.0 * se,
+            "{what}: {got} vs {want} (se {se})"
+        );
     };
     let nf = n as f64;
     // α ~ N(14°, 1°): far from its range's ends, so the truncation changes nothing visible.
     let (mean, sd) = (14f64.to_radians(), 1f64.to_radians());
     let d = Distribution::Normal { mean, sd };
-    let xs: Vec<f64> = u.iter().map(|&u| d.value(u, Range::of(Param::Alpha))).collect();
+    let xs: Vec<f64> = u
+        .iter()
+        .map(|&u| d.value(u, Range::of(Param::Alpha)))
+        .collect();
     let (m, s) = moments(&xs);
     within(m, mean, sd / nf.sqrt(), "normal mean");
     within(s, sd, sd / (2.0 * nf).sqrt(), "normal sd");
@@ -109,7 +115,10 @@ fn a_distribution_without_spread_draws_its_centre_exactly() {
         },
     ] {
         for u in [1e-12, 0.3, 0.999_999] {
-            assert_eq!(d.value(u, Range::of(Param::Alpha)).to_bits(), alpha.to_bits());
+            assert_eq!(
+                d.value(u, Range::of(Param::Alpha)).to_bits(),
+                alpha.to_bits()
+            );
         }
     }
 }
@@ -160,7 +169,11 @@ fn impossible_values_are_truncated_or_refused_by_the_stated_rule() {
             },
             "negative",
         ),
-        (Param::Size, Distribution::Uniform { lo: 2.0, hi: 1.0 }, "above"),
+        (
+            Param::Size,
+            Distribution::Uniform { lo: 2.0, hi: 1.0 },
+            "above",
+        ),
         (
             Param::Size,
             Distribution::Lognormal {
