@@ -62,4 +62,5 @@ mod tui_scene;
 mod tui_smoke;
 mod tui_study;
 mod tui_workflow;
+mod uncertain;
 mod vertical;

@@ -16,6 +16,7 @@ mod param;
 pub mod risk;
 mod strict;
 pub(crate) mod suites;
+pub mod uncertain;
 mod values;
 pub mod writer;
 
@@ -86,6 +87,10 @@ pub struct Study {
     /// Seismic risk at a site from the fragility curves (study/risk.rs).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub risk: Option<risk::Risk>,
+    /// Uncertain parameters drawn per record × stripe of a fragility study
+    /// (study/uncertain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertain: Option<uncertain::Uncertain>,
 }
 
 pub(crate) fn yes() -> bool {
@@ -448,6 +453,10 @@ pub struct ScenePoint {
     pub coords: Vec<(String, f64)>,
     /// Hash of the scene and solver settings: the cache key for reruns.
     pub key: String,
+    /// In a study with uncertain parameters: the values drawn for this scene, or that it is
+    /// a drawn scene's deterministic companion (study/uncertain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertain: Option<uncertain::Sample>,
 }
 
 impl ScenePoint {
@@ -561,6 +570,7 @@ impl Study {
         expand::validate(self)?;
         design::validate(self)?;
         fragility::validate(self)?;
+        uncertain::validate(self)?;
         risk::validate(self)
     }
 

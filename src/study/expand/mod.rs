@@ -60,13 +60,14 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
                 scene,
                 group: layout.label(d, &odometer, &free),
                 coords: coords(study, params, &odometer),
+                uncertain: None,
             });
             if !advance(&mut odometer, params) {
                 break;
             }
         }
     }
-    Ok(points)
+    crate::study::uncertain::apply(study, &layout, points)
 }
 
 /// Step the odometer (last parameter fastest); false when it wraps around.
