@@ -3,6 +3,7 @@
 pub mod bench;
 mod bench_quantities;
 mod bench_suite;
+mod bench_tui;
 pub mod check;
 pub mod compare;
 pub mod ims;

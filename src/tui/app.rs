@@ -185,6 +185,19 @@ impl App {
         self.runs.is_running()
     }
 
+    /// The study's expansion is being computed in the background.
+    pub fn expansion_pending(&self) -> bool {
+        false
+    }
+
+    /// Scenes of the open study, once expanded (None if invalid or pending).
+    pub fn scene_count(&self) -> Option<usize> {
+        match &self.shared.check {
+            Check::Ok(points) => Some(points.len()),
+            _ => None,
+        }
+    }
+
     fn say(&mut self, msg: impl Into<String>) {
         self.message = Some((msg.into(), false));
     }
