@@ -107,7 +107,9 @@ pub fn run(path: &Path, keys: usize, edits: usize) -> anyhow::Result<()> {
         app.scene_count().unwrap_or(0),
         rayon::current_num_threads()
     );
-    println!("open (App::new + first frame): {open_ms:.1} ms; expansion landed after {expanded_ms:.1} ms");
+    println!(
+        "open (App::new + first frame): {open_ms:.1} ms; expansion landed after {expanded_ms:.1} ms"
+    );
 
     let mut key_ms = Vec::new();
     for i in 0..keys {

@@ -18,6 +18,7 @@ use crate::excitation::library::Library;
 use crate::report;
 use crate::study::{ScenePoint, Study};
 use crate::sweep::SweepResults;
+use crate::sweep::estimate::{self, CostModel, Strata};
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use std::path::PathBuf;
 
@@ -32,7 +33,7 @@ pub use super::components::results::{Results, ResultsTab};
 pub use super::components::run::{GroupProgress, RunState};
 pub use super::components::scene::{SceneState, SceneView};
 pub use super::components::study::Row;
-pub use super::components::{Check, Shared};
+pub use super::components::{Check, EXPAND_AT_ONCE, Shared};
 
 mod background;
 
@@ -97,8 +98,13 @@ pub struct App {
     pub prompt: Option<Prompt>,
     /// One-line message on the status bar (cleared by the next key); true for an error.
     pub message: Option<(String, bool)>,
-    /// Times a few scenes of the study for the run-time estimate.
-    calibration: AsyncSingleJob<(), Option<f64>>,
+    /// Times a few scenes of every stratum of the study for the run-time estimate.
+    calibration: AsyncSingleJob<(), Option<(Strata, CostModel)>>,
+    /// Expands a large study off the UI thread; its output carries the generation it was
+    /// asked for and is dropped unless that is still the study's.
+    expansion: AsyncSingleJob<(), Expanded>,
+    /// Counts the studies set (opened or edited): what a landing expansion is checked against.
+    generation: u64,
     /// Set by a first Ctrl-C with unsaved changes: a second one quits anyway.
     ctrl_c_armed: bool,
 }
@@ -110,12 +116,21 @@ fn key_press(code: KeyCode) -> KeyEvent {
     KeyEvent::new(code, KeyModifiers::NONE)
 }
 
-/// Validate a study by expanding it (once).
-fn check(study: &Study) -> Check {
-    match study.expand() {
-        Ok(points) => Check::Ok(Arc::new(points)),
-        Err(e) => Check::Invalid(e.to_string()),
-    }
+/// What the background expansion of a study returns: for which generation, the scenes (or
+/// why the study is invalid), and how many groups they make.
+pub struct Expanded {
+    generation: u64,
+    points: Result<Vec<ScenePoint>, String>,
+    groups: usize,
+}
+
+/// Distinct group labels of an expansion (counted once, not per frame).
+fn count_groups(points: &[ScenePoint]) -> usize {
+    points
+        .iter()
+        .map(|p| p.group.as_str())
+        .collect::<std::collections::HashSet<_>>()
+        .len()
 }
 
 impl App {
@@ -132,14 +147,15 @@ impl App {
             editor: StudyScreen::new(&study, original.as_deref()),
             shared: Shared {
                 options,
-                check: check(&study),
-                study,
+                check: Check::Pending { scenes: 0 },
+                groups: 0,
+                study: study.clone(),
                 path,
                 original,
                 dirty: false,
                 results: None,
                 out_dir: None,
-                seconds_per_scene: None,
+                costs: None,
                 record_names: Library::open(Library::default_dir())
                     .map(|l| l.names())
                     .unwrap_or_default(),
@@ -151,9 +167,11 @@ impl App {
             prompt: None,
             message: None,
             calibration: AsyncSingleJob::default(),
+            expansion: AsyncSingleJob::default(),
+            generation: 0,
             ctrl_c_armed: false,
         };
-        app.start_calibration();
+        app.begin_check(&study, None);
         app
     }
 
@@ -187,7 +205,7 @@ impl App {
 
     /// The study's expansion is being computed in the background.
     pub fn expansion_pending(&self) -> bool {
-        false
+        matches!(self.shared.check, Check::Pending { .. })
     }
 
     /// Scenes of the open study, once expanded (None if invalid or pending).
@@ -270,21 +288,95 @@ impl App {
         checks
     }
 
-    /// A new study: its check (the expansion, computed once by the caller or here), the
-    /// editor's rows and the run-time estimate follow.
+    /// A new study: its check (the expansion, computed by the caller, here, or in the
+    /// background for a large study), the editor's rows and the run-time estimate follow.
     fn set_study(&mut self, study: Study, points: Option<Vec<ScenePoint>>, text: Option<&str>) {
-        self.shared.check = match points {
-            Some(points) => Check::Ok(Arc::new(points)),
-            None => check(&study),
-        };
         self.editor.study_changed(&study, text);
         self.shared.study = study;
+        let study = self.shared.study.clone();
+        self.begin_check(&study, points);
+    }
+
+    /// Validate `study` by expanding it: at once if small (or already expanded), else on the
+    /// background worker with the check pending meanwhile. A newer study supersedes an
+    /// expansion still running: its output is dropped when it lands.
+    fn begin_check(&mut self, study: &Study, points: Option<Vec<ScenePoint>>) {
+        self.generation += 1;
+        self.shared.costs = None;
+        let points = match points {
+            Some(points) => Ok(points),
+            None => match study.layout().map(|l| l.len()) {
+                Ok(scenes) if scenes > EXPAND_AT_ONCE => {
+                    let generation = self.generation;
+                    let study = study.clone();
+                    self.calibration.abandon();
+                    self.expansion.spawn(move |_, _| {
+                        let points = study.expand().map_err(|e| e.to_string());
+                        let groups = points.as_ref().map_or(0, |p| count_groups(p));
+                        Expanded {
+                            generation,
+                            points,
+                            groups,
+                        }
+                    });
+                    self.replace_check(Check::Pending { scenes }, 0);
+                    return;
+                }
+                _ => study.expand().map_err(|e| e.to_string()),
+            },
+        };
+        self.expansion.abandon();
+        let groups = points.as_ref().map_or(0, |p| count_groups(p));
+        self.expanded(points, groups);
+    }
+
+    /// An expansion is in: it becomes the study's check, and the estimate's sample starts.
+    fn expanded(&mut self, points: Result<Vec<ScenePoint>, String>, groups: usize) {
+        let check = match points {
+            Ok(points) => Check::Ok(Arc::new(points)),
+            Err(msg) => Check::Invalid(msg),
+        };
+        self.replace_check(check, groups);
         self.start_calibration();
     }
 
-    /// Time a few scenes of the study in the background for the run-time estimate. A newer
-    /// study replaces a calibration still running (its result would be stale), so fast edits
-    /// do not pile up threads.
+    /// Take the background expansion's output if it is for the current study.
+    pub(super) fn take_expansion(&mut self) -> bool {
+        let mut changed = false;
+        for event in self.expansion.poll() {
+            match event {
+                JobEvent::Done(done) if done.generation == self.generation => {
+                    if let Err(msg) = &done.points {
+                        self.complain(msg.clone());
+                    }
+                    self.expanded(done.points, done.groups);
+                    changed = true;
+                }
+                JobEvent::Lost => {
+                    self.replace_check(Check::Invalid("the expansion failed".into()), 0);
+                    changed = true;
+                }
+                _ => {}
+            }
+        }
+        changed
+    }
+
+    /// Set the check; a large expansion it replaces is freed on another thread (freeing
+    /// 300 000 scenes takes a noticeable part of a second).
+    fn replace_check(&mut self, check: Check, groups: usize) {
+        let old = std::mem::replace(&mut self.shared.check, check);
+        self.shared.groups = groups;
+        if let Check::Ok(points) = old
+            && points.len() > EXPAND_AT_ONCE
+        {
+            std::thread::spawn(move || drop(points));
+        }
+    }
+
+    /// Time a few scenes of every stratum of the study in the background for the run-time
+    /// estimate. A newer study replaces a calibration still running (its result would be
+    /// stale), so fast edits do not pile up threads.
     fn start_calibration(&mut self) {
         if self.shared.options.deterministic || self.is_running() {
             return;
@@ -296,8 +388,15 @@ impl App {
             return;
         }
         let points = Arc::clone(points);
-        self.calibration
-            .spawn(move |_, cancel| crate::sweep::seconds_per_scene(&points, cancel));
+        let strata = estimate::study_strata(&self.shared.study, points.len());
+        let measures = crate::study::Quantity::measures(&self.shared.study.quantities);
+        self.calibration.spawn(move |_, cancel| {
+            let library = crate::excitation::library::global().ok()?;
+            let budget = Duration::from_secs(4);
+            let model =
+                estimate::sample_costs(&points, measures, &strata, 2, budget, library, cancel)?;
+            Some((strata, model))
+        });
     }
 
     // ----- keys -----
@@ -386,7 +485,7 @@ impl App {
                 note,
             } => {
                 self.shared.dirty = true;
-                self.set_study(*study, Some(points), Some(&text));
+                self.set_study(*study, points, Some(&text));
                 if let Some(note) = note {
                     self.say(note);
                 }
