@@ -115,21 +115,31 @@ fn the_run_screen_draws_the_groups_in_view_at_its_offset() {
     key(&mut app, KeyCode::Char('r'));
     assert!(app.wait_idle(Duration::from_secs(120)));
     key(&mut app, KeyCode::Char('2'));
-    keys(&mut app, &[Down; 10]);
-    assert_eq!(app.runs.scroll, 10);
+    keys(&mut app, &[Down; 3]);
+    assert_eq!(app.runs.scroll, 3);
+    // Rows 4 to 21 of the 24 groups: the fourth size (R = 2) of the bare block first.
     let frame = text(&render(&app, rocklab::tui::theme::Theme::COLOR, SMALL));
-    assert!(frame.contains("rows 11–"), "{frame}");
+    assert!(frame.contains("rows 4–21 of 24"), "{frame}");
+    let first = frame.lines().nth(5).unwrap_or_default();
+    assert!(first.starts_with("bare R=2 "), "{frame}");
     snap("scale_run_rows_at_offset_80x24", frame);
 }
 
 #[test]
 fn a_running_sweep_leaves_keys_working() {
-    let mut app = app_for(large_study(1, 65), scratch_dir());
+    let mut app = app_for(large_study(2, 30), scratch_dir());
     assert!(app.wait_idle(Duration::from_secs(120)));
+    assert_eq!(scene_count(&app), 2 * 45 * 30 * 6);
     key(&mut app, KeyCode::Char('r'));
-    assert!(app.is_running());
-    // Let progress pile up in the channel, then move around while it is drained.
-    std::thread::sleep(Duration::from_millis(300));
+    assert!(app.is_running(), "{:?}", app.message);
+    // Wait for the first finished scene, then move around while progress is drained.
+    for _ in 0..12_000 {
+        app.tick();
+        if app.runs.state.as_ref().is_some_and(|r| r.done > 0) {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
     for (code, screen) in [
         (Tab, Screen::Results),
         (Tab, Screen::Scene),

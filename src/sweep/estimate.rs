@@ -21,6 +21,11 @@ use std::time::{Duration, Instant};
 
 /// Blocks each device variant's scenes are cut into along the expansion order.
 pub const BLOCKS_PER_VARIANT: usize = 8;
+/// Samples' worth of weight a stratum's (and a variant's) prior keeps against its own
+/// samples.
+const SHRINK: f64 = 4.0;
+/// Scenes timed per stratum before a run (the workbench's and the bench's sample).
+pub const SAMPLES_PER_STRATUM: usize = 4;
 
 /// The strata of a study's scenes: `ranges` are the device variants' (first, count) in the
 /// expansion; each is cut into up to [`BLOCKS_PER_VARIANT`] blocks.
@@ -113,11 +118,19 @@ impl CostModel {
         };
         let overall = mean(&|_| true)?;
         let variant = |s: usize| strata.blocks.get(s).map(|b| b.2);
+        // A stratum's few samples are shrunk toward its variant's mean (and that toward the
+        // overall mean): costs vary tenfold inside a block (overturning scenes stop early),
+        // and one unlucky sample must not price thousands of scenes.
+        let count = |pick: &dyn Fn(usize) -> bool| samples.iter().filter(|(s, _)| pick(*s)).count();
+        let shrunk = |n: usize, m: Option<f64>, prior: f64| {
+            let n = n as f64;
+            m.map_or(prior, |m| (n * m + SHRINK * prior) / (n + SHRINK))
+        };
         let per_stratum = (0..strata.len())
             .map(|s| {
-                mean(&|t| t == s)
-                    .or_else(|| mean(&|t| variant(t) == variant(s)))
-                    .unwrap_or(overall)
+                let in_variant = |t: usize| variant(t) == variant(s);
+                let v = shrunk(count(&in_variant), mean(&in_variant), overall);
+                shrunk(count(&|t| t == s), mean(&|t| t == s), v)
             })
             .collect();
         Some(CostModel { per_stratum })
@@ -211,6 +224,11 @@ pub struct RunEstimate {
     history: VecDeque<(f64, f64)>,
     /// The last estimate given, and when.
     shown: Option<(f64, f64)>,
+    /// (elapsed, work done) when the first computed scene was seen.
+    since: Option<(f64, f64)>,
+    /// Predicted work per wall second before the run measured its own: the threads, for a
+    /// model from timed scenes; None for the uniform model (a count says nothing of time).
+    prior_pace: Option<f64>,
 }
 
 /// The pace is measured over the last this many seconds (or the whole run if shorter)…
@@ -218,6 +236,8 @@ const WINDOW_SECONDS: f64 = 30.0;
 /// …and one refresh moves the estimate by at most this factor (up or down) beyond the
 /// passing of time…
 const MAX_STEP: f64 = 1.5;
+/// The run's measured pace replaces the model's prior over this many seconds of scenes…
+const TRUST_SECONDS: f64 = 5.0;
 /// …and refreshes come at most this often (between them the estimate counts down).
 const REFRESH_SECONDS: f64 = 0.5;
 
@@ -225,6 +245,7 @@ impl RunEstimate {
     /// A sweep of every scene of `strata` on `threads` workers, priced by `model` (None:
     /// every scene alike, the pace alone decides).
     pub fn new(strata: Strata, model: Option<CostModel>, threads: usize) -> RunEstimate {
+        let prior_pace = model.is_some().then_some(threads.max(1) as f64);
         let model = model.unwrap_or_else(|| CostModel::uniform(&strata));
         let work_left = model.work(&strata.counts());
         RunEstimate {
@@ -235,6 +256,8 @@ impl RunEstimate {
             work_done: 0.0,
             history: VecDeque::new(),
             shown: None,
+            since: None,
+            prior_pace,
         }
     }
 
@@ -250,7 +273,8 @@ impl RunEstimate {
         }
     }
 
-    /// Seconds left at `elapsed` seconds into the run; None until a scene was computed.
+    /// Seconds left at `elapsed` seconds into the run; None while nothing says (no sampled
+    /// model and no scene computed yet).
     pub fn seconds_left(&mut self, elapsed: f64) -> Option<f64> {
         if self.work_left <= 0.0 {
             return Some(0.0);
@@ -259,6 +283,11 @@ impl RunEstimate {
             && elapsed - at < REFRESH_SECONDS
         {
             return Some((last - (elapsed - at)).max(0.0));
+        }
+        // The pace is measured from the first computed scene on: the start of a run (opening
+        // the journal, expanding the study) says nothing about the scenes' pace.
+        if self.work_done > 0.0 && self.since.is_none() {
+            self.since = Some((elapsed, self.work_done));
         }
         self.history.push_back((elapsed, self.work_done));
         let window = WINDOW_SECONDS.max(elapsed * 0.25);
@@ -270,17 +299,30 @@ impl RunEstimate {
         {
             self.history.pop_front();
         }
-        if self.work_done <= 0.0 || elapsed <= 0.0 {
-            return None;
-        }
-        // The pace over the window, unless the window saw nothing finish (then the mean).
-        let &(t0, w0) = self.history.front()?;
-        let windowed = (elapsed - t0 > 1.0 && self.work_done > w0)
-            .then(|| (self.work_done - w0) / (elapsed - t0));
-        let mean = self.work_done / elapsed;
-        // The window follows a change of pace; the mean keeps a burst of scenes finishing
-        // together from swinging it.
-        let pace = windowed.map_or(mean, |w| 0.5 * (w + mean));
+        let measured = self.since.and_then(|(t0, w0)| {
+            let span = elapsed - t0;
+            if span < 1.0 || self.work_done <= w0 {
+                return None;
+            }
+            let mean = (self.work_done - w0) / span;
+            // The window follows a change of pace; the mean keeps a burst of scenes
+            // finishing together from swinging it.
+            let &(t1, w1) = self.history.front()?;
+            let windowed = (elapsed - t1 > 1.0 && self.work_done > w1)
+                .then(|| (self.work_done - w1) / (elapsed - t1));
+            Some((windowed.map_or(mean, |w| 0.5 * (w + mean)), span))
+        });
+        // A sampled model prices scenes in one-thread seconds: every worker busy is its pace
+        // until the run has measured its own (trusted fully after TRUST_SECONDS).
+        let pace = match (measured, self.prior_pace) {
+            (Some((m, span)), Some(p)) => {
+                let trust = (span / TRUST_SECONDS).min(1.0);
+                p.powf(1.0 - trust) * m.powf(trust)
+            }
+            (Some((m, _)), None) => m,
+            (None, Some(p)) => p,
+            (None, None) => return None,
+        };
         let raw = self.work_left / pace;
         let estimate = match self.shown {
             Some((at, last)) => {
@@ -454,16 +496,47 @@ mod tests {
     }
 
     #[test]
+    fn costs_scattered_inside_blocks_are_priced_from_few_samples() {
+        // Two variants whose scenes alternate in runs between 0.5 ms (overturned early) and
+        // 8 ms along the axes, the second variant dearer; sampled like the workbench.
+        let costs: Vec<f64> = (0..8000)
+            .map(|i| {
+                let base = if (i / 37) % 3 == 0 { 0.008 } else { 0.0005 };
+                if i < 4000 { base } else { 2.0 * base }
+            })
+            .collect();
+        let ranges = [(0, 4000), (4000, 4000)];
+        let strata = Strata::new(&ranges, costs.len());
+        let samples: Vec<(usize, f64)> = strata
+            .sample_indices(SAMPLES_PER_STRATUM)
+            .into_iter()
+            .map(|i| (strata.of(i).unwrap(), costs[i]))
+            .collect();
+        let model = CostModel::from_samples(&strata, &samples).unwrap();
+        let before = seconds_before_run(&model, &strata, 2);
+        let truth = costs.iter().sum::<f64>() / 2.0;
+        assert!(
+            (0.5..=2.0).contains(&(before / truth)),
+            "{before} vs {truth}"
+        );
+        check(
+            &replay(&costs, &ranges, 2, &[false; 8000], Some(model)),
+            0.1,
+        );
+    }
+
+    #[test]
     fn a_wrong_model_is_corrected_by_the_pace_and_the_steps_stay_bounded() {
-        // The sample said 1 ms a scene; they cost 10 ms: the pace in model units is what
-        // the estimate uses, so it comes out right anyway.
+        // The sample said 1 ms a scene; they cost 10 ms. Until the run has measured a few
+        // seconds of its own pace the model's prior weighs in (and each refresh moves by a
+        // bounded step), so the estimate is right from mid-run on.
         let costs = vec![0.01; 3000];
         let ranges = [(0, 3000)];
         let strata = Strata::new(&ranges, 3000);
         let wrong = CostModel::from_samples(&strata, &[(0, 0.001)]).unwrap();
         check(
             &replay(&costs, &ranges, 2, &[false; 3000], Some(wrong)),
-            0.1,
+            0.5,
         );
         let before = seconds_before_run(&CostModel::uniform(&strata), &strata, 4);
         assert_eq!(before, 750.0);
