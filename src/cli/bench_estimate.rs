@@ -76,7 +76,8 @@ pub fn run(path: &Path) -> anyhow::Result<()> {
             marks
         });
         let opts = SweepOptions::default();
-        let results = sweep::run_study(&study, &opts, library, &cancel, &progress);
+        let results = sweep::run_study(&study, &opts, library, &cancel, &progress)
+            .map_err(anyhow::Error::from);
         finished.store(true, Ordering::Relaxed);
         marks = poller.join().unwrap_or_default();
         results
