@@ -58,6 +58,7 @@ mod tui_hangup;
 mod tui_results;
 mod tui_run;
 mod tui_saving;
+mod tui_scale;
 mod tui_scene;
 mod tui_smoke;
 mod tui_study;
