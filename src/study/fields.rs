@@ -97,7 +97,11 @@ const FIELD_HELP: &[(&str, &str)] = &[
         "excitation",
         "pulse(shape, amplitude, frequency) or record(names: [\"…\"], scale: …)",
     ),
-    ("shape", "sine, cosine, ricker, …"),
+    (
+        "shape",
+        "sine, cosine, ricker, …, or a list [sine, ricker]: each shape is an axis value (its own \
+         spectra, selected by shape: ricker)",
+    ),
     (
         "amplitude",
         "alpha_ratio(A/(g·α)), tan_alpha_ratio(A/(g·tanα)) or g(A/g)",

@@ -151,7 +151,9 @@ impl StudyScreen {
                 let mut action = self.apply_document(doc, true);
                 if let Action::StudyEdited { note, .. } = &mut action {
                     self.cursor_to = Some(target);
-                    *note = said;
+                    if said.is_some() {
+                        *note = said;
+                    }
                 }
                 action
             }
@@ -163,22 +165,33 @@ impl StudyScreen {
     /// editor, or on the status line for edits without one (deletions).
     fn apply_document(&mut self, doc: String, from_editor: bool) -> Action {
         let checked = match Study::parse_ron(&doc, "edit") {
-            Ok(study) => match study.expand() {
-                Ok(points) => Ok((study, points)),
-                Err(e) => Err(e.located(&doc, "edit")),
+            Ok(mut study) => match study.expand() {
+                Ok(points) => Ok((study, points, doc, None)),
+                Err(e) => {
+                    // An excitation of another kind: the fields that depend on it follow, by
+                    // the library's rule (study/follow.rs), and the note says what changed.
+                    let notes = study.follow_excitation();
+                    match study.expand() {
+                        Ok(points) if !notes.is_empty() => {
+                            let text = study.to_ron_keeping(Some(&doc)).text;
+                            Ok((study, points, text, Some(notes.join(", "))))
+                        }
+                        _ => Err(e.located(&doc, "edit")),
+                    }
+                }
             },
             Err(e) => Err(e),
         };
         match checked {
-            Ok((study, points)) => {
+            Ok((study, points, text, note)) => {
                 self.edit = None;
                 self.edit_error = None;
                 self.inserting = false;
                 Action::StudyEdited {
                     study: Box::new(study),
                     points,
-                    text: doc,
-                    note: None,
+                    text,
+                    note,
                 }
             }
             Err(e) => {
