@@ -108,10 +108,7 @@ pub(super) fn coordinate_axis(label: &str) -> String {
 }
 
 pub(super) fn figure_title(results: &SweepResults) -> String {
-    results
-        .study
-        .as_ref()
-        .map_or("results".into(), study_title)
+    results.study.as_ref().map_or("results".into(), study_title)
 }
 
 /// A figure's title from its study: the description, or (without one) the study's name in
