@@ -63,6 +63,7 @@ pub fn scene(structure: Structure, device: Device, excitation: Excitation, durat
         device,
         impact: Impact::default(),
         excitation,
+        vertical: None,
         duration,
         rtol: default_rtol(),
         initial_rotation: 0.0,

@@ -13,6 +13,10 @@ pub struct Scene {
     #[serde(default)]
     pub impact: Impact,
     pub excitation: Excitation,
+    /// The vertical ground motion (absent: none, gravity constant; docs/MODEL.md "Vertical
+    /// ground motion").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vertical: Option<VerticalMotion>,
     /// Total simulated time (s); the run stops earlier only at overturning or rest.
     pub duration: f64,
     /// Relative tolerance of the integrator.
@@ -382,6 +386,27 @@ pub enum Excitation {
     },
 }
 
+/// A vertical ground acceleration ü_v(t), positive up: gravity becomes g + ü_v(t).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum VerticalMotion {
+    /// A vertical record file (any format the record reader takes), aligned in time with the
+    /// horizontal (zero after its end) and multiplied by the horizontal record's scale
+    /// factor, so a scaled three-component recording keeps its V/H (factor 1 under a pulse).
+    Record(String),
+    /// An analytic pulse (the horizontal pulses' shapes); its amplitude is absolute: it does
+    /// not follow a scaling of the horizontal motion.
+    Pulse {
+        shape: PulseShape,
+        amplitude: Amplitude,
+        frequency: Frequency,
+    },
+    /// ü_v = c·g at every time (a static change of gravity to (1 + c) g).
+    Constant(f64),
+    /// ü_v(t) = r·a_g(t), the horizontal acceleration after its scaling (r may be negative).
+    Ratio(f64),
+}
+
 /// How a record is scaled.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -468,6 +493,54 @@ impl Excitation {
             }
         }
         e
+    }
+}
+
+impl VerticalMotion {
+    /// Reject meaningless vertical values (a free flight below −g is refused when the motion
+    /// is compiled, where the signal is known).
+    pub fn validate(&self, p: f64) -> Result<(), Invalid> {
+        match self {
+            VerticalMotion::Record(name) if name.trim().is_empty() => Err(Invalid {
+                field: "vertical_record",
+                value: f64::NAN,
+                expected: "record(\"FILE\") needs a record file",
+            }),
+            VerticalMotion::Record(_) => Ok(()),
+            VerticalMotion::Pulse {
+                shape,
+                amplitude,
+                frequency,
+            } => {
+                let a = match *amplitude {
+                    Amplitude::G(a) | Amplitude::TanAlphaRatio(a) | Amplitude::AlphaRatio(a) => a,
+                };
+                check("vertical_amplitude_g", a, true, "must be a finite number")?;
+                let w = match *frequency {
+                    Frequency::RadPerSec(w) | Frequency::Ratio(w) => w,
+                };
+                positive("vertical_frequency", w)?;
+                check(
+                    "vertical_frequency",
+                    w,
+                    2.0 * std::f64::consts::PI / frequency.absolute(p) >= MIN_PULSE_PERIOD,
+                    "the pulse period 2π/ω must be ≥ 1 ms",
+                )?;
+                if let PulseShape::MavroeidisPapageorgiou { gamma, nu } = shape {
+                    check_mp(*gamma, *nu)?;
+                }
+                Ok(())
+            }
+            VerticalMotion::Constant(c) => check(
+                "vertical_constant",
+                *c,
+                *c >= -1.0,
+                "must be a finite number ≥ -1 (ü_v = c·g below -g is free flight)",
+            ),
+            VerticalMotion::Ratio(r) => {
+                check("vertical_ratio", *r, true, "must be a finite number")
+            }
+        }
     }
 }
 
@@ -646,6 +719,9 @@ impl Scene {
                     RecordScale::PgvStar(v) => positive("scale_pgv_star", v)?,
                 }
             }
+        }
+        if let Some(v) = &self.vertical {
+            v.validate(self.structure.p())?;
         }
         positive("duration", self.duration)?;
         check(

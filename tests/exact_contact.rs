@@ -10,6 +10,7 @@ use rocklab::sim::{self, SceneResult};
 
 fn flexible(alpha: f64, device: Device, record: &str, duration: f64) -> Scene {
     Scene {
+        vertical: None,
         structure: Structure::Flexible(FlexibleStructure {
             r0: 10.0,
             alpha,

@@ -319,7 +319,7 @@ fn first_exceedance_and_peak_are_exact() {
     // Inside one segment: a(0.12) = 0.4, a(0.14) = −0.2.
     assert!((m.peak_abs(0.12, 0.14) - 2.0 * 0.4).abs() < 1e-12);
     // Through the Motion enum too.
-    let motion = Motion::Record(m);
+    let motion = Motion::record(m);
     assert!((motion.first_exceedance(0.0, 1.0).unwrap() - 0.05).abs() < 1e-15);
     assert!((motion.peak_abs(0.0, 1.0) - 4.0).abs() < 1e-15);
 }

@@ -31,6 +31,7 @@ fn sine(amplitude: Amplitude, frequency: Frequency) -> Excitation {
 
 fn scene(structure: Structure, device: Device, excitation: Excitation, duration: f64) -> Scene {
     Scene {
+        vertical: None,
         structure,
         device,
         impact: Impact::default(),

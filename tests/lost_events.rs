@@ -94,6 +94,7 @@ fn narrow_dirac_impact_stays_near_housner_at_every_tolerance() {
 /// p = 2 rad/s, 25 s.
 fn superstition(device: Device, kinks: KinkPolicy, rtol: f64) -> Scene {
     Scene {
+        vertical: None,
         structure: Structure::Rigid(RigidBlock {
             size: rocklab::presets::rigid_size_for_p(2.0),
             alpha: 0.28,

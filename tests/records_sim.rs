@@ -10,6 +10,7 @@ use rocklab::sim::HistoryColumn;
 
 fn scene(excitation: Excitation, device: Device, rtol: f64) -> Scene {
     Scene {
+        vertical: None,
         structure: Structure::Rigid(RigidBlock {
             size: 2.0,
             alpha: 0.2,

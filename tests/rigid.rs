@@ -97,6 +97,7 @@ fn eq16_reduces_to_housner_and_grows_with_sigma() {
 fn slender_free_rocking_matches_closed_form() {
     let (alpha, p, theta0) = (0.2, 2.0, 0.15);
     let scene = Scene {
+        vertical: None,
         structure: Structure::Rigid(RigidBlock {
             size: size_for_p(p),
             alpha,

@@ -163,6 +163,7 @@ fn a_history_at_rest_reaches_the_duration_and_pulses_are_drawn_finely() {
 fn closed_form_contact_histories_are_on_the_grid() {
     let lib = library::global().unwrap();
     let scene = Scene {
+        vertical: None,
         structure: presets::flexible_structure(12.0),
         device: Device::None,
         impact: Impact::default(),

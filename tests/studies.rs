@@ -185,6 +185,16 @@ fn fragility_summary(
                 format!("exceed {}", stripes.join(" "))
             }
         );
+        // An uncertain study: the fit over the deterministic companions beside the total.
+        if c.beta_records.is_some() {
+            let _ = writeln!(
+                s,
+                "    records alone: median {} β {}; parameters add β {}",
+                num(c.median_records),
+                num(c.beta_records),
+                num(c.beta_parameters())
+            );
+        }
     }
     for r in &fit.ratios {
         let _ = writeln!(

@@ -183,6 +183,7 @@ pub(crate) fn scene_count(app: &App) -> usize {
     match &app.shared.check {
         Check::Ok(points) => points.len(),
         Check::Invalid(msg) => panic!("study invalid: {msg}"),
+        Check::Pending { scenes } => panic!("{scenes} scenes still being expanded"),
     }
 }
 

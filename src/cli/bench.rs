@@ -46,6 +46,20 @@ pub struct BenchArgs {
     /// Run only this many components of the suite, spread over it.
     #[arg(long)]
     pub suite_records: Option<usize>,
+    /// Only the workbench's latency on this study: keystrokes and edits (median, worst),
+    /// driven headlessly on an 80×24 frame (e.g. benches/tui_333k.ron).
+    #[arg(long, value_name = "STUDY")]
+    pub tui: Option<std::path::PathBuf>,
+    /// Only the run-time estimate on this study: sampled, then run to the end; the estimate
+    /// before, at 10 % and at 50 % against the real time (e.g. benches/estimate_53k.ron).
+    #[arg(long, value_name = "STUDY")]
+    pub estimate: Option<std::path::PathBuf>,
+    /// With --tui: keystrokes to time.
+    #[arg(long, default_value_t = 60)]
+    pub keys: usize,
+    /// With --tui: edits to time (each changes the scene count).
+    #[arg(long, default_value_t = 4)]
+    pub edits: usize,
 }
 
 /// The studies whose sweep throughput the bench reports, embedded so the bench runs anywhere.
@@ -544,6 +558,12 @@ fn print_exact_contact_table(args: &BenchArgs) -> anyhow::Result<()> {
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    if let Some(study) = &args.estimate {
+        return super::bench_estimate::run(study);
+    }
+    if let Some(study) = &args.tui {
+        return super::bench_tui::run(study, args.keys, args.edits);
+    }
     if args.quantity_costs {
         return super::bench_quantities::print(args);
     }

@@ -124,7 +124,9 @@ pub fn print(args: &BenchArgs) -> anyhow::Result<()> {
         for file in &files {
             for &stripe in &STRIPES {
                 let s = suite_scene(file, stripe, device.clone(), library)?;
-                if let crate::excitation::Motion::Record(m) = sim::motion_for(&s, library)? {
+                if let crate::excitation::Horizontal::Record(m) =
+                    sim::motion_for(&s, library)?.ground()
+                {
                     samples += m.series.npts();
                 }
                 scenes.push(s);
@@ -154,7 +156,7 @@ pub fn print(args: &BenchArgs) -> anyhow::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::excitation::{G, Motion};
+    use crate::excitation::G;
 
     /// A suite scene puts the record's PGA at PGA*·g·tan α and lasts the record plus the tail.
     #[test]
@@ -166,7 +168,8 @@ mod tests {
         );
         for stripe in [1.5, 8.0] {
             let s = suite_scene(file, stripe, Device::None, library).unwrap();
-            let Motion::Record(m) = sim::motion_for(&s, library).unwrap() else {
+            let motion = sim::motion_for(&s, library).unwrap();
+            let crate::excitation::Horizontal::Record(m) = motion.ground() else {
                 panic!("a record scene");
             };
             let pga = m.factor * m.series.pga();

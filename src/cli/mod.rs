@@ -1,8 +1,10 @@
 //! Command-line interface: clap commands at the edge, library errors turned into messages.
 
 pub mod bench;
+mod bench_estimate;
 mod bench_quantities;
 mod bench_suite;
+mod bench_tui;
 pub mod check;
 pub mod compare;
 pub mod ims;

@@ -29,7 +29,8 @@ pub struct RiskArgs {
     /// FEMA P695 margins: the MCE intensity in the hazard's IM (g or m/s).
     #[arg(long, value_parser = positive)]
     pub mce: Option<f64>,
-    /// β_TOT for the margins (with --mce).
+    /// β_TOT for the margins (with --mce). Left out for a study with uncertain parameters,
+    /// each variant's fitted total β (records and parameters) serves.
     #[arg(long, value_parser = positive, conflicts_with = "ratings", requires = "mce")]
     pub beta_total: Option<f64>,
     /// β_TOT from P695 Table 7-2's quality ratings of design requirements, test data and
@@ -82,8 +83,13 @@ pub fn assess_and_write(args: &RiskArgs) -> anyhow::Result<Written> {
         (Some(r), _) => Some(p695::beta_total(p695::Ratings::parse(r)?, args.mu_t)),
         (None, b) => b,
     };
-    if args.mce.is_some() && beta_total.is_none() {
-        return Err(UsageError::new("--mce needs --beta-total B or --ratings DR,TD,MDL").into());
+    // A study with uncertain parameters gives each variant's total β itself.
+    if args.mce.is_some() && beta_total.is_none() && fragility.uncertainty.is_empty() {
+        return Err(UsageError::new(
+            "--mce needs --beta-total B or --ratings DR,TD,MDL (or a study with uncertain \
+             parameters, whose fitted total β serves)",
+        )
+        .into());
     }
     let opts = RiskOptions {
         years: args.years,
@@ -176,7 +182,7 @@ pub fn table(risk: &RiskReport) -> String {
                 fmt_sig(g.cmr),
                 fmt_sig(g.median_capacity),
                 fmt_sig(g.mce),
-                g.beta_total,
+                crate::numfmt::fmt_digits(g.beta_total, 4),
                 fmt_sig(g.acmr_10),
                 fmt_sig(g.acmr_20),
                 match (g.pass_10, g.pass_20) {

@@ -502,6 +502,8 @@ struct Reporter {
     failed: AtomicUsize,
     started: Instant,
     last_line: Mutex<Instant>,
+    /// Time left from the pace of computed scenes, windowed and smoothed (`sweep::estimate`).
+    estimate: Mutex<Option<sweep::estimate::RunEstimate>>,
 }
 
 impl Reporter {
@@ -524,6 +526,7 @@ impl Reporter {
             failed: AtomicUsize::new(0),
             started: Instant::now(),
             last_line: Mutex::new(Instant::now()),
+            estimate: Mutex::new(None),
         }
     }
 
@@ -531,13 +534,23 @@ impl Reporter {
         match p {
             Progress::Started { total } => {
                 self.total.store(total, Ordering::Relaxed);
+                if let Ok(mut estimate) = self.estimate.lock() {
+                    let strata = sweep::estimate::Strata::new(&[], total);
+                    let threads = rayon::current_num_threads();
+                    *estimate = Some(sweep::estimate::RunEstimate::new(strata, None, threads));
+                }
                 match &self.bar {
                     Some(bar) => bar.set_length(total as u64),
                     // Batch logs get a first line at once, then one every few seconds.
                     None => self.line(0, 0),
                 }
             }
-            Progress::SceneDone { ok, reused, .. } => {
+            Progress::SceneDone { index, ok, reused } => {
+                if let Ok(mut estimate) = self.estimate.lock()
+                    && let Some(estimate) = estimate.as_mut()
+                {
+                    estimate.scene_done(index, reused);
+                }
                 let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
                 if !ok {
                     self.failed.fetch_add(1, Ordering::Relaxed);
@@ -565,8 +578,10 @@ impl Reporter {
         let total = self.total.load(Ordering::Relaxed);
         let reused = self.reused.load(Ordering::Relaxed);
         let elapsed = self.started.elapsed().as_secs_f64();
-        let mut tail = match sweep::eta_seconds(elapsed, done - reused, total.saturating_sub(done))
-        {
+        let smoothed = (self.estimate.lock().ok())
+            .and_then(|mut e| e.as_mut().and_then(|e| e.seconds_left(elapsed)));
+        let plain = || sweep::eta_seconds(elapsed, done - reused, total.saturating_sub(done));
+        let mut tail = match smoothed.or_else(plain) {
             Some(eta) => format!(", ETA {eta:.0} s"),
             None => ", ETA unknown".to_string(),
         };

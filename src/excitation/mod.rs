@@ -9,6 +9,7 @@
 //! - [`ims`]: intensity measures of a record (PGA … Sa, durations, pulse classification).
 //! - [`library`]: record names → parsed records (directory, embedded copies, stand-ins), cached.
 
+pub mod gravity;
 pub mod ims;
 pub mod library;
 pub mod pulse;
@@ -16,6 +17,7 @@ pub mod reader;
 pub mod record;
 pub mod suite;
 
+pub use gravity::{Gravity, Vertical};
 pub use library::{Library, Record, RecordError, RecordMeta, Source, StandIn};
 pub use pulse::{Pulse, PulseShape};
 pub use reader::ParseError;
@@ -23,67 +25,143 @@ pub use record::{KinkPolicy, RecordMotion, Series};
 
 use crate::solver::search::brent_max;
 
-/// Standard gravity used throughout rocklab (docs/MODEL.md: g = 9.81 m/s²): the default of
+/// Standard gravity used throughout rocklab (docs/MODEL.md: g = 9.81 m/s²): the constant part of
 /// [`Motion::gravity`], and the unit of accelerations given "in g".
 pub const G: f64 = 9.81;
 
-/// The gravity a structure feels, as its model reads it ([`Motion::gravity`], the one
-/// accessor: `model/` and `sim/` never name [`G`]). Today the constant g; a vertical ground
-/// motion makes it g + ü_v(t), which [`Gravity::at`] will return, while [`Gravity::g`] stays
-/// the constant part (the unit of accelerations in g, the static thresholds a model derives
-/// once). Both are inlined field reads: the right-hand side pays nothing for the indirection.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Gravity {
-    g: f64,
-}
-
-impl Gravity {
-    /// Standard gravity, constant in time.
-    pub const STANDARD: Gravity = Gravity { g: G };
-
-    /// The constant part g (m/s²).
-    #[inline(always)]
-    pub fn g(self) -> f64 {
-        self.g
-    }
-
-    /// Gravity at time t (m/s²): g today, constant.
-    #[inline(always)]
-    pub fn at(self, _t: f64) -> f64 {
-        self.g
-    }
-}
-
-/// A ground acceleration history a_g(t) in m/s², zero after [`Motion::end`].
+/// The ground motion a scene's structure stands on: its horizontal acceleration a_g(t) and the
+/// gravity it feels, g + ü_v(t) ([`Gravity`], the one accessor of the vertical motion).
 #[derive(Clone, Debug)]
-pub enum Motion {
+pub struct Motion {
+    horizontal: Horizontal,
+    gravity: Gravity,
+}
+
+impl Motion {
+    /// A horizontal motion under standard, constant gravity.
+    pub fn horizontal(horizontal: Horizontal) -> Self {
+        Motion {
+            horizontal,
+            gravity: Gravity::STANDARD,
+        }
+    }
+
+    /// A horizontal motion with the gravity (vertical motion) it comes with.
+    pub fn with_gravity(horizontal: Horizontal, gravity: Gravity) -> Self {
+        Motion {
+            horizontal,
+            gravity,
+        }
+    }
+
+    pub fn pulse(pulse: Pulse) -> Self {
+        Motion::horizontal(Horizontal::Pulse(pulse))
+    }
+
+    pub fn record(record: RecordMotion) -> Self {
+        Motion::horizontal(Horizontal::Record(record))
+    }
+
+    /// The horizontal ground acceleration.
+    pub fn ground(&self) -> &Horizontal {
+        &self.horizontal
+    }
+
+    /// The gravity the structure feels under this ground motion: g + ü_v(t).
+    #[inline(always)]
+    pub fn gravity(&self) -> &Gravity {
+        &self.gravity
+    }
+
+    /// Horizontal ground acceleration (m/s²) at time t.
+    #[inline(always)]
+    pub fn accel(&self, t: f64) -> f64 {
+        self.horizontal.accel(t)
+    }
+
+    /// Time after which the ground is at rest: a_g ≡ 0 and ü_v constant.
+    pub fn end(&self) -> f64 {
+        self.gravity.end().max(self.horizontal.end())
+    }
+
+    /// The next time strictly after `t` where a_g or ü_v is not smooth.
+    pub fn next_breakpoint(&self, t: f64) -> Option<f64> {
+        earliest(
+            self.horizontal.next_breakpoint(t),
+            self.gravity.next_kink(t, Horizontal::next_breakpoint),
+        )
+    }
+
+    /// [`Horizontal::next_kink`] of both components.
+    pub fn next_kink(&self, t: f64) -> Option<f64> {
+        earliest(
+            self.horizontal.next_kink(t),
+            self.gravity.next_kink(t, Horizontal::next_kink),
+        )
+    }
+
+    /// Whether a_g or ü_v jumps at breakpoint `t`.
+    pub fn jumps_at(&self, t: f64) -> bool {
+        self.horizontal.jumps_at(t) || self.gravity.jumps_at(t)
+    }
+
+    /// First time ≥ t0 at which |a_g| exceeds `level`, if any.
+    pub fn first_exceedance(&self, t0: f64, level: f64) -> Option<f64> {
+        self.horizontal.first_exceedance(t0, level)
+    }
+
+    /// [`Horizontal::accel_bound`].
+    pub fn accel_bound(&self, t0: f64, t1: f64) -> f64 {
+        self.horizontal.accel_bound(t0, t1)
+    }
+
+    /// Peak |a_g| over [t0, t1].
+    pub fn peak_abs(&self, t0: f64, t1: f64) -> f64 {
+        self.horizontal.peak_abs(t0, t1)
+    }
+}
+
+fn earliest(a: Option<f64>, b: Option<f64>) -> Option<f64> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, None) => a,
+        (None, b) => b,
+    }
+}
+
+/// A ground acceleration history a_g(t) in m/s², zero after [`Horizontal::end`] (the
+/// horizontal motion, or a vertical one given by its own pulse or record).
+#[derive(Clone, Debug)]
+pub enum Horizontal {
     Pulse(Pulse),
     /// A sampled record, linear between samples.
     Record(RecordMotion),
 }
 
-impl Motion {
-    /// The gravity the structure feels under this ground motion: [`Gravity::STANDARD`] for
-    /// every horizontal motion (a vertical component would add its acceleration here).
-    #[inline(always)]
-    pub fn gravity(&self) -> Gravity {
-        Gravity::STANDARD
+impl Horizontal {
+    /// A sampling step fine enough to see every lobe of a pulse (None for a record, whose
+    /// samples are its own kinks).
+    pub fn sampling_step(&self) -> Option<f64> {
+        match self {
+            Horizontal::Pulse(p) => Some(p.period() / PULSE_SAMPLES_PER_PERIOD),
+            Horizontal::Record(_) => None,
+        }
     }
 
     /// Ground acceleration (m/s²) at time t.
     #[inline]
     pub fn accel(&self, t: f64) -> f64 {
         match self {
-            Motion::Pulse(p) => p.accel(t),
-            Motion::Record(r) => r.accel(t),
+            Horizontal::Pulse(p) => p.accel(t),
+            Horizontal::Record(r) => r.accel(t),
         }
     }
 
     /// Time after which the ground is at rest (a_g ≡ 0).
     pub fn end(&self) -> f64 {
         match self {
-            Motion::Pulse(p) => p.end(),
-            Motion::Record(r) => r.end(),
+            Horizontal::Pulse(p) => p.end(),
+            Horizontal::Record(r) => r.end(),
         }
     }
 
@@ -91,54 +169,54 @@ impl Motion {
     /// integrator can stop there instead of stepping across it.
     pub fn next_breakpoint(&self, t: f64) -> Option<f64> {
         match self {
-            Motion::Pulse(p) => p.next_breakpoint(t),
-            Motion::Record(r) => r.next_breakpoint(t),
+            Horizontal::Pulse(p) => p.next_breakpoint(t),
+            Horizontal::Record(r) => r.next_breakpoint(t),
         }
     }
 
-    /// Like [`Motion::next_breakpoint`], but a record stops at every sample whatever its kink
+    /// Like [`Horizontal::next_breakpoint`], but a record stops at every sample whatever its kink
     /// policy: for a phase whose event functions read a_g itself, not only through the state.
     pub fn next_kink(&self, t: f64) -> Option<f64> {
         match self {
-            Motion::Pulse(p) => p.next_breakpoint(t),
-            Motion::Record(r) => r.next_kink(t),
+            Horizontal::Pulse(p) => p.next_breakpoint(t),
+            Horizontal::Record(r) => r.next_kink(t),
         }
     }
 
     /// Whether a_g jumps (not just kinks) at breakpoint `t`.
     pub fn jumps_at(&self, t: f64) -> bool {
         match self {
-            Motion::Pulse(p) => p.jumps_at(t),
-            Motion::Record(r) => r.jumps_at(t),
+            Horizontal::Pulse(p) => p.jumps_at(t),
+            Horizontal::Record(r) => r.jumps_at(t),
         }
     }
 
     /// First time ≥ t0 at which |a_g| exceeds `level`, if any.
     pub fn first_exceedance(&self, t0: f64, level: f64) -> Option<f64> {
         match self {
-            Motion::Pulse(p) => p
+            Horizontal::Pulse(p) => p
                 .first_exceedance_closed(t0, level)
                 .unwrap_or_else(|| scan_exceedance(|t| p.accel(t), t0, p.end(), level, p.period())),
-            Motion::Record(r) => r.first_exceedance(t0, level),
+            Horizontal::Record(r) => r.first_exceedance(t0, level),
         }
     }
 
-    /// An upper bound of |a_g| over [t0, t1], cheaper than [`Motion::peak_abs`] for a pulse
+    /// An upper bound of |a_g| over [t0, t1], cheaper than [`Horizontal::peak_abs`] for a pulse
     /// (a record's peak is exact and cheap: the samples in the interval).
     pub fn accel_bound(&self, t0: f64, t1: f64) -> f64 {
         match self {
-            Motion::Pulse(p) => p.accel_bound(t0, t1),
-            Motion::Record(r) => r.peak_abs(t0, t1),
+            Horizontal::Pulse(p) => p.accel_bound(t0, t1),
+            Horizontal::Record(r) => r.peak_abs(t0, t1),
         }
     }
 
     /// Peak |a_g| over [t0, t1].
     pub fn peak_abs(&self, t0: f64, t1: f64) -> f64 {
         match self {
-            Motion::Pulse(p) => p
+            Horizontal::Pulse(p) => p
                 .peak_abs_closed(t0, t1)
                 .unwrap_or_else(|| scan_peak(|t| p.accel(t), t0, t1.min(p.end()), p.period())),
-            Motion::Record(r) => r.peak_abs(t0, t1),
+            Horizontal::Record(r) => r.peak_abs(t0, t1),
         }
     }
 }

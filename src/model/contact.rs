@@ -176,7 +176,7 @@ fn first_uplift(column: &Column, seg: &Segment, samples: &[Sample; 5]) -> Option
     let margin = |side: f64, s: &Sample| column.uplift_margin(side, s.u, s.v);
     // d/dt of the margin: s (k u̇ + c ü) H + m g s u̇.
     let rate = |side: f64, s: &Sample| {
-        side * ((column.k * s.v + column.c * s.a) * column.h + column.m * column.gravity.g() * s.v)
+        side * ((column.k * s.v + column.c * s.a) * column.h + column.m * column.g * s.v)
     };
     let fresh = |tau: f64| Sample::new(seg, &seg.basis(tau));
     for pair in samples.windows(2) {
@@ -241,9 +241,9 @@ fn observe_segment(
     peaks.drift = peaks.drift.max(deformation / column.h);
     let accel_g = |tau: f64| {
         let (u, v) = seg.state(tau);
-        (seg.accel(tau, u, v) + ground(tau)).abs() / column.gravity.g()
+        (seg.accel(tau, u, v) + ground(tau)).abs() / column.g
     };
-    let sampled = samples.map(|s| (s.tau, (s.a + ground(s.tau)).abs() / column.gravity.g()));
+    let sampled = samples.map(|s| (s.tau, (s.a + ground(s.tau)).abs() / column.g));
     let floor = peaks.abs_acceleration_g;
     let peak = refined_max_of_samples(accel_g, &sampled, floor);
     peaks.abs_acceleration_g = floor.max(peak);

@@ -6,7 +6,6 @@
 
 use super::clutch::{clutch_force, clutch_potential, friction_force};
 use super::{Counters, Ledger};
-use crate::excitation::Gravity;
 use crate::scene::{ClutchStiffness, Coupling, Damping, Device, ResetRule};
 use crate::solver::Direction;
 
@@ -64,8 +63,9 @@ fn damping_cbar(damping: Damping, k: f64, mr: f64) -> f64 {
 
 impl DeviceModel {
     /// Convert scene parameters for a structure of mass `m` and frequency parameter `p`
-    /// under `gravity` (the friction force is a fraction of mr g).
-    pub fn new(device: &Device, m: f64, p: f64, gravity: Gravity) -> Self {
+    /// under gravity `g` (the friction force is a fraction of mr g: a nominal force of the
+    /// mechanism, which a vertical ground motion does not change).
+    pub fn new(device: &Device, m: f64, p: f64, g: f64) -> Self {
         match device {
             Device::None => DeviceModel::None,
             Device::Inerter { sigma, coupling } => {
@@ -95,7 +95,7 @@ impl DeviceModel {
                     k,
                     eps_hat: c.epsilon / c.rho,
                     cbar: damping_cbar(c.damping, k, mr),
-                    friction: c.friction * mr * gravity.g(),
+                    friction: c.friction * mr * g,
                     eta: c.eta,
                     rho: c.rho,
                     play: c.play,

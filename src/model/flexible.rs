@@ -21,7 +21,7 @@ use super::device::{DeviceModel, Returnable};
 use super::rigid::below_peak;
 use super::shell::{Body, Landing, Mode, OwnLoss, Rocking};
 use super::{Ledger, Measures, Peaks, extremum_of_component, extremum_on_step};
-use crate::excitation::{Gravity, Motion};
+use crate::excitation::{Horizontal, Motion};
 use crate::scene::FlexibleStructure;
 use crate::solver::Dense;
 
@@ -41,8 +41,8 @@ pub struct Column {
     pub c: f64,
     pub b: f64,
     pub h: f64,
-    /// The gravity the structure feels ([`Motion::gravity`]).
-    pub gravity: Gravity,
+    /// The constant part of the gravity the structure feels ([`Motion::gravity`]).
+    pub g: f64,
 }
 
 pub struct FlexibleBody {
@@ -74,10 +74,10 @@ impl<'m> FlexibleModel<'m> {
         motion: &'m Motion,
         initial_rotation: f64,
     ) -> Self {
-        let gravity = motion.gravity();
-        let p = (gravity.g() / structure.r0).sqrt();
+        let g = motion.gravity().g();
+        let p = (g / structure.r0).sqrt();
         let body = FlexibleBody {
-            col: Column::new(structure, gravity),
+            col: Column::new(structure, g),
             scales: scales(structure, motion, p),
             contact: None,
         };
@@ -91,7 +91,11 @@ impl<'m> FlexibleModel<'m> {
         let Some(mc) = self.mode.dev.constant_coupled_mass() else {
             return self;
         };
-        if !enabled || !matches!(self.mode.motion, Motion::Record(_)) {
+        // The closed form is for a constant gravity: a vertical motion is integrated.
+        if !enabled
+            || !matches!(self.mode.motion.ground(), Horizontal::Record(_))
+            || self.mode.motion.gravity().has_vertical()
+        {
             return self;
         }
         self.body.contact = ClosedFormContact::new(&self.body.col, mc, self.mode.layout);
@@ -141,7 +145,7 @@ fn peak_ground_velocity(motion: &Motion) -> f64 {
 }
 
 impl Column {
-    fn new(structure: &FlexibleStructure, gravity: Gravity) -> Self {
+    fn new(structure: &FlexibleStructure, g: f64) -> Self {
         let m = structure.mass;
         Column {
             m,
@@ -149,15 +153,19 @@ impl Column {
             c: 2.0 * structure.xi * structure.omega_n * m,
             b: structure.r0 * structure.alpha.sin(),
             h: structure.r0 * structure.alpha.cos(),
-            gravity,
+            g,
         }
     }
 
     /// Uplift test toward side s (Eqs. 37–38): s (k u + c u̇) H − m g (B − s u), positive when
     /// the base lifts off. The device force loads the mass, not the base, and cancels out.
     pub fn uplift_margin(&self, side: f64, u: f64, udot: f64) -> f64 {
-        side * (self.k * u + self.c * udot) * self.h
-            - self.m * self.gravity.g() * (self.b - side * u)
+        self.uplift_margin_at(side, u, udot, self.g)
+    }
+
+    /// [`Column::uplift_margin`] under gravity `g_eff` (g + ü_v).
+    pub fn uplift_margin_at(&self, side: f64, u: f64, udot: f64, g_eff: f64) -> f64 {
+        side * (self.k * u + self.c * udot) * self.h - self.m * g_eff * (self.b - side * u)
     }
 
     #[inline]
@@ -182,7 +190,7 @@ impl Column {
     #[cfg(test)]
     fn accelerations(&self, m: &Mode, ag: f64, y: &[f64], fd: f64, mc: f64) -> (f64, f64) {
         let kin = self.kinematics(m, y[U], y[THETA]);
-        self.accelerations_kin(m, &kin, ag, y, fd, mc)
+        self.accelerations_kin(m, &kin, ag, self.g, y, fd, mc)
     }
 
     /// (ü, θ̈) for device force `fd` (not counting a coupled mass) and coupled mass `mc`.
@@ -197,13 +205,16 @@ impl Column {
     /// loses mc κ Jᵀ. Full contact (θ ≡ 0): (m + mc) ü + c u̇ + k u = Fd − m a_g (Eq. 41).
     /// The 2×2 system is solved by Cramer's rule (a linear-algebra crate would round
     /// differently and buys nothing at this size).
-    /// `kin` are the configuration's kinematics.
+    /// `kin` are the configuration's kinematics; g is `g_eff` = g + ü_v (a vertical ground
+    /// motion replaces g in the gravity terms).
     #[inline]
+    #[allow(clippy::too_many_arguments)]
     fn accelerations_kin(
         &self,
         m: &Mode,
         kin: &Kinematics,
         ag: f64,
+        g_eff: f64,
         y: &[f64],
         fd: f64,
         mc: f64,
@@ -214,7 +225,7 @@ impl Column {
         if !m.rocking() {
             return ((load - elastic) / (self.m + mc), 0.0);
         }
-        let (mass, h, g) = (self.m, self.h, self.gravity.g());
+        let (mass, h, g) = (self.m, self.h, g_eff);
         let kappa = kin.z * thetadot * thetadot - 2.0 * kin.sin * udot * thetadot;
         let m11 = mass + mc * kin.cos * kin.cos;
         let m12 = mass * h + mc * kin.cos * kin.y;
@@ -273,18 +284,24 @@ impl Body for FlexibleBody {
         self.col.xddot_kin(kin, y, dy[U_DOT], dy[THETA_DOT])
     }
 
+    /// Vertical velocity of the mass: Ẏ = −sin θ u̇ + Z θ̇ (0 in full contact).
+    fn y_dot_kin(&self, _m: &Mode, kin: &Kinematics, y: &[f64]) -> f64 {
+        -kin.sin * y[U_DOT] + kin.z * y[THETA_DOT]
+    }
+
     #[allow(clippy::too_many_arguments)]
     fn derivatives(
         &self,
         m: &Mode,
         kin: &Kinematics,
         ag: f64,
+        g_eff: f64,
         y: &[f64],
         fd: f64,
         mc: f64,
         dy: &mut [f64],
     ) -> f64 {
-        let (udd, thdd) = self.col.accelerations_kin(m, kin, ag, y, fd, mc);
+        let (udd, thdd) = self.col.accelerations_kin(m, kin, ag, g_eff, y, fd, mc);
         dy[U] = y[U_DOT];
         dy[U_DOT] = udd;
         if m.rocking() {
@@ -299,14 +316,21 @@ impl Body for FlexibleBody {
     fn bare_xddot(&self, m: &Mode, kin: &Kinematics, t: f64, y: &[f64]) -> f64 {
         let x = kin.x;
         let fd = m.dev.spring_force(x, m.layout.device_states(y));
-        let (udd, thdd) = self
-            .col
-            .accelerations_kin(m, kin, m.motion.accel(t), y, fd, 0.0);
+        let (udd, thdd) = self.col.accelerations_kin(
+            m,
+            kin,
+            m.motion.accel(t),
+            m.motion.gravity().at(t),
+            y,
+            fd,
+            0.0,
+        );
         self.col.xddot_kin(kin, y, udd, thdd)
     }
 
-    fn uplift_margin(&self, _m: &Mode, side: f64, _t: f64, y: &[f64]) -> f64 {
-        self.col.uplift_margin(side, y[U], y[U_DOT])
+    fn uplift_margin(&self, m: &Mode, side: f64, t: f64, y: &[f64]) -> f64 {
+        let g_eff = m.motion.gravity().at(t);
+        self.col.uplift_margin_at(side, y[U], y[U_DOT], g_eff)
     }
 
     /// The mass passes over the pivot: s Z ≤ 0.
@@ -337,7 +361,7 @@ impl Body for FlexibleBody {
                 + 2.0 * col.h * udot * thetadot
                 + (kin.lever * kin.lever + col.h * col.h) * thetadot * thetadot);
         // V = m g Y + ½ k u², relative to the base flat on the ground (Y = H).
-        let potential = col.m * col.gravity.g() * (kin.y - col.h) + 0.5 * col.k * u * u;
+        let potential = col.m * col.g * (kin.y - col.h) + 0.5 * col.k * u * u;
         kinetic + potential
     }
 
@@ -348,7 +372,8 @@ impl Body for FlexibleBody {
     /// stiffness k holding at most E pushes with at most √(2kE) (the tanh corner adds a
     /// relative ~1/(ε̂δ)², covered by the margin).
     fn settled(&self, m: &Mode, y: &[f64], device: Returnable, peaks: &Peaks) -> bool {
-        if m.rocking() {
+        // A constant vertical acceleration outlives the ground: the bounds below are for g.
+        if m.rocking() || m.motion.gravity().at_rest() != self.col.g {
             return false;
         }
         let col = &self.col;
@@ -356,7 +381,7 @@ impl Body for FlexibleBody {
         let u_max = (2.0 * e / col.k).sqrt();
         let v_max = (2.0 * e / col.m).sqrt();
         let column = col.k * u_max + col.c * v_max;
-        let g = col.gravity.g();
+        let g = col.g;
         let can_uplift = column * col.h + col.m * g * u_max >= col.m * g * col.b;
         let device_force = device.springs * (2.0 * device.k * e).sqrt() * (1.0 + 1e-6);
         // m ü = −(k u + c u̇) + Fd; a coupled mass only lowers |ü|.
@@ -421,7 +446,7 @@ impl Body for FlexibleBody {
         y: &mut [f64],
     ) -> Option<(f64, Option<f64>)> {
         let contact = self.contact.as_mut().filter(|_| !m.rocking())?;
-        let Motion::Record(record) = m.motion else {
+        let Horizontal::Record(record) = m.motion.ground() else {
             return None;
         };
         contact.advance(&self.col, record, peaks, t, t_stop, y)
@@ -447,7 +472,7 @@ mod tests {
     }
 
     fn motion() -> Motion {
-        Motion::Pulse(Pulse::new(PulseShape::Sine, 3.0, 6.0))
+        Motion::pulse(Pulse::new(PulseShape::Sine, 3.0, 6.0))
     }
 
     fn rocking_model<'m>(dev: DeviceModel, mo: &'m Motion, pivot: f64) -> FlexibleModel<'m> {
@@ -477,12 +502,12 @@ mod tests {
                 let fd = fd_ext - mc * xdd;
                 let (m, k, c, h, l) = (col.m, col.k, col.c, col.h, kin.lever);
                 let (u, ud, thd) = (y[0], y[1], y[3]);
-                let e1 = m * udd + m * h * thdd + m * l * thd * thd - m * col.gravity.g() * kin.sin
+                let e1 = m * udd + m * h * thdd + m * l * thd * thd - m * col.g * kin.sin
                     + k * u
                     + c * ud
                     - (fd - m * ag) * kin.cos;
                 let e2 = m * h * udd + m * (l * l + h * h) * thdd - 2.0 * m * l * ud * thd
-                    + m * col.gravity.g() * kin.z
+                    + m * col.g * kin.z
                     - (fd - m * ag) * kin.y;
                 assert!(e1.abs() < 1e-12 && e2.abs() < 1e-12, "{e1} {e2}");
             }
@@ -521,7 +546,7 @@ mod tests {
             &Device::Sequential { sigma: 0.5 },
             structure().mass,
             1.0,
-            Gravity::STANDARD,
+            crate::excitation::G,
         );
         for pivot in [1.0, -1.0] {
             let mut model = rocking_model(dev, &mo, pivot);
@@ -560,7 +585,7 @@ mod tests {
             &Device::Sequential { sigma: 0.5 },
             structure().mass,
             1.0,
-            Gravity::STANDARD,
+            crate::excitation::G,
         );
         for side in [1.0, -1.0] {
             let model = rocking_model(dev, &mo, side);

@@ -206,9 +206,10 @@ pub trait SimModel<const N: usize>: OdeSystem<N> {
     fn on_event(&mut self, index: usize, t: f64, y: &mut [f64; N]) -> Action;
     /// End of an idle period at t.
     fn wake(&mut self, t: f64, y: &mut [f64; N]) -> Action;
-    /// Name of what [`SimModel::wake`] does when it starts the motion again (for event logs).
-    fn wake_name(&self) -> &'static str {
-        "wake"
+    /// Name of what [`SimModel::wake`] did when it started the motion again (for event
+    /// logs); None when it only resumed integrating (nothing happened at that instant).
+    fn wake_name(&self) -> Option<&'static str> {
+        Some("wake")
     }
     /// The excitation has ended at t and the model is at rest: may the run stop?
     fn at_rest(&self, t: f64, y: &[f64; N]) -> bool;

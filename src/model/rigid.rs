@@ -8,7 +8,7 @@ use super::column::HistoryColumn;
 use super::device::{DeviceModel, Returnable};
 use super::shell::{Body, Landing, Mode, OwnLoss, Rocking};
 use super::{Ledger, Measures, Peaks, extremum_of_component};
-use crate::excitation::{Gravity, Motion};
+use crate::excitation::Motion;
 use crate::scene::{Form, Impact, RigidBlock};
 use crate::solver::{Dense, Direction, no_root_inside};
 use crate::trig;
@@ -52,9 +52,10 @@ pub struct RigidBody {
     form: Equations,
     /// p² = 3g/(4R).
     p2: f64,
-    /// The gravity the block feels ([`Motion::gravity`]); p² and 1/g are derived from its
-    /// constant part once (a time-varying g would make them functions of t in the RHS).
-    gravity: Gravity,
+    /// The constant part of the gravity the block feels ([`Motion::gravity`]); p² and 1/g
+    /// are derived from it once, and a vertical motion enters the right-hand side as the
+    /// factor g_eff(t)/g of the restoring moment.
+    g: f64,
     inv_g: f64,
     i0: f64,
     sin_a: f64,
@@ -81,19 +82,21 @@ impl<'m> RigidModel<'m> {
         motion: &'m Motion,
         initial_rotation: f64,
     ) -> Self {
-        Rocking::with_body(
-            RigidBody::new(block, &device, impact, motion.gravity()),
-            device,
-            motion,
-            initial_rotation,
-        )
+        let mut body = RigidBody::new(block, &device, impact, motion.gravity().g());
+        // A constant vertical acceleration changes p² to p² g_rest/g for good: so does the
+        // rate below which the chattering block is put to rest (exact similarity, MODEL.md).
+        let g_rest = motion.gravity().at_rest();
+        if g_rest != body.g {
+            body.rest_rate =
+                REST_EXCURSION.sqrt() * (body.p2 * g_rest / body.g).sqrt() * block.alpha;
+        }
+        Rocking::with_body(body, device, motion, initial_rotation)
     }
 }
 
 impl RigidBody {
-    fn new(block: &RigidBlock, device: &DeviceModel, impact: Impact, gravity: Gravity) -> Self {
+    fn new(block: &RigidBlock, device: &DeviceModel, impact: Impact, g: f64) -> Self {
         let r = block.size;
-        let g = gravity.g();
         let p2 = 3.0 * g / (4.0 * r);
         let form = match block.form {
             Form::Slender => Equations::Slender,
@@ -119,7 +122,7 @@ impl RigidBody {
             m: block.mass,
             form,
             p2,
-            gravity,
+            g,
             inv_g: 1.0 / g,
             i0: 4.0 / 3.0 * block.mass * r * r,
             // From the same function as `sc`, so that X = 0 at θ = 0 exactly: glibc's and
@@ -134,7 +137,7 @@ impl RigidBody {
             restitution_override,
             dirac,
             dirac_energy: None,
-            rest_rate: (2e-10f64).sqrt() * p2.sqrt() * block.alpha,
+            rest_rate: REST_EXCURSION.sqrt() * p2.sqrt() * block.alpha,
             deflection,
         }
     }
@@ -196,10 +199,8 @@ impl RigidBody {
 
     fn potential(&self, s: f64, c: f64) -> f64 {
         match self.form {
-            Equations::Trigonometric => self.m * self.gravity.g() * self.r * (c - self.cos_a),
-            Equations::Slender => {
-                0.5 * self.m * self.gravity.g() * self.r * (self.alpha.powi(2) - s * s)
-            }
+            Equations::Trigonometric => self.m * self.g * self.r * (c - self.cos_a),
+            Equations::Slender => 0.5 * self.m * self.g * self.r * (self.alpha.powi(2) - s * s),
         }
     }
 }
@@ -243,7 +244,16 @@ impl Body for RigidBody {
         self.xddot_of(k, y, dy[THETA_DOT])
     }
 
-    /// (1 + ¾σC²) θ̈ = −p²(S + (a_g/g) C) − ¾σ C S θ̇² + (Fd R C + M)/I0, M the Dirac moment.
+    /// Vertical velocity of the centre of mass: Y = R C (slender: R(1 − S²/2)), Ẏ = R S θ̇.
+    fn y_dot_kin(&self, m: &Mode, k: &(f64, f64), y: &[f64]) -> f64 {
+        if !m.rocking() {
+            return 0.0;
+        }
+        self.r * k.0 * y[THETA_DOT]
+    }
+
+    /// (1 + ¾σC²) θ̈ = −p²((g_eff/g) S + (a_g/g) C) − ¾σ C S θ̇² + (Fd R C + M)/I0, M the
+    /// Dirac moment, g_eff = g + ü_v.
     #[inline]
     #[allow(clippy::too_many_arguments)]
     fn derivatives(
@@ -251,6 +261,7 @@ impl Body for RigidBody {
         m: &Mode,
         k: &(f64, f64),
         ag: f64,
+        g_eff: f64,
         y: &[f64],
         fd: f64,
         mc: f64,
@@ -263,7 +274,12 @@ impl Body for RigidBody {
         let (s, c) = *k;
         let moment = self.dirac_moment(m, theta, thetadot);
         let sigma = mc / self.m;
-        let mut num = -self.p2 * (s + ag * self.inv_g * c);
+        // Without a vertical motion g_eff is g itself: the constant-gravity form, bit for bit.
+        let mut num = if g_eff == self.g {
+            -self.p2 * (s + ag * self.inv_g * c)
+        } else {
+            -self.p2 * (g_eff * self.inv_g * s + ag * self.inv_g * c)
+        };
         // Without a device force, a Dirac moment or a coupled mass the two divisions add
         // nothing but ~25 cycles of latency to every stage (the bare block: θ̈ waits on them).
         if fd != 0.0 || moment != 0.0 {
@@ -286,7 +302,13 @@ impl Body for RigidBody {
     fn bare_xddot(&self, m: &Mode, k: &(f64, f64), t: f64, y: &[f64]) -> f64 {
         let (s, c) = *k;
         let ag = m.motion.accel(t);
-        let thdd = -self.p2 * (s + ag * self.inv_g * c)
+        let g_eff = m.motion.gravity().at(t);
+        let restoring = if g_eff == self.g {
+            s
+        } else {
+            g_eff * self.inv_g * s
+        };
+        let thdd = -self.p2 * (restoring + ag * self.inv_g * c)
             + self.dirac_moment(m, y[THETA], y[THETA_DOT]) / self.i0;
         self.xddot_of(k, y, thdd)
     }
@@ -295,7 +317,8 @@ impl Body for RigidBody {
     /// the block's weight moment.
     fn uplift_margin(&self, m: &Mode, side: f64, t: f64, y: &[f64]) -> f64 {
         let fd = m.dev.spring_force(0.0, m.layout.device_states(y));
-        side * (fd - self.m * m.motion.accel(t)) - self.m * self.gravity.at(t) * self.uplift_ratio
+        side * (fd - self.m * m.motion.accel(t))
+            - self.m * m.motion.gravity().at(t) * self.uplift_ratio
     }
 
     /// The centre of mass passes over the pivot: |θ| ≥ α.
@@ -349,11 +372,12 @@ impl Body for RigidBody {
     /// with θ̇²max = 2E/I0 and |Fd|max = 2√(2kE). The Dirac model is excluded (its impact
     /// moment is the acceleration being studied).
     fn settled(&self, m: &Mode, y: &[f64], device: Returnable, peaks: &Peaks) -> bool {
-        if self.dirac.is_some() || !m.rocking() {
+        // A constant vertical acceleration outlives the ground: the reach below is for g.
+        if self.dirac.is_some() || !m.rocking() || m.motion.gravity().at_rest() != self.g {
             return false;
         }
         let e = self.energy(m, y) + device.energy;
-        let mgr = self.m * self.gravity.g() * self.r;
+        let mgr = self.m * self.g * self.r;
         let reach = match self.form {
             Equations::Trigonometric => {
                 let c_min = self.cos_a + e / mgr;
@@ -379,7 +403,7 @@ impl Body for RigidBody {
         let force = 2.0 * (2.0 * device.k * e).sqrt();
         let accel = self.r
             * (self.p2 * s_max + force * self.r / self.i0 + (1.0 + 0.75 * sigma) * s_max * rate2)
-            / self.gravity.g();
+            / self.g;
         // |θ̈| ≤ p² s_max + |Fd|max R/I0 + ¾σ s_max θ̇²max with the ground at rest.
         let angular = s_max + (force * self.r / self.i0 + 0.75 * sigma * s_max * rate2) / self.p2;
         reach < peaks.rotation
@@ -428,7 +452,7 @@ impl Body for RigidBody {
         ground: f64,
     ) -> (Option<f64>, Option<f64>) {
         if !m.rocking() {
-            return (Some(ground / self.gravity.g()), Some(0.0));
+            return (Some(ground / self.g), Some(0.0));
         }
         let (theta, w, wdot) = (value(THETA), value(THETA_DOT), rate(THETA_DOT));
         let s_max = match self.form {
@@ -438,12 +462,15 @@ impl Body for RigidBody {
             Equations::Trigonometric => 1.0,
             Equations::Slender => self.alpha + theta,
         };
-        let abs_g = (self.r * (wdot + s_max * w * w) + ground) / self.gravity.g();
+        let abs_g = (self.r * (wdot + s_max * w * w) + ground) / self.g;
         let mut angular = wdot / self.p2 * (1.0 + ANGULAR_BOUND_MARGIN);
         let springless = m.dev.spring_stiffness().is_none();
-        if ground == 0.0 && springless && self.dirac.is_none() {
+        // A vertical motion: only a constant one, whose g_eff scales the restoring moment.
+        let gravity = m.motion.gravity();
+        if ground == 0.0 && springless && self.dirac.is_none() && gravity.is_constant() {
             let sigma = m.coupled_mass() / self.m;
-            angular = angular.min(s_max + 0.75 * sigma * s_max * w * w / self.p2);
+            let weight = s_max * (gravity.at_rest() / self.g);
+            angular = angular.min(weight + 0.75 * sigma * s_max * w * w / self.p2);
         }
         (Some(abs_g), Some(angular))
     }
@@ -506,10 +533,14 @@ impl Body for RigidBody {
     /// Flat on the ground with the device at rest (the shell checks), nothing moves until the
     /// ground acceleration exceeds g·tanα: do not integrate. Idle to the end of the motion if
     /// it never does (the block still rides the ground).
+    /// With a vertical motion the level is g_eff·tanα for a constant g_eff, otherwise a
+    /// lower bound of it ([`crate::excitation::Gravity::uplift_level`]), from which the
+    /// shell's wake integrates if the ground does not lift the block yet.
     fn idle_until(&self, m: &Mode, t: f64) -> Option<f64> {
+        let level = m.motion.gravity().uplift_level(self.uplift_ratio);
         Some(
             m.motion
-                .first_exceedance(t, self.gravity.g() * self.uplift_ratio)
+                .first_exceedance(t, level)
                 .unwrap_or_else(|| m.motion.end().max(t)),
         )
     }
@@ -519,9 +550,13 @@ impl Body for RigidBody {
     /// this a step sized before the zone, whose stages land past the Gaussian, crossed θ = 0
     /// with the moment unseen by its error estimate and the impact's energy loss went missing
     /// at rtol ≥ 1e-5 (θmax/α 0.505 instead of 0.470 in the paper's Fig. 5 scene).
-    fn max_step(&self, _m: &Mode) -> f64 {
+    ///
+    /// Flat under a varying g_eff, nothing moves and the uplift events read the ground alone:
+    /// steps at most a pulse's sampling step, so no lobe of the margin lies inside one.
+    fn max_step(&self, m: &Mode) -> f64 {
         match (self.dirac_energy, self.dirac) {
             (Some(e_ini), Some((n, _))) if e_ini > 0.0 => 0.5 * n / (2.0 * e_ini / self.i0).sqrt(),
+            _ if !m.rocking() => m.motion.gravity().sampling_step().unwrap_or(f64::INFINITY),
             _ => f64::INFINITY,
         }
     }
@@ -532,7 +567,7 @@ impl Body for RigidBody {
 
     fn wake_side(&self, m: &Mode, t: f64) -> Option<f64> {
         let ag = m.motion.accel(t);
-        (ag.abs() > self.gravity.at(t) * self.uplift_ratio).then(|| -ag.signum())
+        (ag.abs() > m.motion.gravity().at(t) * self.uplift_ratio).then(|| -ag.signum())
     }
 
     fn own_events(&self) -> usize {
@@ -569,6 +604,10 @@ impl Body for RigidBody {
     }
 }
 
+/// Twice the largest excursion, in units of α², of a block put to rest after an impact
+/// (θ̇ below √(2e-10)·p·α: its next excursion would be below 1e-10 α).
+const REST_EXCURSION: f64 = 2e-10;
+
 /// Margin, as a fraction of α, between the bound of |θ| on a step and the running peak
 /// rotation below which the step is not searched
 /// ([`RigidBody::step_may_raise_peaks`]): the interpolant's distance from the solution (a
@@ -604,7 +643,7 @@ mod tests {
                 &block,
                 &DeviceModel::None,
                 Impact::default(),
-                Gravity::STANDARD,
+                crate::excitation::G,
             );
             for pivot in [1.0, -1.0] {
                 let (s, c) = body.sc(pivot, 0.0);

@@ -189,6 +189,45 @@ fn axes_of(results: &SweepResults) -> Vec<String> {
     axes
 }
 
+/// An uncertain study's parameters as results.csv columns (after `draw`): each parameter
+/// with the value its deterministic companions take (study/uncertain); empty otherwise.
+fn uncertain_columns(results: &SweepResults) -> Vec<(crate::study::Param, f64)> {
+    (results.study.iter())
+        .filter_map(|s| s.uncertain.as_ref())
+        .flat_map(|u| u.parameters())
+        .map(|(p, d)| (p, d.centre()))
+        .collect()
+}
+
+/// A scene's `draw` and uncertain-parameter cells: its draw's place and drawn values, or
+/// `nominal` and the centres for a deterministic companion.
+fn uncertain_cells(
+    point: &crate::study::ScenePoint,
+    columns: &[(crate::study::Param, f64)],
+) -> Vec<String> {
+    use crate::study::uncertain::Sample;
+    match &point.uncertain {
+        Some(Sample::Drawn { draw, values }) => std::iter::once(draw.to_string())
+            .chain(columns.iter().map(|(p, _)| {
+                (values.iter())
+                    .find(|(name, _)| name == p.info().name)
+                    .map_or_else(String::new, |(_, v)| v.to_string())
+            }))
+            .collect(),
+        Some(Sample::Companion { .. }) => std::iter::once("nominal".to_string())
+            .chain(columns.iter().map(|(_, centre)| centre.to_string()))
+            .collect(),
+        None => vec![String::new(); columns.len() + 1],
+    }
+}
+
+/// The description of results.csv's `draw` column.
+const DRAW_COLUMN: (&str, &str) = (
+    "draw",
+    "uncertain parameters: the scene's draw (its place on the record × stripe grid), or \
+     nominal for a drawn scene's deterministic companion",
+);
+
 /// Column layout of the results CSV.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum CsvLayout {
@@ -248,6 +287,11 @@ pub fn results_csv_layout(
     let sources = record_sources(results);
     let mut header: Vec<String> = ID_COLUMNS.iter().map(|c| c.0.to_string()).collect();
     header.extend(axes.iter().map(|a| parameter(a).name));
+    let uncertain = uncertain_columns(results);
+    if !uncertain.is_empty() {
+        header.push(DRAW_COLUMN.0.to_string());
+        header.extend(uncertain.iter().map(|(p, _)| p.info().name.to_string()));
+    }
     match layout {
         CsvLayout::Long => header.extend(["quantity", "value"].map(String::from)),
         CsvLayout::Wide => header.extend(quantities.iter().map(|q| q.name().to_string())),
@@ -270,6 +314,9 @@ pub fn results_csv_layout(
                     .map(|v| format!("{v}"))
                     .unwrap_or_default(),
             );
+        }
+        if !uncertain.is_empty() {
+            ids.extend(uncertain_cells(&o.point, &uncertain));
         }
         let value = |q: &crate::report::Quantity| match &o.result {
             Ok(r) => q.of(r).map(|v| format!("{v:.9e}")).unwrap_or_default(),
@@ -320,6 +367,19 @@ pub fn results_columns_csv(results: &SweepResults) -> crate::error::Result<Vec<u
             format!("study coordinate (field `{}` in the study file)", p.field)
         };
         w.write_record([p.name.as_str(), axis.as_str(), p.unit, description.as_str()])?;
+    }
+    let uncertain = uncertain_columns(results);
+    if !uncertain.is_empty() {
+        w.write_record([DRAW_COLUMN.0, DRAW_COLUMN.0, "", DRAW_COLUMN.1])?;
+    }
+    for (p, _) in uncertain {
+        let info = p.info();
+        let description = format!(
+            "uncertain parameter: the value drawn for the scene (field `{}` of the study's \
+             uncertain section)",
+            info.field
+        );
+        w.write_record([info.name, info.label, info.unit, description.as_str()])?;
     }
     w.write_record([
         "quantity",

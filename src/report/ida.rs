@@ -106,6 +106,10 @@ pub fn analyse(f: &Fragility, study: &Study, rows: &[IdaRow]) -> FragilityReport
         })
         .collect();
     let mut report = analyse_ida(&obs, &options(f));
+    // Uncertain parameters: the capacities' β is the total (no companions run in an IDA).
+    if let Some(u) = &study.uncertain {
+        report.uncertainty = u.describe(true);
+    }
     name_axes(&mut report, f, study);
     report
 }

@@ -11,6 +11,7 @@ use super::fragility::{
 use crate::excitation::library::{self, Library};
 use crate::scene::Excitation;
 use crate::study::fragility::{Fragility, im_name};
+use crate::study::uncertain::Sample;
 use crate::study::{DeviceKind, ExcitationFamily, Layout, Param, Quantity, ScenePoint, Study};
 use crate::sweep::{SceneOutcome, SweepResults};
 use std::path::Path;
@@ -33,6 +34,15 @@ pub struct StripeRow {
     pub overturned: bool,
     /// Why the scene failed, if it did (failed scenes are not observations).
     pub failed: Option<String>,
+    /// An uncertain study: the scene's uncertain parameters (drawn, or at their centres for a
+    /// deterministic companion), by CSV name; empty otherwise.
+    pub drawn: Vec<(String, f64)>,
+    /// An uncertain study: the draw's place (record × stripe), None for a deterministic
+    /// companion (and in a study without uncertain parameters).
+    pub draw: Option<usize>,
+    /// Whether the scene is a drawn scene's deterministic companion (fitted apart: the
+    /// records-only dispersion).
+    pub companion: bool,
 }
 
 /// The fragility variant of a scene: the device (its label if the study gives one) and every
@@ -40,17 +50,21 @@ pub struct StripeRow {
 /// A scene off the study's grid (an IDA's bisection probe) takes its device from a study
 /// point of the same group in `on_grid`.
 pub(super) fn variant_of(layout: &Layout, point: &ScenePoint, on_grid: &[&ScenePoint]) -> Variant {
-    let point = if point.index >= layout.len() {
-        on_grid
-            .iter()
-            .find(|p| p.group == point.group)
-            .copied()
-            .unwrap_or(point)
-    } else {
-        point
+    // A deterministic companion is the variant of the drawn scene it stands beside.
+    let (point, index) = match &point.uncertain {
+        Some(Sample::Companion { of }) => (point, *of),
+        _ if point.index >= layout.len() => {
+            let p = on_grid
+                .iter()
+                .find(|p| p.group == point.group)
+                .copied()
+                .unwrap_or(point);
+            (p, p.index)
+        }
+        _ => (point, point.index),
     };
     let device = layout
-        .locate(point.index)
+        .locate(index)
         .map(|(v, _)| &layout.variants[v])
         .map_or_else(
             || point.scene.device.name().to_string(),
@@ -119,6 +133,10 @@ pub fn rows(study: &Study, results: &SweepResults) -> crate::error::Result<Vec<S
         .map(|o| &o.point)
         .filter(|p| p.index < layout.len())
         .collect();
+    let centres: Vec<(String, f64)> = (study.uncertain.iter())
+        .flat_map(|u| u.parameters())
+        .map(|(p, d)| (p.info().name.to_string(), d.centre()))
+        .collect();
     Ok(results
         .outcomes
         .iter()
@@ -135,7 +153,15 @@ pub fn rows(study: &Study, results: &SweepResults) -> crate::error::Result<Vec<S
                 ),
                 Err(why) => (vec![None; study.quantities.len()], false, Some(why.clone())),
             };
+            let (drawn, draw, companion) = match &o.point.uncertain {
+                Some(Sample::Drawn { draw, values }) => (values.clone(), Some(*draw), false),
+                Some(Sample::Companion { .. }) => (centres.clone(), None, true),
+                None => (Vec::new(), None, false),
+            };
             StripeRow {
+                drawn,
+                draw,
+                companion,
                 variant: variant_of(&layout, &o.point, &on_grid),
                 component: component_of(library, &record),
                 scale: scale_of(library, o),
@@ -180,6 +206,16 @@ pub fn stripes_csv(study: &Study, rows: &[StripeRow]) -> crate::error::Result<Ve
     let mut header = vec!["device".to_string()];
     header.extend(params.iter().cloned());
     header.extend(["record", "component", "im", "im_measure", "scale"].map(String::from));
+    // An uncertain study: the draw (its place, or `nominal` for a deterministic companion)
+    // and the uncertain parameters' values.
+    let uncertain: Vec<String> = (study.uncertain.iter())
+        .flat_map(|u| u.parameters())
+        .map(|(p, _)| p.info().name.to_string())
+        .collect();
+    if !uncertain.is_empty() {
+        header.push("draw".into());
+        header.extend(uncertain.iter().cloned());
+    }
     header.extend(study.quantities.iter().map(|q| q.name().to_string()));
     header.extend(["overturned", "status"].map(String::from));
     w.write_record(&header)?;
@@ -196,6 +232,13 @@ pub fn stripes_csv(study: &Study, rows: &[StripeRow]) -> crate::error::Result<Ve
             im.to_string(),
             format!("{:.9e}", r.scale),
         ]);
+        if !uncertain.is_empty() {
+            row.push(r.draw.map_or_else(|| "nominal".into(), |d| d.to_string()));
+            for name in &uncertain {
+                let v = r.drawn.iter().find(|(k, _)| k == name);
+                row.push(v.map_or_else(String::new, |(_, v)| v.to_string()));
+            }
+        }
         row.extend(
             r.values
                 .iter()
@@ -218,9 +261,13 @@ pub fn stripes_csv(study: &Study, rows: &[StripeRow]) -> crate::error::Result<Ve
 
 /// The observations of the fit: every scene that ran (failed ones are left out; stripes.csv
 /// lists them). An overturned scene's response is +∞ and it exceeds every state.
-pub fn observations(f: &Fragility, study: &Study, rows: &[StripeRow]) -> Vec<StripeObservation> {
+pub fn observations<'a>(
+    f: &Fragility,
+    study: &Study,
+    rows: impl IntoIterator<Item = &'a StripeRow>,
+) -> Vec<StripeObservation> {
     let measure = study.quantities.iter().position(|q| *q == f.measure);
-    rows.iter()
+    rows.into_iter()
         .filter(|r| r.failed.is_none())
         .map(|r| StripeObservation {
             variant: r.variant.clone(),
@@ -236,10 +283,32 @@ pub fn observations(f: &Fragility, study: &Study, rows: &[StripeRow]) -> Vec<Str
         .collect()
 }
 
-/// The fitted report of a fragility study's results.
+/// The fitted report of a fragility study's results. With uncertain parameters the curves
+/// are fitted over the drawn scenes (the total dispersion, records and parameters), and each
+/// also carries the fit over the deterministic companions (records alone, without bootstrap).
 pub fn analyse(f: &Fragility, study: &Study, rows: &[StripeRow]) -> FragilityReport {
     let opts = options(f);
-    let mut report = analyse_stripes(&observations(f, study, rows), &opts);
+    let drawn = rows.iter().filter(|r| !r.companion);
+    let mut report = analyse_stripes(&observations(f, study, drawn), &opts);
+    if let Some(u) = &study.uncertain {
+        let companions: Vec<&StripeRow> = rows.iter().filter(|r| r.companion).collect();
+        let records_only = analyse_stripes(
+            &observations(f, study, companions),
+            &FragilityOptions {
+                bootstrap: 0,
+                ..opts
+            },
+        );
+        for c in &mut report.curves {
+            if let Some(r) = (records_only.curves.iter())
+                .find(|r| r.variant == c.variant && r.damage_state == c.damage_state)
+            {
+                c.median_records = r.median;
+                c.beta_records = r.beta;
+            }
+        }
+        report.uncertainty = u.describe(false);
+    }
     name_axes(&mut report, f, study);
     report
 }

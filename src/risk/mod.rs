@@ -140,8 +140,11 @@ pub fn assess(
         draws.push(sample);
     }
     pair_with_bare(report, &mut rows, &draws);
+    // A study with uncertain parameters measured its own β_total: each variant's collapse
+    // curve's total β (records and parameters) serves where none is given.
     let margins = match (opts.mce, opts.beta_total) {
-        (Some(mce), Some(beta_total)) => margins(&rows, mce, beta_total),
+        (Some(mce), Some(beta_total)) => margins(&rows, mce, Some(beta_total)),
+        (Some(mce), None) if !report.uncertainty.is_empty() => margins(&rows, mce, None),
         _ => Vec::new(),
     };
     RiskReport {
@@ -257,11 +260,15 @@ fn pair_with_bare(report: &FragilityReport, rows: &mut [RiskRow], draws: &[Vec<O
     }
 }
 
-/// P695 margins per variant, on each variant's highest damage state (collapse).
-fn margins(rows: &[RiskRow], mce: f64, beta_total: f64) -> Vec<VariantMargin> {
+/// P695 margins per variant, on each variant's highest damage state (collapse), with
+/// `beta_total`, or (None) each curve's own fitted β.
+fn margins(rows: &[RiskRow], mce: f64, beta_total: Option<f64>) -> Vec<VariantMargin> {
     let mut out: Vec<VariantMargin> = Vec::new();
     for r in rows {
         let Some(median) = r.median else { continue };
+        let Some(beta_total) = beta_total.or(r.beta) else {
+            continue;
+        };
         let top = rows
             .iter()
             .filter(|q| q.variant == r.variant)

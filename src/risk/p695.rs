@@ -92,27 +92,10 @@ pub fn beta_total(ratings: Ratings, mu_t: f64) -> f64 {
     (squares.sqrt() / 0.025).round() * 0.025
 }
 
-/// Φ⁻¹(p) for 0 < p < 1: bisection on `normal::cdf` (Φ is monotone, so it brackets the root
-/// for any p), then Newton steps to polish it. The crate tree has erfc (libm) but no inverse;
-/// these few lines reach full precision.
+/// Φ⁻¹(p) for 0 < p < 1: the one standard normal quantile, `stats::normal::quantile` (the
+/// uncertain parameters' draws use it too).
 pub fn normal_quantile(p: f64) -> f64 {
-    let (mut lo, mut hi) = (-40.0, 40.0);
-    for _ in 0..80 {
-        let mid = 0.5 * (lo + hi);
-        if normal::cdf(mid) < p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    let mut z = 0.5 * (lo + hi);
-    for _ in 0..3 {
-        let density = normal::pdf(z);
-        if density > 0.0 {
-            z -= (normal::cdf(z) - p) / density;
-        }
-    }
-    z
+    normal::quantile(p)
 }
 
 /// The acceptable adjusted collapse margin ratio for a collapse probability p at the MCE.

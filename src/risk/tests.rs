@@ -124,3 +124,25 @@ fn doubtful_fits_are_flagged() {
     let fine = assess(&report, &hazard, "fine", |_| Some(1.0), &options());
     assert!(fine.warnings.is_empty(), "{:?}", fine.warnings);
 }
+
+/// A study with uncertain parameters gives each variant's margin its own fitted total β when
+/// none is given; without them, no β means no margins.
+#[test]
+fn margins_take_the_fitted_total_beta_of_an_uncertain_study() {
+    let hazard = power_law_hazard(1e-4, 2.4);
+    let mut report = report();
+    let opts = RiskOptions {
+        beta_total: None,
+        ..options()
+    };
+    let plain = assess(&report, &hazard, "plain", |_| Some(1.0), &opts);
+    assert!(plain.margins.is_empty());
+    report.uncertainty = "α ~ normal(mean 0.2, sd 0.01)".into();
+    let risk = assess(&report, &hazard, "uncertain", |_| Some(1.0), &opts);
+    assert_eq!(risk.margins.len(), 2);
+    for (m, c) in risk.margins.iter().zip(&report.curves) {
+        let beta = c.beta.unwrap();
+        assert_eq!(m.margin.beta_total, beta);
+        assert!((m.margin.acmr_20 - p695::acmr(beta, 0.2)).abs() < 1e-15);
+    }
+}

@@ -32,7 +32,7 @@ pub enum Sampling {
 /// rounded down to 1, 2 or 5 × 10ᵏ s so the CSV's times read cleanly.
 pub fn auto_step(duration: f64, motion: &Motion) -> f64 {
     let mut dt = duration / AUTO_ROWS;
-    if let Motion::Pulse(p) = motion {
+    if let crate::excitation::Horizontal::Pulse(p) = motion.ground() {
         dt = dt.min(p.end() / AUTO_ROWS_PER_PULSE);
     }
     nice_floor(dt)

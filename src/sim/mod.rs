@@ -1,14 +1,16 @@
 //! One scene, start to finish: build the model the scene needs, run the event loop (step,
 //! locate event, apply jump, restart), track peaks and the energy balance.
 
-use crate::excitation::{Library, Motion, Pulse, RecordMotion};
+use crate::excitation::{
+    G, Gravity, Horizontal, KinkPolicy, Library, Motion, Pulse, RecordMotion, Vertical,
+};
 pub use crate::model::column::{ColumnInfo, EnergyRole, HistoryColumn};
 use crate::model::device::{DeviceModel, Flywheels};
 use crate::model::flexible::FlexibleModel;
 use crate::model::rigid::RigidModel;
 use crate::model::{Action, ClosedFormEnd, Counters, EndReason, Energy, SimModel};
 pub use crate::model::{Measures, Peaks};
-use crate::scene::{Excitation, Impact, RigidBlock, Scene, Structure};
+use crate::scene::{Excitation, Impact, RigidBlock, Scene, Structure, VerticalMotion};
 use crate::solver::{Integrator, Method, Options, SolverError, Stats, StepOutcome};
 use history::Recorder;
 pub use history::{MAX_GRID_ROWS, Sampling, auto_step};
@@ -121,6 +123,44 @@ impl History {
 /// Compile the scene's excitation into a ground motion, resolving a record's name in
 /// `library`.
 pub fn motion_for(scene: &Scene, library: &Library) -> Result<Motion, SimError> {
+    let (horizontal, factor) = horizontal_for(scene, library)?;
+    let Some(vertical) = &scene.vertical else {
+        return Ok(Motion::horizontal(horizontal));
+    };
+    let alpha = scene.structure.alpha();
+    let p = scene.structure.p();
+    let vertical = match vertical {
+        VerticalMotion::Constant(c) => Vertical::Constant(c * G),
+        VerticalMotion::Ratio(r) => Vertical::Ratio(*r, horizontal.clone()),
+        VerticalMotion::Pulse {
+            shape,
+            amplitude,
+            frequency,
+        } => Vertical::Own(Horizontal::Pulse(Pulse::new(
+            *shape,
+            amplitude.absolute(alpha),
+            frequency.absolute(p),
+        ))),
+        VerticalMotion::Record(file) => {
+            let baseline = matches!(scene.excitation, Excitation::Record { baseline: true, .. });
+            let record = library
+                .load(file, baseline)
+                .map_err(|e| SimError::Invalid(format!("vertical record '{file}': {e}")))?;
+            Vertical::Own(Horizontal::Record(RecordMotion {
+                factor,
+                series: Arc::clone(&record.series),
+                kinks: KinkPolicy::default(),
+            }))
+        }
+    };
+    let gravity = Gravity::with_vertical(vertical);
+    gravity.check_contact().map_err(SimError::Invalid)?;
+    Ok(Motion::with_gravity(horizontal, gravity))
+}
+
+/// The scene's horizontal ground motion and the factor its record is scaled by (1 for a
+/// pulse), which a vertical record shares.
+fn horizontal_for(scene: &Scene, library: &Library) -> Result<(Horizontal, f64), SimError> {
     let alpha = scene.structure.alpha();
     let p = scene.structure.p();
     match &scene.excitation {
@@ -128,13 +168,17 @@ pub fn motion_for(scene: &Scene, library: &Library) -> Result<Motion, SimError> 
             shape,
             amplitude,
             frequency,
-        } => Ok(Motion::Pulse(Pulse::new(
-            *shape,
-            amplitude.absolute(alpha),
-            frequency.absolute(p),
-        ))),
-        Excitation::MpPulse { tp, pgv, gamma, nu } => Ok(Motion::Pulse(
-            Pulse::mavroeidis_papageorgiou(*tp, *pgv, *gamma, *nu),
+        } => Ok((
+            Horizontal::Pulse(Pulse::new(
+                *shape,
+                amplitude.absolute(alpha),
+                frequency.absolute(p),
+            )),
+            1.0,
+        )),
+        Excitation::MpPulse { tp, pgv, gamma, nu } => Ok((
+            Horizontal::Pulse(Pulse::mavroeidis_papageorgiou(*tp, *pgv, *gamma, *nu)),
+            1.0,
         )),
         Excitation::Record {
             name,
@@ -175,11 +219,14 @@ pub fn motion_for(scene: &Scene, library: &Library) -> Result<Motion, SimError> 
                     },
                 ));
             }
-            Ok(Motion::Record(RecordMotion {
+            Ok((
+                Horizontal::Record(RecordMotion {
+                    factor,
+                    series,
+                    kinks: *kinks,
+                }),
                 factor,
-                series,
-                kinks: *kinks,
-            }))
+            ))
         }
     }
 }
@@ -338,7 +385,7 @@ pub fn run_sampled(
                 &scene.device,
                 block.mass,
                 scene.structure.p(),
-                motion.gravity(),
+                motion.gravity().g(),
             );
             let block = &RigidBlock {
                 form: block.form.resolve(block.alpha, scene.rtol),
@@ -369,7 +416,7 @@ pub fn run_sampled(
                 ));
             }
             let p = scene.structure.p();
-            let device = DeviceModel::new(&scene.device, flex.mass, p, motion.gravity());
+            let device = DeviceModel::new(&scene.device, flex.mass, p, motion.gravity().g());
             let mut model = FlexibleModel::new(flex, device, &motion, scene.initial_rotation)
                 .with_ledger(ledger)
                 .with_closed_form_contact(scene.closed_form_contact);
@@ -473,8 +520,10 @@ fn drive<const N: usize, M: SimModel<N>>(
                 // The history shows the end of an idle period (an uplift from rest) as the
                 // located events are shown.
                 if let Some(h) = history.as_deref_mut() {
-                    if action == Action::Continue {
-                        h.event(t, model.wake_name());
+                    if action == Action::Continue
+                        && let Some(name) = model.wake_name()
+                    {
+                        h.event(t, name);
                     }
                     h.exact(model, t, &y);
                 }

@@ -239,9 +239,24 @@ pub struct Curve {
     /// same resamples. Empty without a fit or in files written before it was kept.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub resamples: Vec<Option<[f64; 2]>>,
+    /// A study with uncertain parameters: the fit over its deterministic companion scenes
+    /// (every uncertain parameter at its distribution's centre), the median and β from
+    /// records alone beside this curve's total (report/stripes.rs). None otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub median_records: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beta_records: Option<f64>,
 }
 
 impl Curve {
+    /// The dispersion the uncertain parameters add, by the square-root-of-sum-of-squares rule
+    /// β_total² = β_records² + β_parameters² (FEMA P695 §7.3): None without both fits, or
+    /// where β_total < β_records (the draws' sampling noise is larger than their share).
+    pub fn beta_parameters(&self) -> Option<f64> {
+        let (total, records) = (self.beta?, self.beta_records?);
+        (total >= records).then(|| (total * total - records * records).sqrt())
+    }
+
     /// Why a fitted curve should not be trusted as it stands (empty: nothing found): a median
     /// outside the data's intensity range, a median interval wider (as a ratio) than the
     /// data's span, bootstrap resamples that could not be fitted (with their count).
@@ -337,6 +352,10 @@ pub struct FragilityReport {
     pub bootstrap: usize,
     pub confidence: f64,
     pub seed: u64,
+    /// A study with uncertain parameters: what was drawn and how, one line (set by the
+    /// engine, report/stripes.rs); empty otherwise.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub uncertainty: String,
 }
 
 impl FragilityReport {
@@ -501,6 +520,7 @@ fn finish(mut pending: Vec<Pending>, n_records: usize, opts: &FragilityOptions) 
         bootstrap: opts.bootstrap,
         confidence: opts.confidence,
         seed: opts.seed,
+        uncertainty: String::new(),
     }
 }
 
@@ -588,6 +608,8 @@ fn empty_curve(variant: &Variant, damage_state: f64, method: Method) -> Curve {
         resurrections: 0,
         capacities: Vec::new(),
         resamples: Vec::new(),
+        median_records: None,
+        beta_records: None,
     }
 }
 

@@ -39,6 +39,13 @@ pub const OPTIONAL_FIELDS: &[OptionalField] = &[
         "risk",
         "(hazard: \"hazards/illustrative_pga.csv\", years: 50.0)",
     ),
+    optional("pulse", "vertical", "ratio(0.67)"),
+    optional("record", "vertical", "ratio(0.67)"),
+    optional(
+        "study",
+        "uncertain",
+        "(seed: 1, alpha: normal(mean: 0.2, sd: 0.01))",
+    ),
     optional("rigid", "size", "1.0"),
     optional("rigid", "p", "2.0"),
     optional("flexible", "omega_n", "10.0"),
@@ -101,6 +108,12 @@ const FIELD_HELP: &[(&str, &str)] = &[
         "shape",
         "sine, cosine, ricker, …, or a list [sine, ricker]: each shape is an axis value (its own \
          spectra, selected by shape: ricker)",
+    ),
+    (
+        "vertical",
+        "vertical ground motion, positive up: ratio(r) (r × the scaled horizontal), \
+         constant(c) (c·g), record(\"FILE\") (× the horizontal record's factor) or \
+         pulse(shape, amplitude, frequency) (absolute)",
     ),
     (
         "amplitude",
@@ -176,7 +189,41 @@ const FIELD_HELP: &[(&str, &str)] = &[
         "bootstrap",
         "bootstrap resamples over records for the confidence intervals: 0 (none) or at least 200",
     ),
-    ("seed", "bootstrap seed (reruns agree)"),
+    (
+        "seed",
+        "seed of the bootstrap (fragility) or of the draws (uncertain): reruns agree",
+    ),
+    (
+        "uncertain",
+        "uncertain parameters of a fragility study, drawn per record × stripe: (seed, sampling, \
+         draws, then any of alpha, size, p, restitution, k_theta, clutch_frequency_ratio, cbar, \
+         xi_theta: normal(mean, sd), lognormal(median, beta) or uniform(lo, hi))",
+    ),
+    (
+        "sampling",
+        "latin_hypercube (one draw in each of N equal-probability strata per parameter) or \
+         monte_carlo (independent draws)",
+    ),
+    (
+        "draws",
+        "per_record_stripe: one draw per record × stripe, shared by the device variants (an \
+         IDA: per record)",
+    ),
+    (
+        "mean",
+        "a normal distribution's mean, in the parameter's unit",
+    ),
+    (
+        "sd",
+        "a normal distribution's standard deviation (≥ 0), in the parameter's unit",
+    ),
+    ("median", "a lognormal distribution's median (> 0)"),
+    (
+        "beta",
+        "a lognormal distribution's dispersion: the standard deviation of ln x (≥ 0)",
+    ),
+    ("lo", "a uniform distribution's lower end"),
+    ("hi", "a uniform distribution's upper end"),
     (
         "confidence",
         "two-sided confidence level of the intervals (0.9: 5th–95th percentiles)",
@@ -539,12 +586,20 @@ mod tests {
                     rigid,
                     format!("inerter(sigma: 1.0, coupling: flywheel({set}))"),
                 ),
+                "pulse" | "record" => ("", rigid, "none".to_string()),
                 device => ("", rigid, format!("{device}(sigma: 1.0, {set})")),
+            };
+            let excitation = match owner {
+                "pulse" => format!(
+                    "pulse(shape: sine, amplitude: alpha_ratio(1.5), frequency: ratio(2.0), {set})"
+                ),
+                "record" => format!("record(names: [\"x\"], {set})"),
+                _ => "pulse(shape: sine, amplitude: alpha_ratio(1.5), frequency: ratio(2.0))"
+                    .to_string(),
             };
             format!(
                 "(version: 1, name: \"t\", structure: {structure}, devices: [{device}], \
-                 excitation: pulse(shape: sine, amplitude: alpha_ratio(1.5), \
-                 frequency: ratio(2.0)), duration: 1.0, {top})"
+                 excitation: {excitation}, duration: 1.0, {top})"
             )
         };
         let saved = |doc: &str| -> String {

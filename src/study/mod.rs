@@ -18,6 +18,7 @@ pub mod risk;
 pub mod shapes;
 mod strict;
 pub(crate) mod suites;
+pub mod uncertain;
 mod values;
 pub mod writer;
 
@@ -89,6 +90,10 @@ pub struct Study {
     /// Seismic risk at a site from the fragility curves (study/risk.rs).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub risk: Option<risk::Risk>,
+    /// Uncertain parameters drawn per record × stripe of a fragility study
+    /// (study/uncertain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertain: Option<uncertain::Uncertain>,
 }
 
 pub(crate) fn yes() -> bool {
@@ -257,6 +262,9 @@ pub enum ExcitationFamily {
         shape: PulseShapes,
         amplitude: AmplitudeAxis,
         frequency: FrequencyAxis,
+        /// The vertical ground motion of every scene (absent: none).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        vertical: Option<crate::scene::VerticalMotion>,
     },
     /// Recorded ground motions from the record library (`rocklab records` lists them), each
     /// scaled by `scale`: a factor (default), or a target PGA (g), PGV (m/s), PGA* or PGV*
@@ -281,7 +289,21 @@ pub enum ExcitationFamily {
         /// `duration`).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         tail: Option<f64>,
+        /// The vertical ground motion of every scene (absent: none): `ratio(r)` follows each
+        /// record's scaling, a `record("FILE")` is multiplied by the same factor.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        vertical: Option<crate::scene::VerticalMotion>,
     },
+}
+
+impl ExcitationFamily {
+    /// The vertical ground motion every scene of the study has.
+    pub fn vertical(&self) -> Option<&crate::scene::VerticalMotion> {
+        match self {
+            ExcitationFamily::Pulse { vertical, .. }
+            | ExcitationFamily::Record { vertical, .. } => vertical.as_ref(),
+        }
+    }
 }
 
 /// What a record's `scale` value means.
@@ -435,6 +457,10 @@ pub struct ScenePoint {
     pub coords: Vec<(String, f64)>,
     /// Hash of the scene and solver settings: the cache key for reruns.
     pub key: String,
+    /// In a study with uncertain parameters: the values drawn for this scene, or that it is
+    /// a drawn scene's deterministic companion (study/uncertain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertain: Option<uncertain::Sample>,
 }
 
 impl ScenePoint {
@@ -549,6 +575,7 @@ impl Study {
         expand::validate(self)?;
         design::validate(self)?;
         fragility::validate(self)?;
+        uncertain::validate(self)?;
         risk::validate(self)
     }
 

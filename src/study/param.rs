@@ -86,6 +86,9 @@ params! {
     Play => ("play", "up", "play", "m", "gear play up (m)"),
     Epsilon => ("epsilon", "ε", "epsilon", "", "clutch tanh smoothing ε (per rad)"),
     Rho => ("rho", "ρ", "rho", "m", "pinion radius ρ (m)"),
+    /// The coefficient of restitution of a rigid block's impacts (`impact: housner(restitution: r)`);
+    /// a grid parameter only as an uncertain one (study/uncertain).
+    Restitution => ("restitution", "r", "restitution", "", "coefficient of restitution r"),
 }
 
 impl Param {

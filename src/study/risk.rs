@@ -89,11 +89,16 @@ pub fn validate(study: &Study) -> Result<(), StudyError> {
             ));
         }
     }
-    if r.mce.is_some() != r.beta_total.is_some() {
+    // With uncertain parameters the study's own fitted total β serves as β_TOT.
+    let own_beta = study.uncertain.is_some();
+    if r.beta_total.is_some() && r.mce.is_none()
+        || r.mce.is_some() && !own_beta && r.beta_total.is_none()
+    {
         return Err(StudyError::field(
             "risk.mce",
             "P695 margins need both the MCE intensity and β_TOT",
-            "mce: 0.7, beta_total: 0.525",
+            "mce: 0.7, beta_total: 0.525 (a study with uncertain parameters may leave out \
+             beta_total: its fitted total β serves)",
         ));
     }
     Ok(())

@@ -125,6 +125,9 @@ pub fn wrapper_names() -> Vec<&'static str> {
         variants::<super::design::DesignTarget>(),
         variants::<super::fragility::DamageStates>(),
         variants::<super::fragility::Method>(),
+        variants::<super::uncertain::Distribution>(),
+        variants::<super::uncertain::Sampling>(),
+        variants::<super::uncertain::Draws>(),
     ]
     .concat();
     names.push("Some");
@@ -492,6 +495,11 @@ pub const ANGLE_FIELDS: &[&str] = &["alpha"];
 /// the range is the value of.
 const RANGE_KEYS: &[&str] = &["from", "to", "steps", "log"];
 
+/// The keys of an uncertain parameter's distribution that are in the parameter's unit, and
+/// so belong to it: `alpha: normal(mean: deg(14), sd: deg(1))` is in degrees (a lognormal's
+/// `beta` is a ratio, and takes no `deg`).
+const DISTRIBUTION_KEYS: &[&str] = &["mean", "sd", "median", "lo", "hi"];
+
 /// `text` with every `deg(…)` replaced by the same angles in radians: `alpha: deg(10)`,
 /// `alpha: deg([5, 10])`, `alpha: deg((from: 5, to: 15, steps: 3))` (a range's `steps` and
 /// `log` are kept). RON would read `deg(10)` as the bare 10 (its `deserialize_any` drops the
@@ -544,7 +552,7 @@ pub fn resolve_degrees<'a>(
                     .iter()
                     .rev()
                     .flatten()
-                    .find(|k| !RANGE_KEYS.contains(k))
+                    .find(|k| !RANGE_KEYS.contains(k) && !DISTRIBUTION_KEYS.contains(k))
                     .copied();
                 if !field.is_some_and(|f| ANGLE_FIELDS.contains(&f)) {
                     return Err(error(

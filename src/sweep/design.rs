@@ -283,6 +283,8 @@ impl Search {
                     scene,
                     group: n.group.clone(),
                     coords,
+                    // Validation refuses uncertain parameters in a design.
+                    uncertain: None,
                 }
             })
             .collect();

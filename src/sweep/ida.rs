@@ -143,6 +143,8 @@ impl IdaSearch {
             scene,
             group: nominal.group.clone(),
             coords,
+            // The record's draw: the hunt climbs one drawn structure.
+            uncertain: nominal.uncertain.clone(),
         }
     }
 

@@ -7,6 +7,7 @@ use crate::sim::{self, Quantity, SceneResult};
 use crate::study::{ScenePoint, Study, StudyError, StudyKind};
 pub mod adaptive;
 pub mod design;
+pub mod estimate;
 mod facade;
 pub mod hunt;
 pub mod ida;

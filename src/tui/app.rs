@@ -18,11 +18,12 @@ use crate::excitation::library::Library;
 use crate::report;
 use crate::study::{ScenePoint, Study};
 use crate::sweep::SweepResults;
+use crate::sweep::estimate::{CostModel, Strata};
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
+use expansion::Expanded;
 use std::path::PathBuf;
 
 pub use super::files::{is_results_path, load_results_at};
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 pub use super::components::prompt::{
@@ -32,9 +33,10 @@ pub use super::components::results::{Results, ResultsTab};
 pub use super::components::run::{GroupProgress, RunState};
 pub use super::components::scene::{SceneState, SceneView};
 pub use super::components::study::Row;
-pub use super::components::{Check, Shared};
+pub use super::components::{Check, EXPAND_AT_ONCE, Shared};
 
 mod background;
+mod expansion;
 
 all_variants! {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -97,8 +99,13 @@ pub struct App {
     pub prompt: Option<Prompt>,
     /// One-line message on the status bar (cleared by the next key); true for an error.
     pub message: Option<(String, bool)>,
-    /// Times a few scenes of the study for the run-time estimate.
-    calibration: AsyncSingleJob<(), Option<f64>>,
+    /// Times a few scenes of every stratum of the study for the run-time estimate.
+    calibration: AsyncSingleJob<(), Option<(Strata, CostModel)>>,
+    /// Expands a large study off the UI thread; its output carries the generation it was
+    /// asked for and is dropped unless that is still the study's.
+    expansion: AsyncSingleJob<(), Expanded>,
+    /// Counts the studies set (opened or edited): what a landing expansion is checked against.
+    generation: u64,
     /// Set by a first Ctrl-C with unsaved changes: a second one quits anyway.
     ctrl_c_armed: bool,
 }
@@ -108,14 +115,6 @@ const BUILTIN_DEFAULT: &str = include_str!("../../studies/default.ron");
 
 fn key_press(code: KeyCode) -> KeyEvent {
     KeyEvent::new(code, KeyModifiers::NONE)
-}
-
-/// Validate a study by expanding it (once).
-fn check(study: &Study) -> Check {
-    match study.expand() {
-        Ok(points) => Check::Ok(Arc::new(points)),
-        Err(e) => Check::Invalid(e.to_string()),
-    }
 }
 
 impl App {
@@ -132,14 +131,15 @@ impl App {
             editor: StudyScreen::new(&study, original.as_deref()),
             shared: Shared {
                 options,
-                check: check(&study),
-                study,
+                check: Check::Pending { scenes: 0 },
+                groups: 0,
+                study: study.clone(),
                 path,
                 original,
                 dirty: false,
                 results: None,
                 out_dir: None,
-                seconds_per_scene: None,
+                costs: None,
                 record_names: Library::open(Library::default_dir())
                     .map(|l| l.names())
                     .unwrap_or_default(),
@@ -151,9 +151,11 @@ impl App {
             prompt: None,
             message: None,
             calibration: AsyncSingleJob::default(),
+            expansion: AsyncSingleJob::default(),
+            generation: 0,
             ctrl_c_armed: false,
         };
-        app.start_calibration();
+        app.begin_check(&study, None);
         app
     }
 
@@ -183,6 +185,19 @@ impl App {
 
     pub fn is_running(&self) -> bool {
         self.runs.is_running()
+    }
+
+    /// The study's expansion is being computed in the background.
+    pub fn expansion_pending(&self) -> bool {
+        matches!(self.shared.check, Check::Pending { .. })
+    }
+
+    /// Scenes of the open study, once expanded (None if invalid or pending).
+    pub fn scene_count(&self) -> Option<usize> {
+        match &self.shared.check {
+            Check::Ok(points) => Some(points.len()),
+            _ => None,
+        }
     }
 
     fn say(&mut self, msg: impl Into<String>) {
@@ -257,34 +272,13 @@ impl App {
         checks
     }
 
-    /// A new study: its check (the expansion, computed once by the caller or here), the
-    /// editor's rows and the run-time estimate follow.
+    /// A new study: its check (the expansion, computed by the caller, here, or in the
+    /// background for a large study), the editor's rows and the run-time estimate follow.
     fn set_study(&mut self, study: Study, points: Option<Vec<ScenePoint>>, text: Option<&str>) {
-        self.shared.check = match points {
-            Some(points) => Check::Ok(Arc::new(points)),
-            None => check(&study),
-        };
         self.editor.study_changed(&study, text);
         self.shared.study = study;
-        self.start_calibration();
-    }
-
-    /// Time a few scenes of the study in the background for the run-time estimate. A newer
-    /// study replaces a calibration still running (its result would be stale), so fast edits
-    /// do not pile up threads.
-    fn start_calibration(&mut self) {
-        if self.shared.options.deterministic || self.is_running() {
-            return;
-        }
-        let Check::Ok(points) = &self.shared.check else {
-            return;
-        };
-        if points.is_empty() {
-            return;
-        }
-        let points = Arc::clone(points);
-        self.calibration
-            .spawn(move |_, cancel| crate::sweep::seconds_per_scene(&points, cancel));
+        let study = self.shared.study.clone();
+        self.begin_check(&study, points);
     }
 
     // ----- keys -----
@@ -373,7 +367,7 @@ impl App {
                 note,
             } => {
                 self.shared.dirty = true;
-                self.set_study(*study, Some(points), Some(&text));
+                self.set_study(*study, points, Some(&text));
                 if let Some(note) = note {
                     self.say(note);
                 }

@@ -4,8 +4,8 @@ use crate::cli::UsageError;
 use crate::excitation::{KinkPolicy, PulseShape, library};
 use crate::scene::{
     Amplitude, Clutch, ClutchStiffness, Coupling, Damping, Device, Excitation, FlexibleStructure,
-    Form, Frequency, Impact, RecordScale, ResetRule, RigidBlock, Scene, Structure, default_epsilon,
-    default_eta, default_rho,
+    Form, Frequency, Impact, RecordScale, ResetRule, RigidBlock, Scene, Structure, VerticalMotion,
+    default_epsilon, default_eta, default_rho,
 };
 
 use super::{
@@ -135,6 +135,7 @@ impl SimulateArgs {
             device,
             impact,
             excitation,
+            vertical: self.vertical()?,
             duration: self.duration.unwrap_or(default_duration),
             rtol: self.rtol,
             initial_rotation: self.theta0,
@@ -288,6 +289,58 @@ impl SimulateArgs {
             frequency,
         };
         Ok((excitation, 10.0))
+    }
+
+    /// The vertical ground motion the --vertical-* flags describe (clap lets at most one of
+    /// record, pulse, constant and ratio through).
+    fn vertical(&self) -> Result<Option<VerticalMotion>, UsageError> {
+        if let Some(file) = &self.vertical_record {
+            library::global()
+                .and_then(|lib| lib.load(file, self.baseline))
+                .map_err(|e| UsageError::new(format!("--vertical-record {file}: {e}")))?;
+            return Ok(Some(VerticalMotion::Record(file.clone())));
+        }
+        if let Some(c) = self.vertical_constant {
+            return Ok(Some(VerticalMotion::Constant(c)));
+        }
+        if let Some(r) = self.vertical_ratio {
+            return Ok(Some(VerticalMotion::Ratio(r)));
+        }
+        let Some(kind) = self.vertical_pulse else {
+            return Ok(None);
+        };
+        let shape = match kind {
+            PulseKind::Sine => PulseShape::Sine,
+            PulseKind::Cosine => PulseShape::Cosine,
+            PulseKind::Ricker => PulseShape::Ricker,
+            PulseKind::AntisymmetricRicker => PulseShape::AntisymmetricRicker,
+            PulseKind::Mp => {
+                return Err(UsageError::new(
+                    "--vertical-pulse mp is not offered (it needs γ and ν): give the vertical \
+                     MP pulse in a study file",
+                ));
+            }
+        };
+        let amplitude = Amplitude::G(need(
+            self.vertical_amplitude_g,
+            "--vertical-amplitude-g",
+            "with --vertical-pulse (A_v/g)",
+        )?);
+        let frequency = match (self.vertical_frequency, self.vertical_frequency_ratio) {
+            (Some(w), None) => Frequency::RadPerSec(w),
+            (None, Some(r)) => Frequency::Ratio(r),
+            _ => {
+                return Err(UsageError::new(
+                    "one of --vertical-frequency or --vertical-frequency-ratio is required \
+                     with --vertical-pulse",
+                ));
+            }
+        };
+        Ok(Some(VerticalMotion::Pulse {
+            shape,
+            amplitude,
+            frequency,
+        }))
     }
 
     fn device(&self) -> Result<Device, UsageError> {

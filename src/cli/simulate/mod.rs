@@ -181,6 +181,36 @@ pub struct SimulateArgs {
     /// ωg/p.
     #[arg(long)]
     pub frequency_ratio: Option<f64>,
+    /// Vertical ground motion from a record file (any format --record takes), positive up,
+    /// aligned in time with the horizontal, multiplied by the horizontal record's scale
+    /// factor (1 under a pulse); zero after its end.
+    #[arg(long, group = "vertical")]
+    pub vertical_record: Option<String>,
+    /// Vertical pulse family, with --vertical-amplitude-g and --vertical-frequency or
+    /// --vertical-frequency-ratio (the amplitude is absolute: it does not follow the
+    /// horizontal's scaling).
+    #[arg(long, value_enum, group = "vertical")]
+    pub vertical_pulse: Option<PulseKind>,
+    /// Vertical pulse amplitude A_v/g (positive: the first lobe is up).
+    #[arg(long, requires = "vertical_pulse")]
+    pub vertical_amplitude_g: Option<f64>,
+    /// Vertical pulse circular frequency (rad/s).
+    #[arg(
+        long,
+        requires = "vertical_pulse",
+        conflicts_with = "vertical_frequency_ratio"
+    )]
+    pub vertical_frequency: Option<f64>,
+    /// Vertical pulse frequency over p.
+    #[arg(long, requires = "vertical_pulse")]
+    pub vertical_frequency_ratio: Option<f64>,
+    /// Constant vertical acceleration c·g: gravity becomes (1 + c) g (c ≥ -1).
+    #[arg(long, group = "vertical", allow_hyphen_values = true)]
+    pub vertical_constant: Option<f64>,
+    /// Vertical acceleration r·a_g(t), r times the horizontal (after its scaling; r may be
+    /// negative).
+    #[arg(long, group = "vertical", allow_hyphen_values = true)]
+    pub vertical_ratio: Option<f64>,
     /// Total simulated time (s); stops earlier only at overturning or rest. Default: 10 s for
     /// pulses, the record's length + 10 s for records.
     #[arg(long)]
@@ -413,9 +443,9 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         let library = library::global()?;
         if let Excitation::Record { name, baseline, .. } = &scene.excitation {
             let record = library.load(name, *baseline)?;
-            let factor = match sim::motion_for(scene, library)? {
-                crate::excitation::Motion::Record(m) => m.factor,
-                crate::excitation::Motion::Pulse(_) => 1.0,
+            let factor = match sim::motion_for(scene, library)?.ground() {
+                crate::excitation::Horizontal::Record(m) => m.factor,
+                crate::excitation::Horizontal::Pulse(_) => 1.0,
             };
             println!(
                 "record {} × {factor:.6}: {}",

@@ -82,8 +82,12 @@ pub trait Body {
     }
     /// Ẍ from the state and its time derivative.
     fn xddot(&self, m: &Mode, k: &Self::Kin, y: &[f64], dy: &[f64]) -> f64;
-    /// Write the body's state derivatives under ground acceleration `ag`, device force `fd`
-    /// (not counting a coupled mass) and coupled mass `mc`; return the rate of the
+    /// Vertical velocity Ẏ of the mass centre relative to the ground (the vertical ground
+    /// motion's work is −m ü_v Ẏ), `k` = kin(y).
+    fn y_dot_kin(&self, m: &Mode, k: &Self::Kin, y: &[f64]) -> f64;
+    /// Write the body's state derivatives under ground acceleration `ag`, gravity `g_eff`
+    /// (g + ü_v at this time, [`crate::excitation::Gravity::at`]), device force `fd` (not
+    /// counting a coupled mass) and coupled mass `mc`; return the rate of the
     /// [`Accumulator::Own`] integral.
     #[allow(clippy::too_many_arguments)]
     fn derivatives(
@@ -91,6 +95,7 @@ pub trait Body {
         m: &Mode,
         k: &Self::Kin,
         ag: f64,
+        g_eff: f64,
         y: &[f64],
         fd: f64,
         mc: f64,

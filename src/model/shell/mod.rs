@@ -151,17 +151,26 @@ impl<'m, B: Body> Rocking<'m, B> {
         let m = &self.mode;
         let layout = m.layout;
         let ag = m.motion.accel(t);
+        let gravity = m.motion.gravity();
+        let g_eff = gravity.at(t);
         let (x, xdot) = self.body.x_xdot_kin(m, k, y);
         let device = m
             .dev
             .rates(x, layout.device_states(y), layout.device_states_mut(dy));
         let own = self
             .body
-            .derivatives(m, k, ag, y, device.force, m.coupled_mass(), dy);
+            .derivatives(m, k, ag, g_eff, y, device.force, m.coupled_mass(), dy);
         if layout.ledger {
             let a = layout.physical_len();
+            // The ground's work in its own frame: −m a_g Ẋ, and −m ü_v Ẏ with a vertical
+            // motion (the structure's potential energy is booked with the constant g).
+            let mut input = -self.body.mass() * ag * xdot;
+            if g_eff != gravity.g() {
+                let uv = g_eff - gravity.g();
+                input -= self.body.mass() * uv * self.body.y_dot_kin(m, k, y);
+            }
             let acc = &mut dy[a..a + 4];
-            acc[Accumulator::Input as usize] = -self.body.mass() * ag * xdot;
+            acc[Accumulator::Input as usize] = input;
             acc[Accumulator::DeviceDamping as usize] = device.damping;
             acc[Accumulator::Friction as usize] = device.friction;
             acc[Accumulator::Own as usize] = own;

@@ -21,12 +21,13 @@ impl<const N: usize, B: Body> OdeSystem<N> for Rocking<'_, B> {
             // a_g first: it depends on t alone, and its sine then runs beside the
             // kinematics' instead of after it on the stage's critical path.
             let ag = m.motion.accel(t);
+            let g_eff = m.motion.gravity().at(t);
             let k = self.body.kin(m, y);
             let fd = DeviceRates::STATELESS.force;
             // In registers, then stored whole (see `store_pairs`).
             let mut d = [0.0; N];
             self.body
-                .derivatives(m, &k, ag, y, fd, m.coupled_mass(), &mut d);
+                .derivatives(m, &k, ag, g_eff, y, fd, m.coupled_mass(), &mut d);
             store_pairs(dydt, d);
         } else {
             self.rhs_kin(t, y, &self.body.kin(m, y), dydt)
@@ -209,12 +210,19 @@ impl<const N: usize, B: Body> SimModel<N> for Rocking<'_, B> {
     fn wake(&mut self, t: f64, y: &mut [f64; N]) -> Action {
         match self.body.wake_side(&self.mode, t) {
             Some(side) => self.uplift(side, t, y),
+            // A varying g_eff idles only to a lower bound of the uplift (`Gravity::
+            // uplift_level`): from there the uplift events are integrated.
+            None if self.mode.motion.gravity().has_vertical() && t < self.mode.motion.end() => {
+                Action::Continue
+            }
             None => Action::Stop(EndReason::Rest),
         }
     }
 
-    fn wake_name(&self) -> &'static str {
-        "uplift"
+    /// A wake that lifted the base; a varying gravity may wake to integrate from a bound
+    /// of the uplift without lifting it yet.
+    fn wake_name(&self) -> Option<&'static str> {
+        self.mode.rocking().then_some("uplift")
     }
 
     /// A body that does not move in contact is lifted by the ground itself: while it is flat

@@ -18,7 +18,7 @@ fn closed_form_event_rates_match_differences_along_the_solution() {
         unreachable!()
     };
     // Fig. 8's sine pulse, A = 1.5 g tan α at ω = 4p (the model reads a_g only).
-    let motion = Motion::Pulse(crate::excitation::Pulse::new(
+    let motion = Motion::pulse(crate::excitation::Pulse::new(
         crate::excitation::PulseShape::Sine,
         1.5 * Gravity::STANDARD.g() * block.alpha.tan(),
         4.0 * scene.structure.p(),
@@ -27,7 +27,7 @@ fn closed_form_event_rates_match_differences_along_the_solution() {
         &scene.device,
         block.mass,
         scene.structure.p(),
-        motion.gravity(),
+        motion.gravity().g(),
     );
     for (rotation, fly) in [
         (0.3 * block.alpha, [0.004, 0.02, -0.003, -0.05]),

@@ -57,6 +57,20 @@ pub fn curve_line(report: &FragilityReport, c: &Curve) -> String {
         with_interval(c.median, c.median_lo, c.median_hi),
         with_interval(c.beta, c.beta_lo, c.beta_hi)
     );
+    if let (Some(m), Some(b)) = (c.median_records, c.beta_records) {
+        let _ = write!(
+            line,
+            " (records alone: median {}, β {}",
+            fmt_fit(m),
+            fmt_fit(b)
+        );
+        match c.beta_parameters() {
+            Some(p) => {
+                let _ = write!(line, "; parameters add β {})", fmt_fit(p));
+            }
+            None => line.push(')'),
+        }
+    }
     if let Some(r) = report.ratio_of(c) {
         let _ = write!(
             line,
@@ -86,6 +100,20 @@ pub fn summary_text(report: &FragilityReport) -> String {
         report.bootstrap,
         fmt_fit(100.0 * report.confidence)
     );
+    if !report.uncertainty.is_empty() {
+        let _ = writeln!(
+            text,
+            "  uncertain parameters: {}. β is the total (records and parameters), the \
+             β_total `rocklab risk --mce` takes for FEMA P695 margins when none is given{}",
+            report.uncertainty,
+            if method == "ida" {
+                " (an IDA runs no companions: no records-only β)."
+            } else {
+                "; \"records alone\" fits the deterministic companion scenes (every uncertain \
+                 parameter at its centre)."
+            }
+        );
+    }
     for c in &report.curves {
         let _ = writeln!(text, "  {}", curve_line(report, c));
     }

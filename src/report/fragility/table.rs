@@ -16,7 +16,7 @@ fn num(v: Option<f64>) -> String {
 type Cell = fn(&FragilityReport, &Curve) -> String;
 
 /// The columns after `device` and the varying parameters: header and value, one table.
-const COLUMNS: [(&str, Cell); 16] = [
+const COLUMNS: [(&str, Cell); 19] = [
     ("damage_state", |_, c| c.damage_state.to_string()),
     ("median", |_, c| num(c.median)),
     ("beta", |_, c| num(c.beta)),
@@ -24,6 +24,11 @@ const COLUMNS: [(&str, Cell); 16] = [
     ("median_hi", |_, c| num(c.median_hi)),
     ("beta_lo", |_, c| num(c.beta_lo)),
     ("beta_hi", |_, c| num(c.beta_hi)),
+    // With uncertain parameters: the fit over the deterministic companion scenes (records
+    // alone), and the parameters' share √(β² − β_records²); empty otherwise.
+    ("median_records", |_, c| num(c.median_records)),
+    ("beta_records", |_, c| num(c.beta_records)),
+    ("beta_parameters", |_, c| num(c.beta_parameters())),
     ("n_records", |_, c| c.n_records.to_string()),
     ("n_stripes", |_, c| c.n_stripes.to_string()),
     ("method", |_, c| c.method.name().to_string()),
@@ -138,7 +143,7 @@ mod tests {
         assert_eq!(
             lines.next().unwrap(),
             "device,alpha,damage_state,median,beta,median_lo,median_hi,beta_lo,beta_hi,\
-             n_records,n_stripes,method,status,median_ratio,median_ratio_lo,median_ratio_hi,crosses_bare,warnings"
+             median_records,beta_records,beta_parameters,n_records,n_stripes,method,status,median_ratio,median_ratio_lo,median_ratio_hi,crosses_bare,warnings"
         );
         let rows: Vec<&str> = lines.collect();
         assert_eq!(rows.len(), 2);

@@ -44,6 +44,7 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
                 impact: study.impact,
                 duration: crate::study::suites::scene_duration(study, &excitation)?,
                 excitation,
+                vertical: study.excitation.vertical().cloned(),
                 rtol: study.rtol,
                 initial_rotation: 0.0,
                 stop_when_settled: study.stop_when_settled,
@@ -59,13 +60,14 @@ pub fn expand(study: &Study) -> Result<Vec<ScenePoint>, StudyError> {
                 scene,
                 group: layout.label(d, &odometer, &free),
                 coords: coords(study, params, &odometer),
+                uncertain: None,
             });
             if !advance(&mut odometer, params) {
                 break;
             }
         }
     }
-    Ok(points)
+    crate::study::uncertain::apply(study, &layout, points)
 }
 
 /// Step the odometer (last parameter fastest); false when it wraps around.
@@ -199,6 +201,7 @@ fn build_excitation(e: &ExcitationFamily, point: &Point) -> Result<Excitation, S
             shape,
             amplitude,
             frequency,
+            ..
         } => {
             let a = point.get(amplitude.param())?;
             let w = point.get(frequency.param())?;

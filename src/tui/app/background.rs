@@ -3,6 +3,7 @@
 //! with the sweep it asks about).
 
 use super::{App, Check, JobEvent, Prompt, Screen};
+use crate::sweep::estimate;
 use std::time::{Duration, Instant};
 
 impl App {
@@ -18,6 +19,13 @@ impl App {
                 self.complain(msg);
                 return;
             }
+            Check::Pending { scenes } => {
+                let msg = format!(
+                    "the study's {scenes} scenes are still being expanded: r again once the count shows"
+                );
+                self.complain(msg);
+                return;
+            }
         };
         let out = match self.shared.output_dir() {
             Ok(out) => out,
@@ -27,17 +35,22 @@ impl App {
             }
         };
         self.calibration.abandon();
-        self.runs
-            .start(&self.shared.study, points, self.shared.options.jobs, out);
+        self.runs.start(
+            &self.shared.study,
+            points,
+            self.shared.options.jobs,
+            out,
+            self.shared.costs.clone(),
+        );
         self.screen = Screen::Run;
     }
 
     /// Poll background work. Returns true if anything visible changed.
     pub fn tick(&mut self) -> bool {
-        let mut changed = false;
+        let mut changed = self.take_expansion();
         for event in self.calibration.poll() {
-            if let JobEvent::Done(Some(per)) = event {
-                self.shared.seconds_per_scene = Some(per);
+            if let JobEvent::Done(Some(costs)) = event {
+                self.shared.costs = Some(costs);
                 changed = true;
             }
         }
@@ -50,14 +63,18 @@ impl App {
             self.complain(error);
         }
         if let Some((results, cancelled)) = news.finished {
-            let walls: Vec<f64> = results
-                .outcomes
-                .iter()
-                .filter_map(|o| o.result.as_ref().ok().map(|r| r.wall_seconds))
-                .collect();
-            if !walls.is_empty() {
-                self.shared.seconds_per_scene =
-                    Some(walls.iter().sum::<f64>() / walls.len() as f64);
+            // The run's own scene times price the next estimate of this study.
+            if let Check::Ok(points) = &self.shared.check {
+                let strata = estimate::study_strata(&self.shared.study, points.len());
+                let walls: Vec<(usize, f64)> = (results.outcomes.iter())
+                    .filter_map(|o| {
+                        let wall = o.result.as_ref().ok()?.wall_seconds;
+                        Some((strata.of(o.point.index)?, wall))
+                    })
+                    .collect();
+                if let Some(model) = estimate::CostModel::from_samples(&strata, &walls) {
+                    self.shared.costs = Some((strata, model));
+                }
             }
             let done = results.outcomes.len();
             if news.discarded {
@@ -109,13 +126,14 @@ impl App {
         }
     }
 
-    /// Tick until background work settles or `deadline` passes (tests and scripts).
+    /// Tick until background work (a sweep, a scene, an expansion) settles or `deadline`
+    /// passes (tests and scripts).
     /// True if everything finished in time.
     pub fn wait_idle(&mut self, deadline: Duration) -> bool {
         let until = Instant::now() + deadline;
         loop {
             self.tick();
-            if !self.is_running() && !self.scene.is_running() {
+            if !self.is_running() && !self.scene.is_running() && !self.expansion_pending() {
                 return true;
             }
             if Instant::now() >= until {

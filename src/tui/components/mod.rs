@@ -15,6 +15,7 @@ use super::app::{Options, Screen};
 use super::theme::Theme;
 use super::widgets::Hint;
 use crate::study::{ScenePoint, Study};
+use crate::sweep::estimate::{self, CostModel, Strata};
 use crossterm::event::KeyEvent;
 use prompt::{Pending, Prompt};
 use ratatui::Frame;
@@ -27,7 +28,16 @@ use std::sync::Arc;
 pub enum Check {
     Ok(Arc<Vec<ScenePoint>>),
     Invalid(String),
+    /// A large study is being expanded in the background (`scenes` by its layout); input
+    /// goes on meanwhile and the expansion replaces this when it lands.
+    Pending {
+        scenes: usize,
+    },
 }
+
+/// Studies of up to this many scenes are expanded at once on the UI thread (milliseconds);
+/// larger ones in the background, so that an edit never blocks input.
+pub const EXPAND_AT_ONCE: usize = 20_000;
 
 /// State every screen may read.
 pub struct Shared {
@@ -42,8 +52,11 @@ pub struct Shared {
     pub results: Option<Results>,
     /// The output directory the user chose (None: the default, see [`Shared::output_dir`]).
     pub out_dir: Option<PathBuf>,
-    /// Mean seconds per scene, from the last run or a calibration (None until known).
-    pub seconds_per_scene: Option<f64>,
+    /// Device variants (groups of scenes) of the expansion, counted once per expansion.
+    pub groups: usize,
+    /// What the open study's scenes cost, per stratum, from a timed sample or the last run
+    /// (None until known).
+    pub costs: Option<(Strata, CostModel)>,
     /// Names of the ground-motion records available to `record(names: …)`.
     pub record_names: Vec<String>,
 }
@@ -76,8 +89,9 @@ impl Shared {
             .jobs
             .unwrap_or_else(rayon::current_num_threads)
             .max(1);
-        let per = self.seconds_per_scene?;
-        Some(per * points.len() as f64 / threads.min(points.len().max(1)) as f64)
+        let (strata, model) = self.costs.as_ref()?;
+        let scenes: usize = strata.counts().iter().sum();
+        (scenes == points.len()).then(|| estimate::seconds_before_run(model, strata, threads))
     }
 }
 
@@ -94,12 +108,13 @@ pub enum Action {
     Request(Pending),
     /// Save the study to its file (or ask for one).
     Save,
-    /// The editor produced a new study, already parsed and expanded (once), from `text`
+    /// The editor produced a new study, already parsed and (if small) expanded, from `text`
     /// (kept: its spelling, order and comments are the study's from now on); `note` says
     /// what the edit did beyond the field edited.
     StudyEdited {
         study: Box<Study>,
-        points: Vec<ScenePoint>,
+        /// None for a large study: it is expanded in the background.
+        points: Option<Vec<ScenePoint>>,
         text: String,
         note: Option<String>,
     },

@@ -12,6 +12,7 @@ use super::prompt::{Prompt, StopSweep};
 use super::{Action, Check, Command, Component, Shared, command};
 use crate::report;
 use crate::study::{ScenePoint, Study};
+use crate::sweep::estimate::{CostModel, RunEstimate, Strata};
 use crate::sweep::{self, OpenOptions, Progress, SweepResults};
 use crate::tui::edit::LineEdit;
 use crossterm::event::{KeyCode, KeyEvent};
@@ -19,6 +20,7 @@ use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Wrap};
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -55,6 +57,9 @@ pub struct RunState {
     pub discard: bool,
     /// The sweep returned an error (shown on the status line) instead of results.
     pub failed_to_finish: bool,
+    /// Seconds left by the scenes' measured costs (see `sweep::estimate`), refreshed on poll.
+    estimate: RunEstimate,
+    pub seconds_left: Option<f64>,
 }
 
 impl RunState {
@@ -62,13 +67,16 @@ impl RunState {
         self.finished.is_none()
     }
 
-    /// Computed scenes per second and seconds left, from the wall clock: reused scenes are
-    /// not counted (they cost nothing and would make the ETA a fraction of the truth).
+    /// Computed scenes per second and seconds left: reused scenes are not counted (they
+    /// cost nothing and would make the ETA a fraction of the truth); the time left weighs
+    /// the scenes left by their measured cost (`sweep::estimate`).
     pub fn rate_and_eta(&self) -> Option<(f64, f64)> {
         let secs = self.elapsed.as_secs_f64();
         let computed = self.done - self.reused;
-        let eta = sweep::eta_seconds(secs, computed, self.total.saturating_sub(self.done))?;
-        Some((computed as f64 / secs, eta))
+        let eta = self
+            .seconds_left
+            .or_else(|| sweep::eta_seconds(secs, computed, self.total.saturating_sub(self.done)))?;
+        (computed > 0 && secs > 0.0).then(|| (computed as f64 / secs, eta))
     }
 }
 
@@ -164,12 +172,15 @@ impl RunScreen {
         points: Arc<Vec<ScenePoint>>,
         jobs: Option<usize>,
         out_dir: PathBuf,
+        costs: Option<(Strata, CostModel)>,
     ) {
         let mut groups: Vec<GroupProgress> = Vec::new();
+        // By name through a map: a linear search per scene is quadratic on 300 000 scenes.
+        let mut by_name: HashMap<&str, usize> = HashMap::new();
         let group_of = points
             .iter()
-            .map(|p| match groups.iter().position(|g| g.name == p.group) {
-                Some(i) => {
+            .map(|p| match by_name.get(p.group.as_str()) {
+                Some(&i) => {
                     groups[i].total += 1;
                     i
                 }
@@ -180,10 +191,18 @@ impl RunScreen {
                         done: 0,
                         failed: 0,
                     });
+                    by_name.insert(&p.group, groups.len() - 1);
                     groups.len() - 1
                 }
             })
             .collect();
+        drop(by_name);
+        let threads = jobs.unwrap_or_else(rayon::current_num_threads);
+        let (strata, model) = match costs {
+            Some((strata, model)) => (strata, Some(model)),
+            None => (sweep::estimate::study_strata(study, points.len()), None),
+        };
+        let estimate = RunEstimate::new(strata, model, threads);
         // The command line's record library (a broken records index already fails the study
         // check for a record study).
         let Ok(library) = crate::excitation::library::global() else {
@@ -229,6 +248,8 @@ impl RunScreen {
             cancel_requested: false,
             discard: false,
             failed_to_finish: false,
+            estimate,
+            seconds_left: None,
         });
     }
 
@@ -294,11 +315,14 @@ impl RunScreen {
             return news;
         }
         run.elapsed = run.started.elapsed();
-        for event in self.sweep.poll() {
+        let events = self.sweep.poll();
+        run.seconds_left = run.estimate.seconds_left(run.elapsed.as_secs_f64());
+        for event in events {
             match event {
                 JobEvent::Progress(Progress::Started { total }) => run.total = total,
                 JobEvent::Progress(Progress::SceneDone { index, ok, reused }) => {
                     run.done += 1;
+                    run.estimate.scene_done(index, reused);
                     run.reused += usize::from(reused);
                     if let Some(&g) = run.group_of.get(index) {
                         run.groups[g].done += 1;
@@ -462,6 +486,9 @@ impl RunScreen {
                     shared.output_dir_shown()
                 ),
                 Check::Invalid(msg) => format!("The study is invalid: {msg}"),
+                Check::Pending { scenes } => format!(
+                    "The study's {scenes} scenes are being expanded; r runs it once they are."
+                ),
             };
             frame.render_widget(Paragraph::new(text).wrap(Wrap { trim: true }), area);
             return;
@@ -519,61 +546,62 @@ impl RunScreen {
             Span::raw(format!("{}/", run.out_dir.display())),
         ]));
         let header = lines.len() + 1;
-        let mut body = Vec::new();
-        for g in &run.groups {
-            body.push(Line::from(vec![
-                Span::styled(
-                    pad(&truncate(&g.name, name_width), name_width),
-                    theme.field(),
-                ),
-                Span::raw(" "),
-                gauge(theme, g.done, g.total, bar_width),
-                Span::raw(format!(" {:>5}/{:<5}", g.done, g.total)),
-                Span::styled(
-                    if g.failed > 0 {
-                        format!(" {} failed", g.failed)
-                    } else {
-                        String::new()
-                    },
-                    theme.error(),
-                ),
-            ]));
-        }
-        if failed > 0 {
-            body.push(Line::raw(""));
-            body.push(Line::styled("failures:", theme.error()));
-            for &i in run.failed.iter() {
-                let Some(p) = run.points.get(i) else { continue };
-                let message = run
-                    .failure_messages
-                    .iter()
-                    .find(|(j, _)| *j == i)
-                    .map_or(String::new(), |(_, m)| format!(": {m}"));
-                body.push(Line::raw(format!(
-                    "  #{i} {} {}{message}",
-                    p.group,
-                    fmt_coords(&p.coords)
-                )));
-            }
-        }
-        // The header stays; the groups and failures scroll under it, with where the view is.
+        // Only the rows in view are built: a study may have thousands of groups and failures.
+        let body_len = self.body_len();
         let room = (area.height as usize).saturating_sub(header);
         self.page.set(room);
-        let offset = self.scroll.min(body.len().saturating_sub(room));
-        if body.len() > room && room > 0 {
+        let offset = self.scroll.min(body_len.saturating_sub(room));
+        if body_len > room && room > 0 {
             lines.push(Line::styled(
                 format!(
                     "rows {}–{} of {} (↑↓ PgUp/PgDn g/G scroll)",
                     offset + 1,
-                    (offset + room).min(body.len()),
-                    body.len()
+                    (offset + room).min(body_len),
+                    body_len
                 ),
                 theme.dim(),
             ));
         } else {
             lines.push(Line::raw(""));
         }
-        lines.extend(body.into_iter().skip(offset).take(room));
+        let groups = run.groups.len();
+        for row in (offset..body_len).take(room) {
+            if let Some(g) = run.groups.get(row) {
+                lines.push(Line::from(vec![
+                    Span::styled(
+                        pad(&truncate(&g.name, name_width), name_width),
+                        theme.field(),
+                    ),
+                    Span::raw(" "),
+                    gauge(theme, g.done, g.total, bar_width),
+                    Span::raw(format!(" {:>5}/{:<5}", g.done, g.total)),
+                    Span::styled(
+                        if g.failed > 0 {
+                            format!(" {} failed", g.failed)
+                        } else {
+                            String::new()
+                        },
+                        theme.error(),
+                    ),
+                ]));
+            } else if row == groups {
+                lines.push(Line::raw(""));
+            } else if row == groups + 1 {
+                lines.push(Line::styled("failures:", theme.error()));
+            } else if let Some(&i) = run.failed.get(row - groups - 2) {
+                let Some(p) = run.points.get(i) else { continue };
+                let message = run
+                    .failure_messages
+                    .iter()
+                    .find(|(j, _)| *j == i)
+                    .map_or(String::new(), |(_, m)| format!(": {m}"));
+                lines.push(Line::raw(format!(
+                    "  #{i} {} {}{message}",
+                    p.group,
+                    fmt_coords(&p.coords)
+                )));
+            }
+        }
         // Rows are cut, not wrapped: a wrapped row would push the last ones out of view.
         frame.render_widget(Paragraph::new(lines), area);
     }

@@ -8,7 +8,7 @@ pub use super::super::tree::Row;
 use super::super::tree::StudyTree;
 use super::super::widgets::{Hint, edit_spans, fmt_duration, pad, scroll_offset, truncate};
 use super::prompt::{Pending, Prompt};
-use super::{Action, Check, Command, Component, Shared, command};
+use super::{Action, Check, Command, Component, EXPAND_AT_ONCE, Shared, command};
 use crate::study::Study;
 use crate::study::fields;
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
@@ -164,21 +164,27 @@ impl StudyScreen {
     /// (once: the scenes go to the app with the study). A refused edit says why: under the
     /// editor, or on the status line for edits without one (deletions).
     fn apply_document(&mut self, doc: String, from_editor: bool) -> Action {
+        // A large study's expansion (seconds at 300 000 scenes) is left to the background:
+        // its layout (cheap) is checked here, the scenes by the app's worker.
         let checked = match Study::parse_ron(&doc, "edit") {
-            Ok(mut study) => match study.expand() {
-                Ok(points) => Ok((study, points, doc, None)),
-                Err(e) => {
-                    // An excitation of another kind: the fields that depend on it follow, by
-                    // the library's rule (study/follow.rs), and the note says what changed.
-                    let notes = study.follow_excitation();
-                    match study.expand() {
-                        Ok(points) if !notes.is_empty() => {
-                            let text = study.to_ron_keeping(Some(&doc)).text;
-                            Ok((study, points, text, Some(notes.join(", "))))
+            Ok(mut study) => match study.layout().map(|l| l.len()) {
+                Ok(n) if n > EXPAND_AT_ONCE => Ok((study, None, doc, None)),
+                _ => match study.expand() {
+                    Ok(points) => Ok((study, Some(points), doc, None)),
+                    Err(e) => {
+                        // An excitation of another kind: the fields that depend on it follow,
+                        // by the library's rule (study/follow.rs), and the note says what
+                        // changed.
+                        let notes = study.follow_excitation();
+                        match study.expand() {
+                            Ok(points) if !notes.is_empty() => {
+                                let text = study.to_ron_keeping(Some(&doc)).text;
+                                Ok((study, Some(points), text, Some(notes.join(", "))))
+                            }
+                            _ => Err(e.located(&doc, "edit")),
                         }
-                        _ => Err(e.located(&doc, "edit")),
                     }
-                }
+                },
             },
             Err(e) => Err(e),
         };
@@ -433,12 +439,7 @@ fn summary(shared: &Shared, theme: Theme) -> Vec<Line<'static>> {
     let mut lines = Vec::new();
     match &shared.check {
         Check::Ok(points) => {
-            let mut groups: Vec<&str> = Vec::new();
-            for p in points.iter() {
-                if !groups.contains(&p.group.as_str()) {
-                    groups.push(&p.group);
-                }
-            }
+            let groups = shared.groups;
             let mut spans = vec![
                 Span::styled("✓ valid  ", theme.ok()),
                 Span::styled(
@@ -447,8 +448,8 @@ fn summary(shared: &Shared, theme: Theme) -> Vec<Line<'static>> {
                 ),
                 Span::raw(format!(
                     " scenes in {} variant{}",
-                    groups.len(),
-                    if groups.len() == 1 { "" } else { "s" }
+                    groups,
+                    if groups == 1 { "" } else { "s" }
                 )),
             ];
             if !shared.options.deterministic {
@@ -467,6 +468,16 @@ fn summary(shared: &Shared, theme: Theme) -> Vec<Line<'static>> {
         }
         Check::Invalid(msg) => {
             lines.push(Line::styled(format!("✗ {msg}"), theme.error()));
+        }
+        Check::Pending { scenes } => {
+            lines.push(Line::from(vec![
+                Span::styled("… expanding ", theme.warn()),
+                Span::styled(
+                    format!("{scenes}"),
+                    theme.value().add_modifier(Modifier::BOLD),
+                ),
+                Span::styled(" scenes (keys work meanwhile; r waits for it)", theme.dim()),
+            ]));
         }
     }
     lines
