@@ -127,10 +127,29 @@ fn every_shipped_study_draws_with_every_series_and_units_on_every_axis() {
                 assert!(svg.starts_with("<svg"), "{name}");
                 let texts = svg_texts(&svg);
                 // Titled from the study's description.
-                assert!(texts.contains(&study.description), "{name}: {texts:?}");
-                // Every series is in the legend: its group label, or its record and device.
+                assert!(
+                    texts[0].starts_with(&study.description),
+                    "{name}: {texts:?}"
+                );
+                let lone = texts.iter().any(|t| t == "(a)") && !texts.iter().any(|t| t == "(b)");
+                assert!(!lone, "{name}: a lone (a)");
+                // Every series is in the legend: its group label (less the parameters every
+                // series shares, said once in the title), or its record and device.
+                let shared = texts[0]
+                    .strip_prefix(&study.description)
+                    .and_then(|t| t.strip_prefix(" (every series: "))
+                    .and_then(|t| t.strip_suffix(')'))
+                    .unwrap_or("");
+                let own = |label: &str| -> String {
+                    label
+                        .split(' ')
+                        .filter(|w| !shared.split(' ').any(|s| s == *w))
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                };
                 for s in &spectra {
                     let named = texts.contains(&s.label)
+                        || texts.contains(&own(&s.label))
                         || s.label.split_once(" · ").is_some_and(|(device, record)| {
                             texts.iter().any(|t| t == record) && texts.iter().any(|t| t == device)
                         });
@@ -187,7 +206,8 @@ fn every_shipped_study_draws_with_every_series_and_units_on_every_axis() {
             let texts = svg_texts(&svg);
             for m in &maps {
                 assert!(
-                    texts.iter().any(|t| t.ends_with(&format!(") {}", m.label))),
+                    texts.iter().any(|t| t.ends_with(&format!(") {}", m.label))
+                        || (maps.len() == 1 && *t == m.label)),
                     "{name}: map {} in {texts:?}",
                     m.label
                 );
@@ -263,16 +283,30 @@ fn check_fragility_figure(name: &str, study: &Study) {
         "{name}: y labels in {texts:?}"
     );
     for (j, ds) in states.iter().enumerate() {
-        let panel = format!("({}) θmax/α ≥ {ds}", (b'a' + j as u8) as char);
+        // A letter only among several panels.
+        let panel = report::panel_title(j, states.len(), &format!("θmax/α ≥ {ds}"));
         assert_eq!(count(&panel), 1, "{name}: {panel} in {texts:?}");
+        assert_eq!(panel.starts_with("(a)"), j == 0 && states.len() > 1);
     }
-    for c in fragility
+    assert!(!texts.iter().any(|t| t == "(a)"), "{name}: a lone (a)");
+    // A parameter every variant has is said once, in the title, not in each entry.
+    let first: Vec<&rocklab::report::fragility::Curve> = fragility
         .curves
         .iter()
         .filter(|c| c.damage_state == states[0])
-    {
+        .collect();
+    let labels: Vec<String> = first.iter().map(|c| c.variant.label()).collect();
+    let (shared, own) = report::naming::factor_shared(&labels);
+    if !shared.is_empty() {
+        assert!(
+            texts[0].ends_with(&format!("(every series: {shared})")),
+            "{name}: {texts:?}"
+        );
+        assert!(!own.iter().any(|l| l.contains(&shared)), "{name}: {own:?}");
+    }
+    for (c, own) in first.iter().zip(&own) {
         let label = c.variant.label();
-        assert_eq!(count(&label), 1, "{name}: legend in {texts:?}");
+        assert_eq!(count(own), 1, "{name}: legend {own} in {texts:?}");
         // No degenerate-fit note: every curve is drawn.
         let note = format!("{label}: ");
         assert!(
@@ -612,10 +646,12 @@ fn overturning_maps_compare_cell_by_cell_with_a_legend() {
     for c in report::compare::MapCell::ALL {
         assert!(texts.contains(&c.meaning().to_string()), "{c:?}: {texts:?}");
     }
+    // One pair: one panel, and no lone "(a)".
     assert!(
-        texts.contains(&"(a) sequential vs mechanistic".to_string()),
+        texts.contains(&"sequential vs mechanistic".to_string()),
         "{texts:?}"
     );
+    assert!(!texts.iter().any(|t| t.starts_with("(a)")), "{texts:?}");
     // One filled cell per map point, plus the legend's five swatches.
     let pair = &report::compare::compare_maps(
         &maps,

@@ -116,9 +116,19 @@ fn the_figure_draws_every_variant_and_names_degenerate_fits() {
         .unwrap();
     assert_eq!(svg.file_name().unwrap(), "fragility.svg");
     let text = std::fs::read_to_string(&svg).unwrap();
+    // Every variant has sigma=0.5: said once, in the title; the legend names the devices.
+    assert!(text.contains("(every series: sigma=0.5)"), "{text}");
+    let texts: Vec<&str> = text
+        .split("<text")
+        .skip(1)
+        .filter_map(|t| Some(t.split_once('>')?.1.split_once("</text>")?.0.trim()))
+        .collect();
+    assert!(!texts.contains(&"none sigma=0.5"), "{texts:?}");
+    assert!(
+        texts.contains(&"none") && texts.contains(&"mechanistic"),
+        "{texts:?}"
+    );
     for label in [
-        "none sigma=0.5",
-        "mechanistic sigma=0.5",
         "θmax/α ≥ 0.5",
         "θmax/α ≥ 1",
         "PGA*",
@@ -262,7 +272,7 @@ fn the_fragility_view_reads_out_the_selected_curve() {
         .unwrap();
     let ratio = report.ratio_of(mech).unwrap();
     let times = format!(
-        "×{} [{}, {}]",
+        "{} [{}, {}]× bare",
         fmt(ratio.ratio),
         fmt(ratio.lo),
         fmt(ratio.hi)

@@ -480,6 +480,33 @@ pub fn tick_count(len_px: u32, canvas: Canvas) -> usize {
     ((mm / 14.0).round() as usize).clamp(3, 10)
 }
 
+/// How many labels to ask plotters for on an axis from `lo` to `hi` so that it draws at
+/// least three ticks (or `wanted`, whichever is fewer ticks): plotters rounds the step up to
+/// 1, 2 or 5 × 10^k within the count asked, and on a short axis (a history panel, 3 asked)
+/// a range like −27 000…43 000 N then gets the one tick `0` and reads as unlabelled.
+pub fn label_count(lo: f64, hi: f64, wanted: usize) -> usize {
+    use plotters::coord::ranged1d::Ranged;
+    let ticks = |n: usize| RangedCoordf64::from(lo..hi).key_points(n).len();
+    let enough = wanted.min(3);
+    (wanted..wanted + 12)
+        .find(|n| ticks(*n) >= enough)
+        .unwrap_or(wanted + 12)
+}
+
+/// The tick labels an axis from `lo` to `hi` shows when `len_px` long: what
+/// [`build_chart`] draws (for tests).
+#[cfg(test)]
+pub fn tick_labels(lo: f64, hi: f64, len_px: u32, canvas: Canvas) -> Vec<String> {
+    use plotters::coord::ranged1d::Ranged;
+    let n = label_count(lo, hi, tick_count(len_px, canvas));
+    let format = tick_formatter(lo, hi, n);
+    RangedCoordf64::from(lo..hi)
+        .key_points(n)
+        .iter()
+        .map(format)
+        .collect()
+}
+
 /// A framed chart with light major grid lines only, axis titles and clean ticks.
 pub struct Axes<'l> {
     pub x: (f64, f64),
@@ -510,7 +537,10 @@ pub fn build_chart<'a, DB: DrawingBackend>(
     let mut chart = builder
         .build_cartesian_2d(axes.x.0..axes.x.1, axes.y.0..axes.y.1)
         .map_err(err)?;
-    let (nx, ny) = (tick_count(w, canvas), tick_count(h, canvas));
+    let (nx, ny) = (
+        label_count(axes.x.0, axes.x.1, tick_count(w, canvas)),
+        label_count(axes.y.0, axes.y.1, tick_count(h, canvas)),
+    );
     let fx = tick_formatter(axes.x.0, axes.x.1, nx);
     let fy_all = tick_formatter(axes.y.0, axes.y.1, ny);
     let limit = axes.y_labels_below.unwrap_or(f64::INFINITY);
@@ -674,6 +704,37 @@ mod tests {
         let f = tick_formatter(0.0, 0.012, 5);
         assert_eq!(f(&0.004), "0.004");
         assert!(!f(&0.004).contains(' '));
+    }
+
+    /// A short axis (three labels asked) over a range plotters would mark with one tick
+    /// still gets at least three labelled ticks.
+    #[test]
+    fn a_short_axis_over_an_awkward_range_has_three_tick_labels() {
+        use plotters::coord::ranged1d::Ranged;
+        let canvas = FigureOptions::new(ImageFormat::Svg)
+            .canvas(FigureSize::mm(160.0, 60.0), "x")
+            .unwrap();
+        let short = canvas.px(60.0);
+        assert_eq!(tick_count(short, canvas), 3);
+        for (lo, hi) in [(-27_000.0, 43_000.0), (0.12, 0.98), (-1.3, 1.3), (5.0, 5.4)] {
+            // The failure this guards against: plotters alone gives one tick here.
+            let plain = RangedCoordf64::from(lo..hi).key_points(3).len();
+            let labels = tick_labels(lo, hi, short, canvas);
+            assert!(
+                labels.len() >= 3,
+                "{lo}..{hi}: {labels:?} (plotters alone: {plain})"
+            );
+            assert!(labels.len() <= 10, "{lo}..{hi}: {labels:?}");
+            let mut unique = labels.clone();
+            unique.dedup();
+            assert_eq!(unique, labels, "{lo}..{hi}: repeated labels");
+        }
+        assert_eq!(
+            RangedCoordf64::from(-27_000.0..43_000.0)
+                .key_points(3)
+                .len(),
+            1
+        );
     }
 
     #[test]

@@ -37,10 +37,10 @@ pub use export::{
 };
 pub use figure::{FigureOptions, FigureSize, ImageFormat, MAX_MEGAPIXELS, MEGAPIXELS_CEILING};
 pub use plot::{
-    MAX_SERIES, PlotChoice, plot_history, plot_map_differences, plot_maps, plot_spectra,
-    scene_label, scene_title,
+    MAX_SERIES, PlotChoice, panel_title, plot_history, plot_map_differences, plot_maps,
+    plot_spectra, scene_label, scene_title, study_title, with_shared,
 };
-pub use plot_design::plot_design;
+pub use plot_design::{design_title, plot_design};
 pub use risk_plot::plot_risk;
 
 use crate::sim::History;

@@ -159,6 +159,51 @@ pub fn pair_names(pairs: &[(&str, &str)]) -> Names {
     }
 }
 
+/// Legend entries with the parameters every entry shares said once: the shared `name=value`
+/// words (joined, empty when none or fewer than two entries) and each label without them, its
+/// own words in their order. Device and record names stay in every entry (they name the line);
+/// an entry left with nothing keeps its whole label.
+pub fn factor_shared(labels: &[String]) -> (String, Vec<String>) {
+    let tokens = |l: &str| -> Vec<String> {
+        l.split(' ')
+            .filter(|w| !w.is_empty())
+            .map(str::to_string)
+            .collect()
+    };
+    let all: Vec<Vec<String>> = labels.iter().map(|l| tokens(l)).collect();
+    if all.len() < 2 {
+        return (String::new(), labels.to_vec());
+    }
+    let shared: Vec<String> = all[0]
+        .iter()
+        .filter(|w| w.contains('=') && all.iter().all(|ws| ws.contains(w)))
+        .cloned()
+        .collect();
+    let own = all
+        .iter()
+        .zip(labels)
+        .map(|(ws, label)| {
+            let mut kept: Vec<&str> = Vec::new();
+            for w in ws.iter().filter(|w| !shared.contains(w)) {
+                // A `·` separator only between two kept words.
+                if w == "·" && kept.last().is_none_or(|l| *l == "·") {
+                    continue;
+                }
+                kept.push(w);
+            }
+            while kept.last() == Some(&"·") {
+                kept.pop();
+            }
+            if kept.is_empty() {
+                label.clone()
+            } else {
+                kept.join(" ")
+            }
+        })
+        .collect();
+    (shared.join(" "), own)
+}
+
 /// `text` in lines of at most `width` characters, broken between words (a word longer than
 /// the width gets a line of its own, cut by the terminal rather than lost here).
 pub fn wrap(text: &str, width: usize) -> Vec<String> {
@@ -235,6 +280,27 @@ mod tests {
         ]);
         assert_eq!(n.shared, "A kθ=0.3 · mechanistic");
         assert_eq!(n.names, ["kθ=3", "kθ=30"]);
+    }
+
+    #[test]
+    fn a_parameter_every_legend_entry_has_is_said_once() {
+        let labels: Vec<String> = ["none σ=0.5", "inerter σ=0.5", "mechanistic σ=0.5 kθ=3"]
+            .map(String::from)
+            .to_vec();
+        let (shared, own) = factor_shared(&labels);
+        assert_eq!(shared, "σ=0.5");
+        assert_eq!(own, ["none", "inerter", "mechanistic kθ=3"]);
+        // Nothing shared: unchanged; one entry: unchanged; a device shared stays.
+        let labels: Vec<String> = ["bare σ=1", "bare σ=2"].map(String::from).to_vec();
+        assert_eq!(factor_shared(&labels), (String::new(), labels.clone()));
+        let one = vec!["mechanistic σ=0.5".to_string()];
+        assert_eq!(factor_shared(&one), (String::new(), one.clone()));
+        let labels: Vec<String> = ["sequential σ=1 · landers", "sequential σ=1 · kobe"]
+            .map(String::from)
+            .to_vec();
+        let (shared, own) = factor_shared(&labels);
+        assert_eq!(shared, "σ=1");
+        assert_eq!(own, ["sequential · landers", "sequential · kobe"]);
     }
 
     #[test]

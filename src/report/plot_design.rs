@@ -145,13 +145,13 @@ pub fn plot_design(
             swatch: Swatch::Marker(Marker::Square, RGBColor(0, 158, 115)),
         });
     }
-    let over = design.over_ids(study).join(" × ");
-    let title = format!(
-        "{}: least {} for {} at every {over}",
-        study.name,
-        param.label(),
-        design.target.describe()
-    );
+    // A parameter every line has is said once, in the title.
+    let labels: Vec<String> = lines.iter().map(|l| l.label.clone()).collect();
+    let (shared, own) = super::naming::factor_shared(&labels);
+    for (entry, own) in legend.iter_mut().zip(own) {
+        entry.label = own;
+    }
+    let title = super::with_shared(&design_title(study, design), &shared);
     let x_title = match parameter(&x_label).unit {
         "" => x_label.clone(),
         unit => format!("{x_label} ({unit})"),
@@ -235,4 +235,36 @@ fn draw<DB: DrawingBackend>(
         RGBColor(0, 158, 115),
     )?;
     Ok(())
+}
+
+/// The design chart's title in words: the study's title, what is sized and for which target,
+/// over which excitation axes (`σ`, `|θ|max/α ≤ 0.5`, never `peak_rotation_ratio <= 0.5`).
+pub fn design_title(study: &crate::study::Study, design: &crate::study::design::Design) -> String {
+    use crate::study::design::DesignTarget;
+    let target = match design.target {
+        DesignTarget::Limit { quantity, max } => {
+            format!(
+                "{} ≤ {} without overturning",
+                quantity.label(),
+                fmt_num(max)
+            )
+        }
+        other => other.describe().replace(">=", "≥").replace("<=", "≤"),
+    };
+    let over = design
+        .over_ids(study)
+        .iter()
+        .map(|id| match *id {
+            "frequency" => "pulse frequency",
+            "amplitude" => "pulse amplitude",
+            "scale" => "record scale",
+            other => other,
+        })
+        .collect::<Vec<_>>()
+        .join(" and ");
+    format!(
+        "{}: least {} for {target} at every {over}",
+        super::study_title(study),
+        design.parameter.label(),
+    )
 }

@@ -83,7 +83,7 @@ impl Selector {
             if let Some((key, _)) = value.duplicate_key() {
                 return Err(bad(&format!("`{key}` is given twice in `{id}`")));
             }
-            let wanted = if id == "record" {
+            let wanted = if id == "record" || id == "shape" {
                 Wanted::Names(record_names(value))
             } else {
                 if let Some((name, _)) = value.first_name() {

@@ -104,7 +104,11 @@ const FIELD_HELP: &[(&str, &str)] = &[
         "excitation",
         "pulse(shape, amplitude, frequency) or record(names: [\"…\"], scale: …)",
     ),
-    ("shape", "sine, cosine, ricker, …"),
+    (
+        "shape",
+        "sine, cosine, ricker, …, or a list [sine, ricker]: each shape is an axis value (its own \
+         spectra, selected by shape: ricker)",
+    ),
     (
         "vertical",
         "vertical ground motion, positive up: ratio(r) (r × the scaled horizontal), \

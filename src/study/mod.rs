@@ -11,9 +11,11 @@ pub mod design;
 mod error;
 mod expand;
 pub mod fields;
+mod follow;
 pub mod fragility;
 mod param;
 pub mod risk;
+pub mod shapes;
 mod strict;
 pub(crate) mod suites;
 pub mod uncertain;
@@ -24,10 +26,11 @@ pub use crate::sim::{Quantity, QuantityInfo};
 pub use error::StudyError;
 pub use expand::{DeviceKind, Layout, MAX_SCENES, Parameter, Part, VariantLayout, device_label};
 pub use param::{Param, ParamInfo};
+pub use shapes::PulseShapes;
 pub use strict::{ANGLE_FIELDS, parse_angle};
 pub use values::Values;
 
-use crate::excitation::{KinkPolicy, PulseShape};
+use crate::excitation::KinkPolicy;
 use crate::scene::{ClutchStiffness, Damping, Form, Impact, ResetRule, Scene};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
@@ -253,9 +256,10 @@ pub(crate) fn default_cbar() -> Values {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
 pub enum ExcitationFamily {
-    /// Analytic pulses: amplitude and frequency axes.
+    /// Analytic pulses: amplitude and frequency axes; one shape or a list of them (an axis
+    /// of the study, shapes.rs).
     Pulse {
-        shape: PulseShape,
+        shape: PulseShapes,
         amplitude: AmplitudeAxis,
         frequency: FrequencyAxis,
         /// The vertical ground motion of every scene (absent: none).
@@ -518,6 +522,7 @@ impl Study {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         strict::check_nesting(text, origin)?;
         strict::check_names(text, origin)?;
+        strict::check_shapes(text, origin)?;
         strict::check_not_numbers(text, origin)?;
         let resolved = strict::resolve_degrees(text, origin)?;
         let study = ron_options()

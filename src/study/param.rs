@@ -66,6 +66,8 @@ params! {
     Scale => ("scale", "scale", "scale", "", ""),
     /// A record, by its index in the study's list of names.
     Record => ("record", "record", "record", "", ""),
+    /// A pulse shape, by its index in the study's list of shapes.
+    Shape => ("shape", "shape", "shape", "", ""),
     Size => ("size", "R", "size", "m", "half-diagonal R (m), instead of p"),
     P => ("p", "p", "p", "rad/s", "frequency parameter p (rad/s), instead of size"),
     Alpha => ("alpha", "α", "alpha", "rad", "slenderness α (rad), or in degrees as deg(10)"),

@@ -49,6 +49,63 @@ fn variants<T: for<'de> Deserialize<'de>>() -> &'static [&'static str] {
     names.0.unwrap_or_default()
 }
 
+/// The names of the pulse shapes (the schema's own).
+pub fn pulse_shape_names() -> &'static [&'static str] {
+    variants::<PulseShape>()
+}
+
+/// Every `shape:` value names a pulse shape: an unknown one (alone or in a list) is a located
+/// error with the nearest name, before RON would say "data did not match any variant".
+pub fn check_shapes(text: &str, origin: &str) -> Result<(), StudyError> {
+    let Ok(doc) = syntax::parse(text, false) else {
+        return Ok(());
+    };
+    shapes_in(&doc.root, origin)
+}
+
+fn shapes_in(value: &syntax::Value, origin: &str) -> Result<(), StudyError> {
+    let syntax::Value::Group { items, .. } = value else {
+        return Ok(());
+    };
+    for item in items {
+        if item.key.as_ref().is_some_and(|(k, _)| k == "shape") {
+            let words: Vec<&syntax::Value> = match &item.value {
+                syntax::Value::Group {
+                    name,
+                    open: '[',
+                    items,
+                    ..
+                } if name.is_empty() => items.iter().map(|i| &i.value).collect(),
+                other => vec![other],
+            };
+            for word in words {
+                let syntax::Value::Atom(name, at) = word else {
+                    continue;
+                };
+                let known = pulse_shape_names();
+                if !known.contains(&name.as_str()) {
+                    return Err(StudyError {
+                        origin: origin.to_string(),
+                        line: Some(at.line),
+                        column: Some(at.column),
+                        field: Some("excitation.shape".into()),
+                        message: format!("unknown pulse shape `{name}`"),
+                        hint: Some(match super::error::closest(name, known) {
+                            Some(near) => format!("did you mean `{near}`?"),
+                            None => format!(
+                                "the shapes are: {}; several as a list, e.g. [sine, ricker]",
+                                known.join(", ")
+                            ),
+                        }),
+                    });
+                }
+            }
+        }
+        shapes_in(&item.value, origin)?;
+    }
+    Ok(())
+}
+
 /// Every name a study file may put before `(`.
 pub fn wrapper_names() -> Vec<&'static str> {
     let mut names: Vec<&'static str> = [

@@ -8,7 +8,9 @@ mod table;
 
 pub use crate::stats::*;
 pub use plot::{data_points, plot_fragility};
-pub use summary::{curve_line, fmt_fit, summary_text, with_interval};
+pub use summary::{
+    curve_line, damage_state_name, fmt_fit, summary_text, variant_name, with_interval,
+};
 pub use table::{
     FRAGILITY_CSV, FRAGILITY_JSON, fragility_csv, read_fragility_json, variant_parameter_names,
     write_fragility_csv, write_fragility_json,

@@ -112,11 +112,14 @@ pub fn plot_fragility(
         return Ok(None);
     }
     let (variants, states) = variants_and_states(report);
-    let mut legend: Vec<LegendEntry> = variants
-        .iter()
+    // A parameter every variant has (`sigma=0.5`) is said once, in the title.
+    let labels: Vec<String> = variants.iter().map(|v| v.label()).collect();
+    let (shared, own) = crate::report::naming::factor_shared(&labels);
+    let mut legend: Vec<LegendEntry> = own
+        .into_iter()
         .enumerate()
-        .map(|(i, v)| LegendEntry {
-            label: v.label(),
+        .map(|(i, label)| LegendEntry {
+            label,
             swatch: Swatch::Marker(
                 style(i, 0).marker.unwrap_or(Marker::Circle),
                 style(i, 0).color,
@@ -143,10 +146,13 @@ pub fn plot_fragility(
         "the fragility figure",
     )?;
     let path = dir.join(format!("fragility.{}", options.format.extension()));
-    let title = format!(
-        "Fragility: P(damage state reached | {}), medians with {:.0} % bootstrap intervals",
-        im_label(report),
-        100.0 * report.confidence
+    let title = crate::report::with_shared(
+        &format!(
+            "Fragility: P(damage state reached | {}), medians with {:.0} % bootstrap intervals",
+            im_label(report),
+            100.0 * report.confidence
+        ),
+        &shared,
     );
     render(
         &path,
@@ -171,7 +177,7 @@ fn draw<DB: DrawingBackend>(
     let areas = body.split_evenly((states.len().div_ceil(cols), cols));
     let x_hi = 1.05 * x_max(report);
     for (j, (area, &ds)) in areas.iter().zip(&states).enumerate() {
-        let panel_title = format!("({}) {}", (b'a' + j as u8) as char, state_label(report, ds));
+        let panel_title = crate::report::panel_title(j, states.len(), &state_label(report, ds));
         let mut chart = build_chart(
             area,
             canvas,

@@ -23,14 +23,29 @@ pub fn with_interval(v: Option<f64>, lo: Option<f64>, hi: Option<f64>) -> String
     }
 }
 
-/// One curve's line (without indent or newline).
+/// A variant as a reader names it: the bare structure is `bare`, not the study's `none`.
+pub fn variant_name(c: &Curve) -> String {
+    let label = c.variant.label();
+    match label.strip_prefix(crate::stats::BARE_DEVICE) {
+        Some(rest) if c.variant.is_bare() => format!("bare{rest}"),
+        _ => label,
+    }
+}
+
+/// The damage state as a reader expects it named: `damage state θmax/α ≥ 1`.
+pub fn damage_state_name(report: &FragilityReport, c: &Curve) -> String {
+    let measure = if report.damage_measure.is_empty() {
+        "damage measure"
+    } else {
+        &report.damage_measure
+    };
+    format!("damage state {measure} ≥ {}", fmt_fit(c.damage_state))
+}
+
+/// One curve's line (without indent or newline): the variant, the damage state by its
+/// measure and threshold, then the fit.
 pub fn curve_line(report: &FragilityReport, c: &Curve) -> String {
-    let mut line = format!(
-        "{}, {} ≥ {}: ",
-        c.variant.label(),
-        report.damage_measure,
-        fmt_fit(c.damage_state)
-    );
+    let mut line = format!("{}, {}: ", variant_name(c), damage_state_name(report, c));
     if c.median.is_none() {
         line.push_str(c.status.explain());
         return line;

@@ -1,7 +1,7 @@
 //! Overturning maps, one panel per group, and two variants' maps compared cell by cell.
 
 use super::{
-    PlotChoice, coordinate_axis, example_of, figure_title, keep_on_axes, kept, panel_letter,
+    PlotChoice, coordinate_axis, example_of, figure_title, keep_on_axes, kept, panel_title,
     selection,
 };
 use crate::report::aggregate::{Group, OverturningMap};
@@ -115,12 +115,7 @@ fn draw_maps<DB: DrawingBackend>(
     let (body, _) = split_figure(&root, canvas, title, legend)?;
     let areas = body.split_evenly((maps.len().div_ceil(cols), cols));
     for (i, (area, map)) in areas.iter().zip(maps).enumerate() {
-        draw_map(
-            area,
-            canvas,
-            map,
-            &format!("({}) {}", panel_letter(i), map.label),
-        )?;
+        draw_map(area, canvas, map, &panel_title(i, maps.len(), &map.label))?;
     }
     root.present().map_err(err)
 }
@@ -319,7 +314,7 @@ fn draw_map_differences<DB: DrawingBackend>(
             y_axis: &m.y_axis,
             boundary_of: None,
         };
-        let title = format!("({}) {} vs {}", panel_letter(i), m.a, m.b);
+        let title = panel_title(i, pairs.len(), &format!("{} vs {}", m.a, m.b));
         draw_cells(area, canvas, &grid, &title, |ix, iy| {
             map_cell_color(m.cells[iy][ix])
         })?;

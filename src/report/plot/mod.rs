@@ -108,17 +108,44 @@ pub(super) fn coordinate_axis(label: &str) -> String {
 }
 
 pub(super) fn figure_title(results: &SweepResults) -> String {
-    results.study.as_ref().map_or("results".into(), |s| {
-        if s.description.is_empty() {
-            s.name.clone()
-        } else {
-            s.description.clone()
-        }
-    })
+    results.study.as_ref().map_or("results".into(), study_title)
+}
+
+/// A figure's title from its study: the description, or (without one) the study's name in
+/// words (`fig12_rigid_spectra` → `fig12 rigid spectra`), never a file slug.
+pub fn study_title(study: &crate::study::Study) -> String {
+    let description = study.description.trim();
+    if !description.is_empty() {
+        return description.to_string();
+    }
+    study
+        .name
+        .split(['_', '-'])
+        .filter(|w| !w.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// A title with the parameters every series shares said once after it.
+pub fn with_shared(title: &str, shared: &str) -> String {
+    if shared.is_empty() {
+        title.to_string()
+    } else {
+        format!("{title} (every series: {shared})")
+    }
 }
 
 pub(super) fn panel_letter(i: usize) -> char {
     (b'a' + (i % 26) as u8) as char
+}
+
+/// A panel's title: `(b) text` among several panels; a figure of one panel has no letter.
+pub fn panel_title(i: usize, panels: usize, text: &str) -> String {
+    match (panels > 1, text.is_empty()) {
+        (true, true) => format!("({})", panel_letter(i)),
+        (true, false) => format!("({}) {text}", panel_letter(i)),
+        (false, _) => text.to_string(),
+    }
 }
 
 pub(super) fn device_name(g: &Group) -> String {

@@ -3,7 +3,7 @@
 
 use super::{
     MAX_SERIES, PlotChoice, coordinate_axis, device_name, example_of, figure_title, keep_on_axes,
-    kept, panel_letter, range_of, selection,
+    kept, panel_title, range_of, selection, with_shared,
 };
 use crate::numfmt::fmt_num;
 use crate::report::aggregate::{Group, PointState, Spectrum};
@@ -321,10 +321,11 @@ pub fn plot_spectra(
             SeriesStyle::nth(v)
         }
     };
-    // Legend.
+    // Legend: a parameter every series has is said once, in the title.
+    let (shared, own_variants) = crate::report::naming::factor_shared(&variants);
     let mut legend: Vec<LegendEntry> = Vec::new();
     if two_way {
-        for (i, v) in variants.iter().enumerate() {
+        for (i, v) in own_variants.iter().enumerate() {
             legend.push(LegendEntry {
                 label: v.clone(),
                 swatch: Swatch::Line(SeriesStyle {
@@ -351,7 +352,7 @@ pub fn plot_spectra(
             });
         }
     } else {
-        for (i, v) in variants.iter().enumerate() {
+        for (i, v) in own_variants.iter().enumerate() {
             let label = if band {
                 format!("{v}: mean ± 1 s.d. over {} records", records.len())
             } else {
@@ -428,10 +429,9 @@ pub fn plot_spectra(
                     });
                 }
             }
-            let letter = panel_letter(panels.len());
             let title = match (&facet_label, f) {
-                (Some(l), Some(v)) => format!("({letter}) {l} = {}", with_unit(l, *v)),
-                _ => format!("({letter})"),
+                (Some(l), Some(v)) => format!("{l} = {}", with_unit(l, *v)),
+                _ => String::new(),
             };
             panels.push(Panel {
                 title,
@@ -446,13 +446,17 @@ pub fn plot_spectra(
     } else {
         quantities.len()
     };
+    let count = panels.len();
+    for (i, p) in panels.iter_mut().enumerate() {
+        p.title = panel_title(i, count, &p.title);
+    }
     let rows = panels.len().div_ceil(cols);
     let default = FigureSize::mm(
         if cols == 1 { 120.0 } else { 85.0 * cols as f64 },
         62.0 * rows as f64 + 12.0 + 6.0 * (legend.len() as f64 / 3.0).ceil(),
     );
     let canvas = options.canvas(default, "the spectra")?;
-    let title = figure_title(results);
+    let title = with_shared(&figure_title(results), &shared);
     let name = match &facet_label {
         Some(l) => format!("spectra-by-{}", parameter(l).name),
         None => "spectra".to_string(),

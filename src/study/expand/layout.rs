@@ -241,7 +241,7 @@ impl Layout {
                 if p.axis.is_some_and(|a| free.contains(&a)) {
                     continue;
                 }
-                if p.names.is_some() {
+                if p.param == Param::Record {
                     record = Some(self.value_text(p, i));
                 } else if p.varies() {
                     text = format!("{text} {}={}", p.label, self.value_text(p, i));
@@ -484,13 +484,29 @@ impl Spring<'_> {
 fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Parameter>, StudyError> {
     Ok(match e {
         ExcitationFamily::Pulse {
+            shape,
             amplitude,
             frequency,
-            ..
         } => {
             let (aparam, avalues) = (amplitude.param(), amplitude.values());
             let (fparam, fvalues) = (frequency.param(), frequency.values());
+            // The shapes: a categorical parameter (values are positions in the list).
+            let shapes = shape.list();
+            let mut shape = Parameter::new(
+                Param::Shape,
+                Part::Excitation,
+                "excitation.shape".into(),
+                None,
+                &Values::List((0..shapes.len()).map(|i| i as f64).collect()),
+            );
+            shape.names = Some(
+                shapes
+                    .iter()
+                    .map(crate::study::shapes::shape_name)
+                    .collect(),
+            );
             vec![
+                shape,
                 Parameter::new(
                     aparam,
                     Part::Excitation,

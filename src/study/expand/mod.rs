@@ -205,8 +205,17 @@ fn build_excitation(e: &ExcitationFamily, point: &Point) -> Result<Excitation, S
         } => {
             let a = point.get(amplitude.param())?;
             let w = point.get(frequency.param())?;
+            let shapes = shape.list();
+            let at = point.get(Param::Shape)? as usize;
+            let shape = *shapes.get(at).ok_or_else(|| {
+                StudyError::field(
+                    "excitation.shape",
+                    "internal: a shape index past the study's list",
+                    "report this: the layout lists the shapes",
+                )
+            })?;
             Ok(Excitation::Pulse {
-                shape: *shape,
+                shape,
                 amplitude: match amplitude {
                     AmplitudeAxis::G(_) => Amplitude::G(a),
                     AmplitudeAxis::TanAlphaRatio(_) => Amplitude::TanAlphaRatio(a),
@@ -228,6 +237,7 @@ fn build_excitation(e: &ExcitationFamily, point: &Point) -> Result<Excitation, S
             let name = point
                 .params
                 .iter()
+                .filter(|p| p.param == Param::Record)
                 .find_map(|p| p.names.as_ref())
                 .map(|names| names[index].clone())
                 .unwrap_or_default();

@@ -170,10 +170,15 @@ pub(super) fn check_axes(study: &Study, params: &[Parameter]) -> Result<(), Stud
                 .enumerate()
                 .find(|(_, n)| !seen.insert(n.as_str()))
             {
+                let (what, hint) = if p.param == super::Param::Shape {
+                    ("pulse shape", "list each pulse shape once")
+                } else {
+                    ("record", "list each record once")
+                };
                 return Err(StudyError::field(
                     format!("{}[{i}]", p.path),
-                    format!("record `{name}` is listed twice"),
-                    "list each record once",
+                    format!("{what} `{name}` is listed twice"),
+                    hint,
                 ));
             }
         } else if let Some(v) = {

@@ -84,7 +84,7 @@ pub(super) fn design_points(study: &Study, design: &Design) -> Result<Vec<Point>
                 if is_over(i) || param.id == design.parameter.id() {
                     continue;
                 }
-                if param.names.is_some() {
+                if param.param == crate::study::Param::Record {
                     record = Some(layout.value_text(param, at[i]));
                 } else if param.varies() {
                     label_axes.push((param.label.clone(), param.values[at[i]]));

@@ -151,7 +151,9 @@ impl StudyScreen {
                 let mut action = self.apply_document(doc, true);
                 if let Action::StudyEdited { note, .. } = &mut action {
                     self.cursor_to = Some(target);
-                    *note = said;
+                    if said.is_some() {
+                        *note = said;
+                    }
                 }
                 action
             }
@@ -165,25 +167,37 @@ impl StudyScreen {
         // A large study's expansion (seconds at 300 000 scenes) is left to the background:
         // its layout (cheap) is checked here, the scenes by the app's worker.
         let checked = match Study::parse_ron(&doc, "edit") {
-            Ok(study) => match study.layout().map(|l| l.len()) {
-                Ok(n) if n > EXPAND_AT_ONCE => Ok((study, None)),
+            Ok(mut study) => match study.layout().map(|l| l.len()) {
+                Ok(n) if n > EXPAND_AT_ONCE => Ok((study, None, doc, None)),
                 _ => match study.expand() {
-                    Ok(points) => Ok((study, Some(points))),
-                    Err(e) => Err(e.located(&doc, "edit")),
+                    Ok(points) => Ok((study, Some(points), doc, None)),
+                    Err(e) => {
+                        // An excitation of another kind: the fields that depend on it follow,
+                        // by the library's rule (study/follow.rs), and the note says what
+                        // changed.
+                        let notes = study.follow_excitation();
+                        match study.expand() {
+                            Ok(points) if !notes.is_empty() => {
+                                let text = study.to_ron_keeping(Some(&doc)).text;
+                                Ok((study, Some(points), text, Some(notes.join(", "))))
+                            }
+                            _ => Err(e.located(&doc, "edit")),
+                        }
+                    }
                 },
             },
             Err(e) => Err(e),
         };
         match checked {
-            Ok((study, points)) => {
+            Ok((study, points, text, note)) => {
                 self.edit = None;
                 self.edit_error = None;
                 self.inserting = false;
                 Action::StudyEdited {
                     study: Box::new(study),
                     points,
-                    text: doc,
-                    note: None,
+                    text,
+                    note,
                 }
             }
             Err(e) => {

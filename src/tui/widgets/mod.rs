@@ -117,6 +117,18 @@ pub fn fmt_coords(coords: &[(String, f64)]) -> String {
         .join(" ")
 }
 
+/// The one marker of a list cut to fit (`▴ 3 more  ▾ 37 more`): how many entries lie above
+/// and below what is shown; None when nothing is hidden. Every view that cuts a list says so
+/// with it, so a cut is never silent and always reads the same.
+pub fn more_marker(above: usize, below: usize) -> Option<String> {
+    let parts: Vec<String> = [(above, '▴'), (below, '▾')]
+        .into_iter()
+        .filter(|(n, _)| *n > 0)
+        .map(|(n, arrow)| format!("{arrow} {n} more"))
+        .collect();
+    (!parts.is_empty()).then(|| parts.join("  "))
+}
+
 /// At most `width` characters; a cut end is marked with `…`.
 pub fn truncate(s: &str, width: usize) -> String {
     if s.chars().count() <= width {
@@ -150,6 +162,14 @@ pub fn pad(s: &str, width: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_cut_list_says_how_much_is_hidden_on_each_side() {
+        assert_eq!(more_marker(0, 0), None);
+        assert_eq!(more_marker(0, 37).as_deref(), Some("▾ 37 more"));
+        assert_eq!(more_marker(3, 0).as_deref(), Some("▴ 3 more"));
+        assert_eq!(more_marker(3, 37).as_deref(), Some("▴ 3 more  ▾ 37 more"));
+    }
 
     #[test]
     fn a_long_edit_scrolls_to_keep_the_cursor_in_view() {

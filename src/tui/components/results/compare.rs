@@ -6,7 +6,7 @@
 
 use super::super::super::theme::Theme;
 use super::super::super::widgets::strip::{Bars, Strip, axis_line, series_lines};
-use super::super::super::widgets::{fmt_num, pad, scroll_offset, truncate};
+use super::super::super::widgets::{fmt_num, more_marker, pad, scroll_offset, truncate};
 use super::{Mark, Results, ResultsScreen};
 use crate::report::compare::{self, MapCell, MapComparison, PairStats, PointPair, SpectrumPair};
 use crate::report::naming;
@@ -470,8 +470,13 @@ fn pair_list(
             .unwrap_or(1)
             + 1
     };
-    let shown = (room.saturating_sub(lines.len()) / per_pair).min(pairs.len());
+    let mut shown = (room.saturating_sub(lines.len()) / per_pair).min(pairs.len());
+    if shown < pairs.len() {
+        // Pairs are hidden: one line says how many.
+        shown = (room.saturating_sub(lines.len() + 1) / per_pair).max(1);
+    }
     let offset = scroll_offset(sel, pairs.len(), shown.max(1));
+    let more = more_marker(offset, pairs.len().saturating_sub(offset + shown));
     for (i, p) in pairs.iter().enumerate().skip(offset).take(shown) {
         let style = if i == sel {
             theme.selected()
@@ -490,6 +495,12 @@ fn pair_list(
         wrapped.resize(per_pair - 1, String::new());
         lines.extend(wrapped.into_iter().map(|l| Line::styled(l, style)));
         lines.push(Line::styled(format!("  {}", stats(&p.stats)), style));
+    }
+    if let Some(more) = more {
+        lines.push(Line::styled(
+            format!("{more} pairs  ↑↓ scroll"),
+            theme.dim(),
+        ));
     }
     lines
 }
@@ -582,8 +593,18 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
     };
     let sel = view.pair.min(pairs.len() - 1);
     let pair = &pairs[sel];
-    // A quarter of the width for the labels (20 at 80 columns, 40 at 160; cut with `…`).
-    let label_width = (area.width as usize / 4).min(40);
+    // The labels take the width they need, leaving the bars at least a column per point
+    // (up to a third of the width); only then are they cut (with `…`).
+    let needed = [&pair.a, &pair.b]
+        .iter()
+        .map(|l| 2 + l.chars().count())
+        .max()
+        .unwrap_or(0);
+    let bars_min = pair.points.len().min(area.width as usize / 3);
+    let label_width = needed.clamp(
+        8,
+        (area.width as usize).saturating_sub(12 + bars_min).max(8),
+    );
     let width = (area.width as usize).saturating_sub(label_width + 12);
     let x = screen.spectra.x.min(pair.points.len().saturating_sub(1));
     let st = Strip::fit(pair.points.len(), width, x);
@@ -737,6 +758,12 @@ fn draw_map(
     let room_y = (area.height as usize)
         .saturating_sub(lines.len() + 5)
         .max(1);
+    let room_y = if room_y < ny {
+        // Rows are hidden: the line under the map says how many.
+        room_y.saturating_sub(1).max(1)
+    } else {
+        room_y
+    };
     let cell_h = (room_y / ny.max(1)).clamp(1, 2);
     let count_y = (room_y / cell_h).min(ny);
     lines.push(Line::styled(m.y_axis.clone(), theme.dim()));
@@ -755,6 +782,12 @@ fn draw_map(
             ));
         }
         lines.push(Line::from(spans));
+    }
+    if let Some(more) = more_marker(0, ny - count_y) {
+        lines.push(Line::styled(
+            format!("{more} rows of {}", m.y_axis),
+            theme.dim(),
+        ));
     }
     let st = Strip {
         first: 0,

@@ -5,9 +5,9 @@
 //! bare variant, and the fitted probability and observed fraction at the cursor.
 
 use super::super::super::theme::Theme;
-use super::super::super::widgets::{fmt_num, truncate};
+use super::super::super::widgets::{fmt_num, more_marker, truncate};
 use crate::report::fragility::{
-    Curve, FitStatus, FragilityReport, Method, data_points, with_interval,
+    self as summary, Curve, FitStatus, FragilityReport, Method, data_points, with_interval,
 };
 use crossterm::event::{KeyCode, KeyEvent};
 use ratatui::Frame;
@@ -120,6 +120,16 @@ impl FragilityView {
             &report.im
         };
         let method = curves.first().map_or("", |c| c.method.name());
+        // Rows named by what tells them apart; a parameter all share is said once, below.
+        let labels: Vec<String> = curves.iter().map(|c| summary::variant_name(c)).collect();
+        let (shared, names) = crate::report::naming::factor_shared(&labels);
+        let first = self.variant.saturating_sub(5);
+        let shown = curves.len().saturating_sub(first).min(6);
+        let mut notes = Vec::new();
+        if !shared.is_empty() {
+            notes.push(format!("all: {shared}"));
+        }
+        notes.extend(more_marker(first, curves.len() - first - shown));
         let header = Line::from(vec![
             Span::styled("[ ] ", theme.key()),
             Span::styled(format!("{measure} ≥ {}", fmt_num(ds)), theme.title()),
@@ -134,28 +144,36 @@ impl FragilityView {
                 theme.dim(),
             ),
         ]);
-        let [head, chart_area, table, readout] = Layout::vertical([
+        let notes_h = u16::from(!notes.is_empty());
+        let [head, chart_area, note_area, table, readout] = Layout::vertical([
             Constraint::Length(1),
             Constraint::Min(5),
+            Constraint::Length(notes_h),
             Constraint::Length(curves.len().min(6) as u16),
             Constraint::Length(2),
         ])
         .areas(area);
         frame.render_widget(Paragraph::new(header), head);
+        frame.render_widget(
+            Paragraph::new(Line::styled(notes.join("  "), theme.dim())),
+            note_area,
+        );
         let grid = self.grid(report);
         let cursor_x = grid.get(self.x).copied();
         draw_curves(frame, chart_area, theme, &curves, cursor_x, im);
-        let name_w = (area.width as usize / 4).clamp(8, 28);
+        let longest = names.iter().map(|n| n.chars().count()).max().unwrap_or(0);
+        let name_w = longest.clamp(8, (area.width as usize / 4).clamp(8, 28));
         // Below this width a row gives β without its interval (the readout has it).
         let wide = area.width >= 110;
         let rows: Vec<Line> = curves
             .iter()
             .enumerate()
-            .skip(self.variant.saturating_sub(5))
+            .skip(first)
             .take(6)
             .map(|(i, c)| {
                 let row = Row {
                     selected: i == self.variant,
+                    name: &names[i],
                     name_w,
                     wide,
                 };
@@ -241,8 +259,10 @@ fn draw_curves(
 }
 
 /// How a variant's row is laid out.
-struct Row {
+struct Row<'a> {
     selected: bool,
+    /// The variant's own words (what all rows share is said once, above).
+    name: &'a str,
     name_w: usize,
     /// β with its interval.
     wide: bool,
@@ -254,13 +274,14 @@ fn variant_row(
     i: usize,
     Row {
         selected,
+        name,
         name_w,
         wide,
     }: Row,
     theme: Theme,
 ) -> Line<'static> {
     let marker = if selected { "▶ " } else { "  " };
-    let name = format!("{:<name_w$}", truncate(&c.variant.label(), name_w));
+    let name = format!("{:<name_w$}", truncate(name, name_w));
     let mut spans = vec![
         Span::styled(marker, theme.key()),
         Span::styled(
@@ -285,11 +306,14 @@ fn variant_row(
             }
         )));
         if let Some(r) = report.ratio_of(c) {
-            let cross = if r.curves_cross { ", crosses" } else { "" };
-            spans.push(Span::styled(
-                format!("  ×{}{cross}", with_interval(r.ratio, r.lo, r.hi)),
-                theme.ok(),
-            ));
+            // Narrow: the ratio without its interval, so the row ends within the width
+            // (the readout and fragility.csv have the interval).
+            let ratio = match wide {
+                true => with_interval(r.ratio, r.lo, r.hi),
+                false => with_interval(r.ratio, None, None),
+            };
+            let cross = if r.curves_cross { ", crosses bare" } else { "" };
+            spans.push(Span::styled(format!("  {ratio}× bare{cross}"), theme.ok()));
         }
     } else {
         spans.push(Span::styled(
@@ -301,7 +325,7 @@ fn variant_row(
 }
 
 fn readout_lines(c: &Curve, x: Option<f64>, im: &str, theme: Theme) -> Vec<Line<'static>> {
-    let mut first = format!("{}: ", c.variant.label());
+    let mut first = format!("{}: ", summary::variant_name(c));
     if c.status == FitStatus::Fitted {
         let beta = with_interval(c.beta, c.beta_lo, c.beta_hi);
         first.push_str(&format!("β {beta}, "));

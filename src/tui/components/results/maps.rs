@@ -2,8 +2,8 @@
 //! cell cursor and the verdict under it.
 
 use super::super::super::theme::{self, Theme};
-use super::super::super::widgets::fmt_num;
 use super::super::super::widgets::strip::{Strip, axis_line};
+use super::super::super::widgets::{fmt_num, more_marker};
 use super::{Mark, Results};
 use crate::report::OverturningMap;
 use crossterm::event::{KeyCode, KeyEvent};
@@ -11,7 +11,7 @@ use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::style::{Modifier, Style};
 use ratatui::text::{Line, Span};
-use ratatui::widgets::Paragraph;
+use ratatui::widgets::{Paragraph, Wrap};
 
 #[derive(Clone, Debug, Default)]
 pub struct MapsView {
@@ -62,7 +62,13 @@ impl MapsView {
         let (cx, cy) = self.cell;
         let first_x = cx.saturating_sub(room_x / 2).min(nx.saturating_sub(room_x));
         let count_x = room_x.min(nx);
-        let room_y = (area.height as usize).saturating_sub(6).max(1);
+        // A window on x says which columns it shows: past the axis, on a line of its own.
+        let x_cut = usize::from(count_x < nx);
+        let mut room_y = (area.height as usize).saturating_sub(6 + x_cut).max(1);
+        if room_y < ny {
+            // Rows are hidden: the line under the map says how many.
+            room_y = room_y.saturating_sub(1).max(1);
+        }
         // Cells about square: two rows each when there is room.
         let cell_h = (room_y / ny.max(1)).clamp(1, 2);
         let count_y = (room_y / cell_h).min(ny);
@@ -71,6 +77,7 @@ impl MapsView {
             .min(ny.saturating_sub(1))
             .max(count_y.saturating_sub(1));
         lines.push(Line::styled(map.y_axis.clone(), theme.dim()));
+        let hidden = more_marker(ny - 1 - top, (top + 1).saturating_sub(count_y));
         for r in 0..count_y * cell_h {
             let iy = top - r / cell_h;
             let label = if r % cell_h == 0 {
@@ -95,6 +102,12 @@ impl MapsView {
                 spans.push(Span::styled(glyph.repeat(cell), style));
             }
             lines.push(Line::from(spans));
+        }
+        if let Some(more) = hidden {
+            lines.push(Line::styled(
+                format!("{more} rows of {}  ↑↓ scroll", map.y_axis),
+                theme.dim(),
+            ));
         }
         let st = Strip {
             first: first_x,
@@ -141,7 +154,7 @@ impl MapsView {
             map.y_axis,
             map.ys.get(cy).map_or("–".into(), |v| fmt_num(*v)),
         )));
-        frame.render_widget(Paragraph::new(lines), area);
+        frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
     }
 }
 

@@ -6,7 +6,9 @@
 use super::super::super::edit::{EditOutcome, LineEdit};
 use super::super::super::theme::Theme;
 use super::super::super::widgets::strip::{Bars, Strip, axis_line, series_lines};
-use super::super::super::widgets::{edit_spans, fmt_num, pad, scroll_offset, truncate};
+use super::super::super::widgets::{
+    edit_spans, fmt_num, more_marker, pad, scroll_offset, truncate,
+};
 use super::{Mark, Results, ResultsScreen, label_width};
 use crate::report::naming;
 use crate::report::select::{Selector, select};
@@ -220,7 +222,11 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
         room = (area.height as usize).saturating_sub(3 + above + readout_lines + values_lines);
         height = 1;
     }
-    let visible = (room / height).max(1);
+    let mut visible = (room / height).max(1);
+    if visible < rows.len() {
+        // Rows are hidden: one line says how many (the marker), taken from the rows.
+        visible = (room.saturating_sub(1) / height).max(1);
+    }
     let offset = scroll_offset(view.row, rows.len(), visible);
     for (i, s) in rows.iter().enumerate().skip(offset).take(visible) {
         let selected = i == view.row;
@@ -249,6 +255,10 @@ pub fn draw(screen: &ResultsScreen, data: &Results, theme: Theme, frame: &mut Fr
             style,
             &layout,
         ));
+    }
+    let below = rows.len().saturating_sub(offset + visible);
+    if let Some(more) = more_marker(offset, below) {
+        lines.push(Line::styled(format!("{more} rows  ↑↓ scroll"), theme.dim()));
     }
     let axis = rows[0].axis.clone();
     lines.push(axis_line(&rows[0].xs, &st, label_width + 1, &axis));
