@@ -487,6 +487,7 @@ fn excitation_params(e: &ExcitationFamily) -> Result<Vec<Parameter>, StudyError>
             shape,
             amplitude,
             frequency,
+            ..
         } => {
             let (aparam, avalues) = (amplitude.param(), amplitude.values());
             let (fparam, fvalues) = (frequency.param(), frequency.values());
