@@ -511,26 +511,13 @@ impl VerticalMotion {
                 shape,
                 amplitude,
                 frequency,
-            } => {
-                let a = match *amplitude {
-                    Amplitude::G(a) | Amplitude::TanAlphaRatio(a) | Amplitude::AlphaRatio(a) => a,
-                };
-                check("vertical_amplitude_g", a, true, "must be a finite number")?;
-                let w = match *frequency {
-                    Frequency::RadPerSec(w) | Frequency::Ratio(w) => w,
-                };
-                positive("vertical_frequency", w)?;
-                check(
-                    "vertical_frequency",
-                    w,
-                    2.0 * std::f64::consts::PI / frequency.absolute(p) >= MIN_PULSE_PERIOD,
-                    "the pulse period 2π/ω must be ≥ 1 ms",
-                )?;
-                if let PulseShape::MavroeidisPapageorgiou { gamma, nu } = shape {
-                    check_mp(*gamma, *nu)?;
-                }
-                Ok(())
-            }
+            } => check_pulse(
+                ("vertical_amplitude_g", "vertical_frequency"),
+                shape,
+                *amplitude,
+                *frequency,
+                p,
+            ),
             VerticalMotion::Constant(c) => check(
                 "vertical_constant",
                 *c,
@@ -678,26 +665,13 @@ impl Scene {
                 shape,
                 amplitude,
                 frequency,
-            } => {
-                let a = match *amplitude {
-                    Amplitude::G(a) | Amplitude::TanAlphaRatio(a) | Amplitude::AlphaRatio(a) => a,
-                };
-                check("amplitude", a, true, "must be a finite number")?;
-                let w = match *frequency {
-                    Frequency::RadPerSec(w) | Frequency::Ratio(w) => w,
-                };
-                positive("frequency", w)?;
-                let omega = frequency.absolute(self.structure.p());
-                check(
-                    "frequency",
-                    w,
-                    2.0 * std::f64::consts::PI / omega >= MIN_PULSE_PERIOD,
-                    "the pulse period 2π/ω must be ≥ 1 ms",
-                )?;
-                if let PulseShape::MavroeidisPapageorgiou { gamma, nu } = shape {
-                    check_mp(*gamma, *nu)?;
-                }
-            }
+            } => check_pulse(
+                ("amplitude", "frequency"),
+                shape,
+                *amplitude,
+                *frequency,
+                self.structure.p(),
+            )?,
             Excitation::MpPulse { tp, pgv, gamma, nu } => {
                 at_least("tp", *tp, MIN_PULSE_PERIOD, "pulse period must be ≥ 1 ms")?;
                 check("pgv", *pgv, true, "must be a finite number")?;
@@ -768,4 +742,35 @@ fn check_damping(d: Damping) -> Result<(), Invalid> {
         Damping::CBar(c) => non_negative("cbar", c),
         Damping::XiTheta(x) => non_negative("xi_theta", x),
     }
+}
+
+/// A pulse's amplitude is finite, its frequency positive with a period of at least
+/// [`MIN_PULSE_PERIOD`], and a Mavroeidis–Papageorgiou shape's γ and ν in range; `fields` names
+/// the amplitude and frequency as the user wrote them (horizontal or vertical).
+fn check_pulse(
+    fields: (&'static str, &'static str),
+    shape: &PulseShape,
+    amplitude: Amplitude,
+    frequency: Frequency,
+    p: f64,
+) -> Result<(), Invalid> {
+    let (amplitude_field, frequency_field) = fields;
+    let a = match amplitude {
+        Amplitude::G(a) | Amplitude::TanAlphaRatio(a) | Amplitude::AlphaRatio(a) => a,
+    };
+    check(amplitude_field, a, true, "must be a finite number")?;
+    let w = match frequency {
+        Frequency::RadPerSec(w) | Frequency::Ratio(w) => w,
+    };
+    positive(frequency_field, w)?;
+    check(
+        frequency_field,
+        w,
+        2.0 * std::f64::consts::PI / frequency.absolute(p) >= MIN_PULSE_PERIOD,
+        "the pulse period 2π/ω must be ≥ 1 ms",
+    )?;
+    if let PulseShape::MavroeidisPapageorgiou { gamma, nu } = shape {
+        check_mp(*gamma, *nu)?;
+    }
+    Ok(())
 }
